@@ -1,0 +1,12 @@
+#!/usr/bin/env bash
+# The test command (README, second command; CI runs exactly this through .ci/run):
+# install what is missing, build, and run every ctest test that is not labelled
+# 'slow' (labels: quick = unit tests, validation = analytic checks, challenge).
+# Extra arguments go to ctest, e.g. scripts/test.sh -L validation
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/setup.sh
+# FFTW plans: MEASURE, with wisdom kept in the build folder between runs.
+export CMC_FFTW_WISDOM="${CMC_FFTW_WISDOM:-$PWD/build/fftw-wisdom}"
+cd build
+ctest --output-on-failure -j"$(nproc 2>/dev/null || echo 2)" -LE slow "$@"

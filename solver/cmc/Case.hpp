@@ -1,0 +1,90 @@
+// A case file, parsed and validated into a typed Case (SI units, as written).
+//
+// The schema (every key, its unit and default) is documented in cases/README.md;
+// this file is its single implementation. Anything wrong — malformed TOML, an
+// unknown key, a wrong type, a missing required key, a physically invalid value —
+// throws CaseError with a message naming the file, the key and what was expected.
+#pragma once
+
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <toml++/toml.h>
+
+namespace cmc {
+
+struct CaseError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct GridSpec {
+  int nx = 0, ny = 0;
+  double size_x = 0.0, size_y = 0.0;  // m
+  bool periodic = true;
+};
+
+struct SurfaceSpec {
+  std::string kind;  // sphere | wavy1d | wavy2d | flat
+  double radius = 0.0;                    // m (sphere)
+  std::optional<std::vector<double>> center;  // m (sphere apex), default: box centre
+  double amplitude = 0.0;                 // m (wavy)
+  double wavelength = 0.0;                // m (wavy), default: the grid size
+};
+
+struct InteractionSpec {
+  std::string kind = "hard_wall";
+};
+
+struct LoadingSpec {
+  std::string control;         // force | mean_pressure | penetration | mean_gap
+  std::vector<double> values;  // N | Pa | m | m
+};
+
+struct SolverSpec {
+  std::string kind = "polonsky_keer";
+  double tolerance = 1e-10;
+  int max_iterations = 2000;
+  int recompute_every = 32;
+};
+
+struct ValidationCheck {
+  std::string quantity;
+  double tolerance = 0.0;
+};
+
+struct RefinementSpec {
+  std::vector<int> grids;  // points per side, increasing
+  std::string quantity;
+  double min_order = 0.0;  // the observed order must be at least this
+};
+
+struct ValidationSpec {
+  std::string reference;  // hertz | hertz_periodic | westergaard
+  std::vector<ValidationCheck> checks;
+  std::optional<RefinementSpec> refinement;
+};
+
+struct Case {
+  std::string file;  // where it came from (for messages)
+  std::string name, description;
+  GridSpec grid;
+  double contact_modulus = 0.0;  // Pa
+  SurfaceSpec surface;
+  InteractionSpec interaction;
+  LoadingSpec loading;
+  SolverSpec solver;
+  bool write_fields = true;
+  std::optional<ValidationSpec> validation;
+  toml::table resolved;  // the case as run: overrides applied, defaults filled in
+};
+
+// Apply "section.key=value" (value in TOML syntax; bare words are strings).
+void apply_override(toml::table& t, const std::string& assignment);
+
+Case parse_case(const toml::table& t, const std::string& file);
+// Read, apply overrides, validate.
+Case load_case(const std::string& path, const std::vector<std::string>& overrides = {});
+
+}  // namespace cmc

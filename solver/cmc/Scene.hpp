@@ -1,0 +1,30 @@
+// Case (SI, validated) -> Scene (reduced units): grid, topography, half-space,
+// interaction and the load steps. The only place where case values are converted.
+#pragma once
+
+#include "cmc/Case.hpp"
+#include "cmc/HalfSpace.hpp"
+#include "cmc/Solver.hpp"
+#include "cmc/Topography.hpp"
+#include "cmc/Units.hpp"
+
+#include <memory>
+#include <vector>
+
+namespace cmc {
+
+struct Scene {
+  Units units;
+  Grid grid;
+  Topography topography;
+  std::unique_ptr<HalfSpace> half_space;
+  std::vector<Target> targets;  // one per load step, reduced
+  double mean_height = 0.0;     // <h>, reduced
+  // Shape parameters of analytic surfaces (reduced), for the validation harness.
+  double sphere_radius = 0.0, apex_x = 0.0, apex_y = 0.0;
+  double wave_amplitude = 0.0, wavelength = 0.0;
+};
+
+Scene build_scene(const Case& c);
+
+}  // namespace cmc

@@ -1,0 +1,204 @@
+#include "cmc/Writer.hpp"
+
+#include <hdf5.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace cmc {
+
+namespace fs = std::filesystem;
+
+void write_atomically(const fs::path& path, const std::string& text) {
+  const fs::path tmp = path.parent_path() / ("." + path.filename().string() + ".tmp" + std::to_string(::getpid()));
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error(tmp.string() + ": cannot write (is the output folder writable?)");
+    out << text;
+    out.flush();
+    if (!out) throw std::runtime_error(tmp.string() + ": write failed (disk full?)");
+  }
+  fs::rename(tmp, path);
+}
+
+std::string to_json(const toml::table& t) {
+  std::ostringstream s;
+  s << toml::json_formatter{t} << "\n";
+  return s.str();
+}
+
+namespace {
+void check(long long status, const std::string& what) {
+  if (status < 0) throw std::runtime_error("HDF5: " + what + " failed");
+}
+void attr_string(hid_t obj, const char* name, const std::string& value) {
+  hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, value.size() + 1);
+  hid_t space = H5Screate(H5S_SCALAR);
+  hid_t a = H5Acreate2(obj, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
+  check(a, std::string("attribute ") + name);
+  check(H5Awrite(a, type, value.c_str()), std::string("attribute ") + name);
+  H5Aclose(a);
+  H5Sclose(space);
+  H5Tclose(type);
+}
+void attr_double(hid_t obj, const char* name, double value) {
+  hid_t space = H5Screate(H5S_SCALAR);
+  hid_t a = H5Acreate2(obj, name, H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT);
+  check(a, std::string("attribute ") + name);
+  check(H5Awrite(a, H5T_NATIVE_DOUBLE, &value), std::string("attribute ") + name);
+  H5Aclose(a);
+  H5Sclose(space);
+}
+// A (ny, nx) dataset of `values` times `scale`, with its unit.
+void dataset(hid_t where, const std::string& name, const Grid& g, const Field& values, double scale, const char* unit,
+             const char* meaning) {
+  hsize_t dims[2] = {hsize_t(g.ny), hsize_t(g.nx)};
+  hid_t space = H5Screate_simple(2, dims, nullptr);
+  hid_t d = H5Dcreate2(where, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  check(d, "dataset " + name);
+  Field scaled(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i) scaled[i] = values[i] * scale;
+  check(H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, scaled.data()), "writing " + name);
+  attr_string(d, "units", unit);
+  attr_string(d, "description", meaning);
+  H5Dclose(d);
+  H5Sclose(space);
+}
+}  // namespace
+
+Writer::Writer(fs::path dir, const Case& c, const Scene& s) : dir_(std::move(dir)), case_(c), scene_(s) {
+  std::error_code ec;
+  fs::create_directories(dir_, ec);
+  if (ec || !fs::is_directory(dir_)) throw std::runtime_error(dir_.string() + ": cannot create the output folder");
+  if (!c.write_fields) return;
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  h5_tmp_ = dir_ / (".result.h5.tmp" + std::to_string(::getpid()));
+  file_ = H5Fcreate(h5_tmp_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (file_ < 0) throw std::runtime_error(h5_tmp_.string() + ": cannot create the HDF5 file");
+  const Units& u = s.units;
+  const Grid& g = s.grid;
+  hid_t root = hid_t(file_);
+  attr_string(root, "case", c.name);
+  attr_string(root, "cmc_version", CMC_VERSION);
+  attr_double(root, "dx", u.to_m(g.dx()));
+  attr_double(root, "dy", u.to_m(g.dy()));
+  attr_double(root, "size_x", u.to_m(g.lx));
+  attr_double(root, "size_y", u.to_m(g.ly));
+  attr_string(root, "length_units", "m");
+  dataset(root, "heights", g, s.topography.heights, u.length_m, "m", "indenter heights h (gap g = h - penetration + u)");
+}
+
+Writer::~Writer() {
+  if (file_ >= 0) H5Fclose(hid_t(file_));
+  std::error_code ec;
+  if (!h5_tmp_.empty()) fs::remove(h5_tmp_, ec);
+}
+
+void Writer::add_step(const StepRecord& rec, const ContactState& st) {
+  if (file_ < 0) return;
+  const Units& u = scene_.units;
+  char name[32];
+  std::snprintf(name, sizeof name, "step_%04d", rec.index);
+  hid_t grp = H5Gcreate2(hid_t(file_), name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  check(grp, std::string("group ") + name);
+  dataset(grp, "pressure", scene_.grid, st.pressure, u.pressure_pa, "Pa", "interfacial pressure, compressive > 0");
+  dataset(grp, "displacement", scene_.grid, st.displacement, u.length_m, "m", "surface displacement into the solid");
+  dataset(grp, "gap", scene_.grid, st.gap, u.length_m, "m", "interfacial gap g = h - penetration + u");
+  attr_double(grp, "mean_pressure", rec.mean_pressure);
+  attr_double(grp, "penetration", rec.penetration);
+  attr_double(grp, "mean_gap", rec.mean_gap);
+  attr_string(grp, "branch", rec.branch);
+  H5Gclose(grp);
+  H5Fflush(hid_t(file_), H5F_SCOPE_LOCAL);
+  ++steps_written_;
+}
+
+toml::table Writer::step_json(const StepRecord& r) {
+  return toml::table{{"index", r.index},
+                     {"branch", r.branch},
+                     {"mean_pressure", r.mean_pressure},
+                     {"force", r.force},
+                     {"penetration", r.penetration},
+                     {"mean_gap", r.mean_gap},
+                     {"contact_fraction", r.contact_fraction},
+                     {"elastic_energy", r.elastic_energy},
+                     {"iterations", r.result.iterations},
+                     {"converged", r.result.converged},
+                     {"residual", r.result.residual},
+                     {"wall_s", r.result.wall_s},
+                     {"fft_pairs", r.result.fft_pairs},
+                     {"message", r.result.message}};
+}
+
+toml::table Writer::summary_base() const {
+  const Units& u = scene_.units;
+  const Grid& g = scene_.grid;
+  return toml::table{
+      {"cmc_version", CMC_VERSION},
+      {"case_file", case_.file},
+      {"case", case_.resolved},
+      {"units",
+       toml::table{{"length", "m"}, {"pressure", "Pa"}, {"force", "N"}, {"energy", "J"},
+                   {"reduced_length_unit_m", u.length_m}, {"reduced_pressure_unit_pa", u.pressure_pa}}},
+      {"grid", toml::table{{"nx", g.nx}, {"ny", g.ny}, {"size_x", u.to_m(g.lx)}, {"size_y", u.to_m(g.ly)},
+                           {"dx", u.to_m(g.dx())}, {"dy", u.to_m(g.dy())},
+                           {"boundary", scene_.half_space->periodic() ? "periodic" : "free"},
+                           {"fft_size", (long long)scene_.half_space->transform_size()}}},
+      {"surface", scene_.topography.description},
+  };
+}
+
+void Writer::finish(const RunSummary& run, const toml::table& extra) {
+  toml::table s = summary_base();
+  s.insert("status", run.status);
+  s.insert("message", run.message);
+  s.insert("timing", toml::table{{"wall_s", run.wall_s}, {"fft_pairs", run.fft_pairs}});
+  toml::array steps;
+  for (const auto& r : run.steps) steps.push_back(step_json(r));
+  s.insert("steps", steps);
+  for (const auto& [k, v] : extra) s.insert_or_assign(k, v);
+  if (file_ >= 0) {
+    H5Fclose(hid_t(file_));
+    file_ = -1;
+    fs::rename(h5_tmp_, dir_ / "result.h5");
+    h5_tmp_.clear();
+    // XDMF pointer for ParaView: one 2-D uniform grid per step.
+    const Grid& g = scene_.grid;
+    const Units& u = scene_.units;
+    std::ostringstream x;
+    x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
+      << "<Grid Name=\"steps\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+    for (const auto& r : run.steps) {
+      char name[32];
+      std::snprintf(name, sizeof name, "step_%04d", r.index);
+      x << "<Grid Name=\"" << name << "\"><Time Value=\"" << r.index << "\"/>\n"
+        << "<Topology TopologyType=\"2DCoRectMesh\" Dimensions=\"" << g.ny << " " << g.nx << "\"/>\n"
+        << "<Geometry GeometryType=\"ORIGIN_DXDY\"><DataItem Dimensions=\"2\" Format=\"XML\">0 0</DataItem>"
+        << "<DataItem Dimensions=\"2\" Format=\"XML\">" << u.to_m(g.dy()) << " " << u.to_m(g.dx())
+        << "</DataItem></Geometry>\n";
+      for (const char* f : {"pressure", "gap", "displacement"})
+        x << "<Attribute Name=\"" << f << "\" Center=\"Node\"><DataItem Dimensions=\"" << g.ny << " " << g.nx
+          << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">result.h5:/" << name << "/" << f
+          << "</DataItem></Attribute>\n";
+      x << "</Grid>\n";
+    }
+    x << "</Grid>\n</Domain>\n</Xdmf>\n";
+    write_atomically(dir_ / "result.xdmf", x.str());
+  }
+  write_atomically(dir_ / "summary.json", to_json(s));
+}
+
+void Writer::fail(const std::string& message) {
+  // Results of an earlier run in the same folder must not pass for this run's.
+  std::error_code ec;
+  for (const char* f : {"result.h5", "result.xdmf"}) fs::remove(dir_ / f, ec);
+  toml::table s = summary_base();
+  s.insert("status", "failed");
+  s.insert("message", message);
+  write_atomically(dir_ / "summary.json", to_json(s));
+}
+
+}  // namespace cmc

@@ -1,0 +1,130 @@
+// The case-file parser: every class of bad input stops with a message that names the
+// file, the key and what was expected.
+#include "cmc/Case.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+using namespace cmc;
+
+namespace {
+const char* kGood = R"(
+[case]
+name = "t"
+[grid]
+n = 16
+size = 1e-3
+[material]
+contact_modulus = 1e6
+[surface]
+kind = "sphere"
+radius = 1e-2
+[loading]
+control = "force"
+values = [1e-4]
+)";
+
+std::string write(const std::string& text) {
+  static int k = 0;
+  auto p = std::filesystem::temp_directory_path() / ("cmc_case_test_" + std::to_string(::getpid()) + "_" + std::to_string(k++) + ".toml");
+  std::ofstream(p) << text;
+  return p.string();
+}
+
+// The message of the CaseError that loading `text` (+ overrides) throws.
+std::string error_of(const std::string& text, std::vector<std::string> overrides = {}) {
+  const std::string f = write(text);
+  try {
+    load_case(f, overrides);
+  } catch (const CaseError& e) {
+    std::string m = e.what();
+    EXPECT_NE(m.find(f), std::string::npos) << "message does not name the file: " << m;
+    return m;
+  }
+  ADD_FAILURE() << "no error for:\n" << text;
+  return "";
+}
+
+std::string replace(std::string s, const std::string& a, const std::string& b) {
+  const auto k = s.find(a);
+  EXPECT_NE(k, std::string::npos) << a;
+  return s.replace(k, a.size(), b);
+}
+}  // namespace
+
+TEST(Case, GoodCaseParsesWithDefaults) {
+  const Case c = load_case(write(kGood));
+  EXPECT_EQ(c.name, "t");
+  EXPECT_EQ(c.grid.nx, 16);
+  EXPECT_EQ(c.grid.ny, 16);
+  EXPECT_TRUE(c.grid.periodic);
+  EXPECT_DOUBLE_EQ(c.grid.size_y, 1e-3);
+  EXPECT_EQ(c.solver.kind, "polonsky_keer");
+  EXPECT_DOUBLE_EQ(c.solver.tolerance, 1e-10);
+  // Defaults are written into the resolved case.
+  EXPECT_EQ(c.resolved["solver"]["tolerance"].value<double>(), 1e-10);
+  EXPECT_EQ(c.resolved["grid"]["boundary"].value<std::string>(), "periodic");
+}
+
+TEST(Case, MalformedToml) {
+  const auto m = error_of("[case\nname = 1");
+  EXPECT_NE(m.find("not valid TOML at line 1"), std::string::npos) << m;
+}
+
+TEST(Case, MissingFile) {
+  EXPECT_THROW(load_case("/nonexistent/x.toml"), CaseError);
+}
+
+TEST(Case, UnknownKeyAndSection) {
+  auto m = error_of(replace(kGood, "size = 1e-3", "size = 1e-3\nsizee = 2"));
+  EXPECT_NE(m.find("[grid] sizee: unknown key"), std::string::npos) << m;
+  m = error_of(std::string(kGood) + "\n[solvr]\nkind = 1\n");
+  EXPECT_NE(m.find("[solvr]: unknown section"), std::string::npos) << m;
+}
+
+TEST(Case, WrongType) {
+  auto m = error_of(replace(kGood, "n = 16", "n = \"sixteen\""));
+  EXPECT_NE(m.find("[grid] n: expected a positive number of points per side, got a string 'sixteen'"), std::string::npos) << m;
+  m = error_of(replace(kGood, "values = [1e-4]", "values = 1e-4"));
+  EXPECT_NE(m.find("[loading] values: expected"), std::string::npos) << m;
+}
+
+TEST(Case, MissingRequired) {
+  auto m = error_of(replace(kGood, "contact_modulus = 1e6", ""));
+  EXPECT_NE(m.find("[material] contact_modulus: missing required key"), std::string::npos) << m;
+  m = error_of(replace(kGood, "[material]\ncontact_modulus = 1e6", ""));
+  EXPECT_NE(m.find("missing required section [material]"), std::string::npos) << m;
+}
+
+TEST(Case, PhysicallyInvalid) {
+  auto m = error_of(replace(kGood, "contact_modulus = 1e6", "contact_modulus = -25e6"));
+  EXPECT_NE(m.find("[material] contact_modulus: expected the contact modulus E* in Pa (> 0), got a number -25000000"), std::string::npos) << m;
+  m = error_of(replace(kGood, "n = 16", "n = 0"));
+  EXPECT_NE(m.find("[grid] n: expected a positive number of points per side (>= 1)"), std::string::npos) << m;
+  m = error_of(replace(kGood, "radius = 1e-2", "radius = nan"));
+  EXPECT_NE(m.find("[surface] radius"), std::string::npos) << m;
+  m = error_of(replace(kGood, "values = [1e-4]", "values = [-1e-4]"));
+  EXPECT_NE(m.find("[loading] values: expected non-negative loads"), std::string::npos) << m;
+  m = error_of(replace(kGood, "kind = \"sphere\"", "kind = \"cube\""));
+  EXPECT_NE(m.find("[surface] kind: expected one of"), std::string::npos) << m;
+  m = error_of(replace(kGood, "n = 16", "n = 2000000"));
+  EXPECT_NE(m.find("a grid that fits in memory"), std::string::npos) << m;
+}
+
+TEST(Case, Overrides) {
+  const std::string f = write(kGood);
+  const Case c = load_case(f, {"grid.n=32", "solver.tolerance=1e-6", "grid.boundary=free", "case.name=\"x y\""});
+  EXPECT_EQ(c.grid.nx, 32);
+  EXPECT_DOUBLE_EQ(c.solver.tolerance, 1e-6);
+  EXPECT_FALSE(c.grid.periodic);
+  EXPECT_EQ(c.name, "x y");
+  // The resolved case records the override.
+  EXPECT_EQ(c.resolved["grid"]["n"].value<int64_t>(), 32);
+  // An override of an unknown key is caught like one in the file.
+  const auto m = error_of(kGood, {"grid.nn=3"});
+  EXPECT_NE(m.find("[grid] nn: unknown key"), std::string::npos) << m;
+  EXPECT_THROW(load_case(f, {"gridn3"}), CaseError);
+  EXPECT_THROW(load_case(f, {"n=3"}), CaseError);
+}

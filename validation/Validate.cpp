@@ -1,0 +1,164 @@
+#include "Validate.hpp"
+
+#include "cmc/Analytic.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+namespace cmc {
+
+namespace an = cmc::analytic;
+
+SolvedCase solve_case(const Case& c, const StepCallback& also, const Progress& progress) {
+  SolvedCase sc{build_scene(c), {}, {}};
+  sc.run = run_scene(c, sc.scene, [&](const StepRecord& r, const ContactState& st) {
+    sc.states.push_back(st);
+    if (also) also(r, st);
+  }, progress);
+  return sc;
+}
+
+namespace {
+
+double min_image(double d, double l) { return d - l * std::round(d / l); }
+
+// ---- sphere: δ(F) and p(r) against Hertz (E* = 1 inside cmc)
+double hertz_error(bool periodic, const std::string& q, const Scene& s, const ContactState& st, std::string& def) {
+  const double R = s.sphere_radius, F = st.mean_pressure * s.grid.area();
+  const auto H = an::hertz_from_force(1.0, R, F);
+  if (q == "penetration") {
+    // Johnson (1985) eq. 4.23; periodic cell: minus c F/(E* L) (analytic::hertz_periodic_penetration).
+    const double ref = periodic ? an::hertz_periodic_penetration(1.0, R, F, s.grid.lx) : H.penetration;
+    def = periodic ? "|delta - delta_Hertz_periodic(F)| / delta_Hertz(F)" : "|delta - delta_Hertz(F)| / delta_Hertz(F)";
+    return std::abs(st.penetration - ref) / H.penetration;
+  }
+  if (q == "pressure_profile") {
+    // rms of p − p_Hertz over the grid, normalised by the number of cells in the Hertz
+    // disc (so it is an rms over the contact), divided by p0.
+    def = "sqrt(sum (p - p_Hertz)^2 / cells in Hertz disc) / p0";
+    double s2 = 0.0;
+    const Grid& g = s.grid;
+    for (int iy = 0; iy < g.ny; ++iy)
+      for (int ix = 0; ix < g.nx; ++ix) {
+        double dx = ix * g.dx() - s.apex_x, dy = iy * g.dy() - s.apex_y;
+        if (periodic) dx = min_image(dx, g.lx), dy = min_image(dy, g.ly);
+        const double d = st.pressure[std::size_t(iy) * g.nx + ix] - an::hertz_pressure(1.0, R, H.radius, std::hypot(dx, dy));
+        s2 += d * d;
+      }
+    const double cells = std::numbers::pi * H.radius * H.radius / g.cell_area();
+    return std::sqrt(s2 / cells) / H.max_pressure;
+  }
+  throw std::invalid_argument("validation: reference hertz has no quantity '" + q + "'");
+}
+
+// Contact half-width of a 1-D contact centred at x = 0, from the pressure on row 0:
+// near the edge p ~ sqrt(a − |x|), so p² is extrapolated linearly to zero from the
+// last two points in contact on each side (the two sides are averaged).
+double measured_half_width(const Scene& s, const ContactState& st) {
+  const Grid& g = s.grid;
+  const double* p = st.pressure.data();
+  auto side = [&](int dir) {
+    int k = 0;
+    while (std::abs(k + dir) < g.nx / 2 && p[((k + dir) % g.nx + g.nx) % g.nx] > 0.0) k += dir;
+    if (k == 0) return 0.5 * g.dx();  // a single point in contact
+    const double pk = p[(k % g.nx + g.nx) % g.nx], pm = p[((k - dir) % g.nx + g.nx) % g.nx];
+    const double xk = std::abs(k) * g.dx();
+    if (!(pm * pm > pk * pk)) return xk;
+    return xk + pk * pk / (pm * pm - pk * pk) * g.dx();
+  };
+  return 0.5 * (side(+1) + side(-1));
+}
+
+double westergaard_error(const std::string& q, const Scene& s, const ContactState& st, std::string& def) {
+  const double h = s.wave_amplitude, lambda = s.wavelength, pbar = st.mean_pressure;
+  const double pstar = an::westergaard_full_contact_pressure(1.0, h, lambda);
+  if (q == "mean_pressure") {
+    // Johnson (1995) eq. 4 / Johnson (1985) §13.2: pbar = p* sin²(π a/λ), at the
+    // measured half-width.
+    def = "|pbar_Westergaard(a_measured) - pbar| / p*";
+    return std::abs(an::westergaard_mean_pressure(1.0, h, lambda, measured_half_width(s, st)) - pbar) / pstar;
+  }
+  if (q == "pressure_profile") {
+    def = "rms over the period of (p - p_Westergaard(x; pbar)) / p*";
+    const double a = an::westergaard_half_width(1.0, h, lambda, pbar);
+    const Grid& g = s.grid;
+    double s2 = 0.0;
+    for (int iy = 0; iy < g.ny; ++iy)
+      for (int ix = 0; ix < g.nx; ++ix) {
+        const double x = min_image(ix * g.dx(), lambda);
+        const double d = st.pressure[std::size_t(iy) * g.nx + ix] - an::westergaard_pressure(1.0, h, lambda, a, x);
+        s2 += d * d;
+      }
+    return std::sqrt(s2 / double(g.size())) / pstar;
+  }
+  if (q == "mean_gap") {
+    def = "|mean gap - mean gap_Westergaard(pbar)| / amplitude";
+    return std::abs(Grid::mean(st.gap) - an::westergaard_mean_gap(1.0, h, lambda, pbar)) / h;
+  }
+  throw std::invalid_argument("validation: reference westergaard has no quantity '" + q + "'");
+}
+
+}  // namespace
+
+double validation_error(const std::string& reference, const std::string& quantity, const Scene& s,
+                        const std::vector<ContactState>& states, std::string* definition) {
+  double worst = 0.0;
+  std::string def;
+  for (const auto& st : states) {
+    double e;
+    if (reference == "hertz" || reference == "hertz_periodic") e = hertz_error(reference == "hertz_periodic", quantity, s, st, def);
+    else if (reference == "westergaard") e = westergaard_error(quantity, s, st, def);
+    else throw std::invalid_argument("validation: unknown reference '" + reference + "'");
+    worst = std::max(worst, std::isfinite(e) ? e : INFINITY);
+  }
+  if (definition) *definition = "max over steps of " + def;
+  return worst;
+}
+
+std::vector<CheckResult> evaluate_checks(const Case& c, const Scene& s, const std::vector<ContactState>& states) {
+  std::vector<CheckResult> out;
+  if (!c.validation) return out;
+  for (const auto& ch : c.validation->checks) {
+    CheckResult r;
+    r.quantity = ch.quantity;
+    r.tolerance = ch.tolerance;
+    r.error = validation_error(c.validation->reference, ch.quantity, s, states, &r.definition);
+    r.pass = r.error <= r.tolerance;
+    out.push_back(r);
+  }
+  return out;
+}
+
+RefinementResult run_refinement(const Case& c) {
+  const auto& spec = *c.validation->refinement;
+  RefinementResult rr;
+  rr.min_order = spec.min_order;
+  for (int n : spec.grids) {
+    toml::table t = c.resolved;
+    auto* grid = t["grid"].as_table();
+    if (grid->contains("n")) grid->insert_or_assign("n", n);
+    else {
+      // A 1-D case refines along x only.
+      if (grid->get_as<int64_t>("ny") && grid->get_as<int64_t>("ny")->get() > 1) grid->insert_or_assign("ny", n);
+      grid->insert_or_assign("nx", n);
+    }
+    const Case cn = parse_case(t, c.file + " (grid " + std::to_string(n) + ")");
+    const SolvedCase sc = solve_case(cn);
+    if (sc.run.status != "converged") throw std::runtime_error(cn.file + ": refinement run did not converge: " + sc.run.message);
+    rr.grids.push_back(n);
+    rr.errors.push_back(validation_error(c.validation->reference, spec.quantity, sc.scene, sc.states));
+  }
+  // Least-squares slope of log(error) against log(n): error ~ n^-order.
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  const double m = double(rr.grids.size());
+  for (std::size_t k = 0; k < rr.grids.size(); ++k) {
+    const double x = std::log(double(rr.grids[k])), y = std::log(std::max(rr.errors[k], 1e-300));
+    sx += x, sy += y, sxx += x * x, sxy += x * y;
+  }
+  rr.order = -(m * sxy - sx * sy) / (m * sxx - sx * sx);
+  rr.pass = rr.order >= rr.min_order;
+  return rr;
+}
+
+}  // namespace cmc
