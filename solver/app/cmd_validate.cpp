@@ -1,0 +1,83 @@
+// cmc validate: solve cases and compare them with their analytic references.
+#include "commands.hpp"
+
+#include "Validate.hpp"
+#include "cmc/Writer.hpp"
+
+#include <cstdio>
+#include <filesystem>
+
+namespace cmc::app {
+
+namespace {
+const char* kValidateHelp = R"(usage: cmc validate CASE.toml [CASE.toml ...] [--out DIR] [--set ...] [--quiet]
+
+Solves each case and compares it with the analytic reference named in its
+[validation] section: each [[validation.check]] gives a quantity and a tolerance, and
+an optional [validation.refinement] runs the case on several grids and requires an
+observed order of convergence. Prints one table row per check; with --out, writes
+DIR/<case name>/summary.json (with a "validation" entry) and the fields.
+Exit code 5 when any check fails.
+)";
+
+}  // namespace
+
+int cmd_validate(int argc, char** argv) {
+  const Args a = parse_args(argc, argv, 2);
+  if (a.help) return std::fputs(kValidateHelp, stdout), kOk;
+  if (a.positional.empty()) throw CaseError("cmc validate needs at least one case file (see cmc validate --help)");
+  bool all_pass = true;
+  std::printf("%-28s %-18s %12s %12s %6s %8s\n", "case", "quantity", "error", "tolerance", "result", "time_s");
+  for (const auto& file : a.positional) {
+    const Case c = load_case(file, a.overrides);
+    if (!c.validation) throw CaseError(file + ": no [validation] section: nothing to compare with");
+    const auto t0 = std::chrono::steady_clock::now();
+    int step = 0;
+    SolvedCase sc = solve_case(c, {}, make_progress(a.quiet, &step, t0));
+    auto checks = evaluate_checks(c, sc.scene, sc.states);
+    if (sc.run.status != "converged") {
+      checks.push_back({"convergence", sc.run.message, 1.0, 0.0, false});
+    }
+    double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    toml::array json_checks;
+    for (const auto& r : checks) {
+      std::printf("%-28s %-18s %12.4e %12.4e %6s %8.2f\n", c.name.c_str(), r.quantity.c_str(), r.error, r.tolerance,
+                  r.pass ? "pass" : "FAIL", seconds);
+      all_pass &= r.pass;
+      json_checks.push_back(toml::table{{"reference", c.validation->reference}, {"quantity", r.quantity},
+                                        {"definition", r.definition}, {"error", r.error},
+                                        {"tolerance", r.tolerance}, {"pass", r.pass}});
+    }
+    if (c.validation->refinement) {
+      const auto t1 = std::chrono::steady_clock::now();
+      const RefinementResult rr = run_refinement(c);
+      seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+      std::string grids, errors;
+      toml::array g, e;
+      for (std::size_t k = 0; k < rr.grids.size(); ++k) {
+        grids += (k ? "," : "") + std::to_string(rr.grids[k]);
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%s%.3e", k ? "," : "", rr.errors[k]);
+        errors += buf;
+        g.push_back(rr.grids[k]);
+        e.push_back(rr.errors[k]);
+      }
+      const std::string q = "order(" + c.validation->refinement->quantity + ")";
+      std::printf("%-28s %-18s %12.4f %12.4f %6s %8.2f   grids %s errors %s\n", c.name.c_str(), q.c_str(), rr.order,
+                  rr.min_order, rr.pass ? "pass" : "FAIL", seconds, grids.c_str(), errors.c_str());
+      all_pass &= rr.pass;
+      json_checks.push_back(toml::table{{"reference", c.validation->reference}, {"quantity", q},
+                                        {"grids", g}, {"errors", e}, {"observed_order", rr.order},
+                                        {"min_order", rr.min_order}, {"pass", rr.pass}});
+    }
+    if (!a.out.empty()) {
+      Writer w(std::filesystem::path(a.out) / c.name, c, sc.scene);
+      for (std::size_t k = 0; k < sc.states.size(); ++k) w.add_step(sc.run.steps[k], sc.states[k]);
+      w.finish(sc.run, toml::table{{"validation", json_checks}});
+    }
+  }
+  return all_pass ? kOk : kValidationFailed;
+}
+
+
+}  // namespace cmc::app

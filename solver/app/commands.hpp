@@ -1,0 +1,39 @@
+// Shared pieces of the cmc command-line program: argument parsing, progress, exit
+// codes, and the command entry points (one file per command in solver/app/).
+#pragma once
+
+#include "cmc/Case.hpp"
+#include "cmc/Solver.hpp"
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+namespace cmc::app {
+
+// Exit codes (documented in the README and `cmc --help`).
+constexpr int kOk = 0, kUsage = 2, kNotConverged = 3, kFailed = 4, kValidationFailed = 5;
+
+struct Args {
+  std::vector<std::string> positional, overrides;
+  std::string out;
+  bool quiet = false, help = false;
+  // Options of the form --name value that a command accepts besides the common ones.
+  std::vector<std::pair<std::string, std::string>> options;
+  std::string option(const std::string& name, const std::string& def = "") const;
+};
+
+// Common options: --help, --quiet, --out DIR, --set k=v. A command lists its own
+// options (taking one value each) in `valued`; anything else starting with '-' is an
+// error (CaseError, exit code 2).
+Args parse_args(int argc, char** argv, int first, const std::vector<std::string>& valued = {});
+
+// Progress on stderr, only for a terminal and without --quiet.
+Progress make_progress(bool quiet, int* step, std::chrono::steady_clock::time_point t0);
+
+int cmd_run(int argc, char** argv);
+int cmd_validate(int argc, char** argv);
+int cmd_reference(int argc, char** argv);  // cmd_reference.cpp
+int cmd_check(int argc, char** argv);      // cmd_check.cpp
+
+}  // namespace cmc::app

@@ -1,0 +1,47 @@
+#include "commands.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+
+namespace cmc::app {
+
+std::string Args::option(const std::string& name, const std::string& def) const {
+  for (const auto& [k, v] : options)
+    if (k == name) return v;
+  return def;
+}
+
+Args parse_args(int argc, char** argv, int first, const std::vector<std::string>& valued) {
+  Args a;
+  for (int i = first; i < argc; ++i) {
+    const std::string s = argv[i];
+    auto value = [&](const std::string& name) {
+      if (i + 1 >= argc) throw CaseError(name + " needs a value");
+      return std::string(argv[++i]);
+    };
+    const auto eq = s.find('=');
+    const std::string name = s.substr(0, eq);
+    auto take = [&]() { return eq == std::string::npos ? value(name) : s.substr(eq + 1); };
+    if (s == "-h" || s == "--help") a.help = true;
+    else if (s == "--quiet" || s == "-q") a.quiet = true;
+    else if (name == "--out" || name == "-o") a.out = take();
+    else if (name == "--set") a.overrides.push_back(take());
+    else if (std::find(valued.begin(), valued.end(), name) != valued.end()) a.options.emplace_back(name, take());
+    else if (s.size() > 1 && s[0] == '-') throw CaseError("unknown option " + s + " (see --help)");
+    else a.positional.push_back(s);
+  }
+  return a;
+}
+
+Progress make_progress(bool quiet, int* step, std::chrono::steady_clock::time_point t0) {
+  if (quiet || !isatty(STDERR_FILENO)) return {};
+  return [step, t0](int it, double residual) {
+    const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::fprintf(stderr, "\r  step %d  iteration %5d  residual %.3e  elapsed %7.1f s ", *step, it, residual, el);
+    std::fflush(stderr);
+  };
+}
+
+}  // namespace cmc::app
