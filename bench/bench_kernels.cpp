@@ -36,7 +36,8 @@ static void BM_PolonskyKeerIteration(benchmark::State& state) {
   o.tolerance = 0.0;  // never converge: run exactly max_iterations
   o.max_iterations = 20;
   PolonskyKeer pk(hs, surf.map.heights, o);
-  long pairs = 0, iterations = 0;
+  double pairs = 0;
+  long iterations = 0;
   for (auto _ : state) {
     ContactState st;
     const auto r = pk.solve({Control::MeanPressure, 0.01}, st);

@@ -1,6 +1,157 @@
-// placeholder: replaced by the prediction checker (issue 5)
+// cmc check: score a submitted prediction (CSV) against a reference curve.
 #include "commands.hpp"
+
+#include "Check.hpp"
+#include "cmc/Writer.hpp"
+
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+extern char** environ;
+
 namespace cmc::app {
-int cmd_check(int, char**) { std::fputs("cmc check: not available yet\n", stderr); return kUsage; }
+
+namespace {
+const char* kCheckHelp = R"(usage: cmc check PREDICTION.csv --quantity Q [--reference FILE] [--out DIR]
+                 [--tolerance T] [--metric M]
+       cmc check PREDICTION.csv --reference FILE [--x COL --y COL] [--out DIR] ...
+       cmc check --list
+
+Compares a predicted curve or distribution with a reference curve over their
+common range, interpolating in the representation the challenge asks for (log
+axes where it says so), prints the errors and a verdict, and with --out writes
+DIR/check.json and the overlay figure DIR/check.png (reports/plot_check.py).
+
+PREDICTION.csv: '#' comment lines, a header row naming the columns, one row per
+point; column names say the quantity and unit, e.g. pressure_Pa,contact_fraction
+or p_over_Estar,contact_fraction (see --list and reference/README.md).
+
+  --quantity Q    a challenge quantity (cmc check --list); its stored reference is
+                  reference/challenge/Q.csv (until it exists, --reference is needed)
+  --reference F   the reference curve (cmc reference CSV format); without
+                  --quantity the columns are matched by name (--x/--y, default the
+                  reference's x and y) and no units are converted
+  --tolerance T   tolerance for the verdict (default: the reference's, else the
+                  quantity's default)
+  --metric M      max_abs | rms_abs | max_rel | rms_rel (default: as the tolerance)
+
+Errors: max and rms of the difference in the representation (abs: decades on a
+log y axis, SI units on a linear one; rel: |y_pred/y_ref - 1| on a log y axis,
+|difference|/max|y_ref| on a linear one).
+Exit codes: 0 pass, 5 fail, 2 bad input (nothing is written).
+)";
+
+void list_quantities() {
+  std::printf("%-26s %-8s %s\n", "quantity", "axes", "columns (stem_unit; first stem preferred)");
+  for (const auto& q : check::quantities()) {
+    auto names = [](const check::AxisSpec& a) {
+      std::string stems, us;
+      for (const auto& b : a.bases) stems += (stems.empty() ? "" : "|") + b;
+      for (const auto& u : check::units(a.dim)) us += (us.empty() ? "" : "|") + (u.suffix.empty() ? "(none)" : u.suffix);
+      return stems + "  _  " + us + "  [" + check::si_unit(a.dim) + "]";
+    };
+    std::printf("%-26s %-8s x: %s\n", q.id.c_str(), check::representation_name(q.rep).c_str(), names(q.x).c_str());
+    std::printf("%-26s %-8s y: %s\n", "", "", names(q.y).c_str());
+    std::printf("%-26s %-8s default tolerance %g on %s; challenge item %d: %s\n", "", "", q.tolerance,
+                q.metric.c_str(), q.item, q.title.c_str());
+  }
+}
+
+std::string plot_script() {
+  if (const char* d = std::getenv("CMC_REPORTS_DIR"); d && *d) return std::string(d) + "/plot_check.py";
+  return std::string(CMC_SOURCE_DIR) + "/reports/plot_check.py";
+}
+
+// Draws the overlay with /usr/bin/python3 (or $CMC_PYTHON). A missing interpreter or
+// matplotlib only costs the figure: say so on stderr.
+void draw_figure(const std::filesystem::path& json, const std::filesystem::path& png, bool quiet) {
+  const char* env = std::getenv("CMC_PYTHON");
+  const std::string python = env && *env ? env : "/usr/bin/python3";
+  const std::string script = plot_script();
+  if (::access(python.c_str(), X_OK) != 0) {
+    std::fprintf(stderr, "cmc check: %s not found: no figure drawn (check.json is written; install python3-matplotlib)\n",
+                 python.c_str());
+    return;
+  }
+  if (::access(script.c_str(), R_OK) != 0) {
+    std::fprintf(stderr, "cmc check: %s not found: no figure drawn (check.json is written)\n", script.c_str());
+    return;
+  }
+  std::vector<std::string> args = {python, script, json.string(), png.string()};
+  std::vector<char*> argv;
+  for (auto& s : args) argv.push_back(s.data());
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  if (posix_spawn(&pid, python.c_str(), nullptr, nullptr, argv.data(), environ) != 0) {
+    std::fprintf(stderr, "cmc check: could not start %s: no figure drawn\n", python.c_str());
+    return;
+  }
+  int status = 0;
+  waitpid(pid, &status, 0);
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
+    if (!quiet) std::printf("figure          %s\n", png.c_str());
+  } else {
+    std::fprintf(stderr, "cmc check: %s failed (exit %d): no figure drawn (check.json is written)\n", script.c_str(),
+                 WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+  }
+}
+}  // namespace
+
+int cmd_check(int argc, char** argv) {
+  bool list = false;
+  std::vector<char*> rest;
+  for (int i = 0; i < argc; ++i) {
+    if (i >= 2 && std::string(argv[i]) == "--list") list = true;
+    else rest.push_back(argv[i]);
+  }
+  const Args a = parse_args(int(rest.size()), rest.data(), 2,
+                            {"--quantity", "--reference", "--tolerance", "--metric", "--x", "--y"});
+  if (a.help) return std::fputs(kCheckHelp, stdout), kOk;
+  if (list) return list_quantities(), kOk;
+  if (!a.overrides.empty()) throw CaseError("cmc check takes no --set (see cmc check --help)");
+  if (a.positional.size() != 1)
+    throw CaseError("cmc check needs exactly one prediction file (see cmc check --help)");
+  check::Options o;
+  o.prediction = a.positional[0];
+  o.quantity = a.option("--quantity");
+  o.reference_file = a.option("--reference");
+  o.metric = a.option("--metric");
+  o.x = a.option("--x");
+  o.y = a.option("--y");
+  if (const std::string t = a.option("--tolerance"); !t.empty()) {
+    char* end = nullptr;
+    const double v = std::strtod(t.c_str(), &end);
+    if (end == t.c_str() || *end != '\0' || !(v > 0) || !std::isfinite(v))
+      throw CaseError("--tolerance " + t + ": expected a positive number");
+    o.tolerance = v;
+  }
+  check::Report r;
+  try {
+    r = check::run_check(o);
+  } catch (const check::InputError& e) {
+    std::fprintf(stderr, "cmc check: error: %s\n", e.what());
+    return kUsage;
+  }
+  std::fputs(check::report_text(r).c_str(), stdout);
+  if (!a.out.empty()) {
+    const std::filesystem::path dir(a.out);
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec || !std::filesystem::is_directory(dir))
+      throw std::runtime_error(dir.string() + ": cannot create the output folder");
+    write_atomically(dir / "check.json", check::report_json(r));
+    if (!a.quiet) std::printf("wrote           %s\n", (dir / "check.json").c_str());
+    draw_figure(dir / "check.json", dir / "check.png", a.quiet);
+  }
+  return r.verdict.pass ? kOk : kValidationFailed;
+}
+
 }  // namespace cmc::app

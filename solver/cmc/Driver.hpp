@@ -29,7 +29,7 @@ struct RunSummary {
   std::string message;
   std::vector<StepRecord> steps;
   double wall_s = 0.0;
-  long fft_pairs = 0;
+  double fft_pairs = 0.0;
 };
 
 using StepCallback = std::function<void(const StepRecord&, const ContactState&)>;

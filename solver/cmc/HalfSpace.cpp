@@ -20,12 +20,54 @@ double HalfSpace::energy(const Field& p, const Field& u) const {
   return 0.5 * v[0] * grid_.cell_area();
 }
 
-// ---------------------------------------------------------------- periodic
+double HalfSpace::hermitian_weight(std::size_t k) const {
+  const int nqx = fourier_->nx() / 2 + 1, iqx = int(k % nqx);
+  return (iqx == 0 || 2 * iqx == fourier_->nx()) ? 1.0 : 2.0;
+}
 
-namespace {
-// Weight of an r2c mode in a sum over the full (Hermitian) spectrum.
-inline double hermitian_weight(int iqx, int nx) { return (iqx == 0 || 2 * iqx == nx) ? 1.0 : 2.0; }
-}  // namespace
+void HalfSpace::displacement(const Field& p, Field& u) {
+  fourier_->forward(to_transform_grid(p));
+  auto& s = fourier_->spectrum();
+  for (std::size_t k = 0; k < s.size(); ++k) s[k] *= kernel_[k];
+  u.resize(grid_.size());
+  from_transform_grid(u);
+}
+
+void HalfSpace::set_pressure(const Field& p, double scale, Field& u) {
+  p_hat_.resize(fourier_->spectrum_size());
+  fourier_->forward(to_transform_grid(p), p_hat_.data());
+  auto& s = fourier_->spectrum();
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    p_hat_[k] *= scale;
+    s[k] = p_hat_[k] * kernel_[k];
+  }
+  u.resize(grid_.size());
+  from_transform_grid(u);
+}
+
+double HalfSpace::set_direction(const Field& t) {
+  t_hat_.resize(fourier_->spectrum_size());
+  fourier_->forward(to_transform_grid(t), t_hat_.data());
+  // Parseval with the unnormalised forward transform: Σ_i t_i (G t)_i =
+  // (1/N) Σ_q G(q) |t̂_q|², and kernel_ already holds G(q)/N.
+  double d = 0.0;
+  for (std::size_t k = 0; k < t_hat_.size(); ++k) d += hermitian_weight(k) * kernel_[k] * std::norm(t_hat_[k]);
+  double v[1] = {d};
+  Grid::allreduce_sum(v);
+  return v[0];
+}
+
+void HalfSpace::step_pressure(double scale, double tau, Field& u) {
+  auto& s = fourier_->spectrum();
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    p_hat_[k] = scale * (p_hat_[k] - tau * t_hat_[k]);
+    s[k] = p_hat_[k] * kernel_[k];
+  }
+  u.resize(grid_.size());
+  from_transform_grid(u);
+}
+
+// ---------------------------------------------------------------- periodic
 
 PeriodicHalfSpace::PeriodicHalfSpace(const Grid& g, double estar) : HalfSpace(g, estar) {
   fourier_ = std::make_unique<Fourier>(g.nx, g.ny);
@@ -38,13 +80,7 @@ PeriodicHalfSpace::PeriodicHalfSpace(const Grid& g, double estar) : HalfSpace(g,
     }
 }
 
-void PeriodicHalfSpace::displacement(const Field& p, Field& u) {
-  fourier_->forward(p);
-  auto& s = fourier_->spectrum();
-  for (std::size_t k = 0; k < s.size(); ++k) s[k] *= kernel_[k];
-  u.resize(grid_.size());
-  fourier_->inverse(u);
-}
+void PeriodicHalfSpace::from_transform_grid(Field& out) { fourier_->inverse(out); }
 
 void PeriodicHalfSpace::pressure(const Field& u, Field& p, double) {
   fourier_->forward(u);
@@ -65,10 +101,8 @@ double PeriodicHalfSpace::energy_from_displacement(const Field& u) {
     for (int ix = 0; ix < grid_.nqx(); ++ix) {
       const std::size_t k = std::size_t(iy) * grid_.nqx() + ix;
       const double q = std::hypot(grid_.qx(ix), grid_.qy(iy));
-      sum += hermitian_weight(ix, grid_.nx) * q * std::norm(s[k] * norm);
+      sum += hermitian_weight(k) * q * std::norm(s[k] * norm);
     }
-  // The forward transform above counts as half a pair; keep the counters honest by
-  // not pretending it was a pair: fft_pairs() counts inverse transforms.
   return grid_.area() * 0.25 * estar_ * sum;
 }
 
@@ -113,15 +147,21 @@ FreeHalfSpace::FreeHalfSpace(const Grid& g, double estar) : HalfSpace(g, estar) 
   for (std::size_t q = 0; q < s.size(); ++q) kernel_[q] = s[q].real() * fourier_->normalisation();
 }
 
-void FreeHalfSpace::displacement(const Field& p, Field& u) {
+const double* FreeHalfSpace::to_transform_grid(const Field& p) {
   const int nx = grid_.nx, ny = grid_.ny, mx = 2 * nx;
-  std::fill(padded_.begin(), padded_.end(), 0.0);
-  for (int j = 0; j < ny; ++j) std::copy_n(&p[std::size_t(j) * nx], nx, &padded_[std::size_t(j) * mx]);
-  fourier_->forward(padded_);
-  auto& s = fourier_->spectrum();
-  for (std::size_t k = 0; k < s.size(); ++k) s[k] *= kernel_[k];
+  for (int j = 0; j < ny; ++j) {
+    double* row = &padded_[std::size_t(j) * mx];
+    std::copy_n(&p[std::size_t(j) * nx], nx, row);
+    std::fill(row + nx, row + mx, 0.0);
+  }
+  // Rows ny..2ny-1 stay zero: nothing else ever writes them before a forward transform.
+  std::fill(padded_.begin() + std::size_t(ny) * mx, padded_.end(), 0.0);
+  return padded_.data();
+}
+
+void FreeHalfSpace::from_transform_grid(Field& u) {
+  const int nx = grid_.nx, ny = grid_.ny, mx = 2 * nx;
   fourier_->inverse(padded_);
-  u.resize(grid_.size());
   for (int j = 0; j < ny; ++j) std::copy_n(&padded_[std::size_t(j) * mx], nx, &u[std::size_t(j) * nx]);
 }
 

@@ -31,7 +31,7 @@ class HalfSpace {
   virtual bool periodic() const = 0;
 
   // u = G p. One FFT pair. `u` may not alias `p`.
-  virtual void displacement(const Field& p, Field& u) = 0;
+  void displacement(const Field& p, Field& u);
   // p = G^{-1} u. Periodic: exact, one FFT pair, and the returned pressure has zero
   // mean (a periodic displacement field carries no information on the mean load:
   // add it yourself). Free: solved by conjugate gradients to `tol` relative.
@@ -42,45 +42,68 @@ class HalfSpace {
   // U = A (E*/4) Σ_q |q| |ũ_q|², ũ_q the Fourier-series coefficients of u.
   virtual double energy_from_displacement(const Field& u) = 0;
 
-  // FFT pairs done so far by this operator (the unit of cost cmc reports).
-  long fft_pairs() const { return fourier_ ? fourier_->inverse_count() : 0; }
+  // ---- Spectral pressure state, for solvers that need one FFT pair per iteration:
+  // the operator keeps the transform p̂ of the current pressure and of one search
+  // direction t̂, so that u = G p after a linear step p ← s (p − τ t) costs one
+  // inverse transform only.
+  // Transform p (one forward), keep s p̂, and set u = G (s p) (one inverse).
+  void set_pressure(const Field& p, double s, Field& u);
+  // Transform t (one forward), keep t̂, and return <t, G t> = Σ_i t_i (G t)_i.
+  double set_direction(const Field& t);
+  // p̂ ← s (p̂ − τ t̂) and u = G p (one inverse). The caller applies the same step to
+  // its real-space p.
+  void step_pressure(double s, double tau, Field& u);
+
+  // FFT pairs done so far by this operator (forward + inverse transforms, halved):
+  // the unit of cost cmc reports.
+  double fft_pairs() const {
+    return fourier_ ? 0.5 * double(fourier_->forward_count() + fourier_->inverse_count()) : 0.0;
+  }
   // Size of the transform behind one apply (for cost reports).
   std::size_t transform_size() const { return fourier_ ? fourier_->real_size() : 0; }
 
  protected:
   HalfSpace(const Grid& g, double estar);
+  // Fill the transform grid from a field on the contact grid (zero padding where the
+  // transform grid is larger) and return it; and the way back.
+  virtual const double* to_transform_grid(const Field& f) = 0;
+  virtual void from_transform_grid(Field& out) = 0;  // inverse transform of spectrum() into out
+  double hermitian_weight(std::size_t k) const;       // weight of an r2c mode in a full sum
+
   Grid grid_;
   double estar_;
   std::unique_ptr<Fourier> fourier_;
+  Field kernel_;  // real Fourier multiplier of G on the transform grid, times 1/N
+  Spectrum p_hat_, t_hat_;
 };
 
 class PeriodicHalfSpace final : public HalfSpace {
  public:
   PeriodicHalfSpace(const Grid& g, double estar);
   bool periodic() const override { return true; }
-  void displacement(const Field& p, Field& u) override;
   void pressure(const Field& u, Field& p, double tol = 1e-12) override;
   double energy_from_displacement(const Field& u) override;
   // Multiplier 2/(E*|q|) times the FFT normalisation, r2c layout (0 at q = 0).
   const Field& kernel() const { return kernel_; }
 
  private:
-  Field kernel_;
+  const double* to_transform_grid(const Field& f) override { return f.data(); }
+  void from_transform_grid(Field& out) override;
 };
 
 class FreeHalfSpace final : public HalfSpace {
  public:
   FreeHalfSpace(const Grid& g, double estar);
   bool periodic() const override { return false; }
-  void displacement(const Field& p, Field& u) override;
   void pressure(const Field& u, Field& p, double tol = 1e-12) override;
   double energy_from_displacement(const Field& u) override;
   // Displacement at (x, y) from unit pressure on one cell centred at the origin.
   static double influence(double x, double y, double dx, double dy, double estar);
 
  private:
-  Field padded_;   // (2nx) x (2ny) work array
-  Field kernel_;   // Fourier transform of the influence coefficients (real, even)
+  const double* to_transform_grid(const Field& f) override;
+  void from_transform_grid(Field& out) override;
+  Field padded_;  // (2nx) x (2ny) work array
 };
 
 std::unique_ptr<HalfSpace> make_half_space(const Grid& g, double estar, bool periodic);

@@ -21,7 +21,7 @@ PolonskyKeer::PolonskyKeer(HalfSpace& hs, const Field& heights, Options o) : hs_
 
 SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
   const auto t0 = std::chrono::steady_clock::now();
-  const long pairs0 = hs_.fft_pairs();
+  const double pairs0 = hs_.fft_pairs();
   const Grid& grid = hs_.grid();
   const std::size_t n = grid.size();
   const bool force_control = target.control == Control::MeanPressure;
@@ -63,53 +63,45 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
       for (auto& x : p) x *= s;
     }
   }
-  u.resize(n);
-  hs_.displacement(p, u);
+  hs_.set_pressure(p, 1.0, u);  // u = G p, and the operator keeps p̂
 
-  Field t(n, 0.0), r(n);
+  Field t(n, 0.0);
   double G_old = 1.0;
-  bool conjugate = false;   // PK's δ flag: false restarts steepest descent
-  bool exact_u = true;      // u == G p up to round-off
-  int since_exact = 0;
-  double pending_scale = 1.0, pending_tau = 0.0;  // deferred u ← s (u − τ r), p ← s p
-  bool pending = false;
+  double last_tau = grid.lx / (M_PI * hs_.contact_modulus());  // compliance of the longest wave
+  bool conjugate = false;     // PK's δ flag: false restarts steepest descent
+  int since_exact = 0;        // linear spectral steps since p̂ was last taken from p
+  double pending_scale = 1.0; // the load scaling of the last step, applied to p lazily
   const double mean_target = force_control ? target.value : 0.0;
 
   for (int it = 0;; ++it) {
-    // ---- (a) gap statistics over the contact set, with the previous step's deferred
-    // scaling fused in. Sums are shifted by the previous δ to avoid cancellation.
+    // ---- (a) gap statistics over the contact set Ic = {p > 0}, with the previous
+    // step's scaling of p fused in. Sums are shifted by the previous δ to avoid
+    // cancellation. Σ_Ic t is gathered to keep the next direction load-neutral.
     const double c = delta;
-    double s1 = 0.0, s2 = 0.0, nc = 0.0, ol = 0.0, nol = 0.0;
+    double s1 = 0.0, s2 = 0.0, nc = 0.0, ol = 0.0, nol = 0.0, tsum = 0.0;
     for (std::size_t i = 0; i < n; ++i) {
-      if (pending) {
-        p[i] *= pending_scale;
-        u[i] = pending_scale * (u[i] - pending_tau * r[i]);
-      }
+      p[i] *= pending_scale;
       const double x = h[i] + u[i] - c;
       if (p[i] > 0.0) {
         s1 += x;
         s2 += x * x;
         nc += 1.0;
+        tsum += t[i];
       } else if (x < 0.0) {
         ol += x * x;
         nol += 1.0;
       }
     }
-    pending = false;
-    double sums[5] = {s1, s2, nc, ol, nol};
+    pending_scale = 1.0;
+    double sums[6] = {s1, s2, nc, ol, nol, tsum};
     Grid::allreduce_sum(sums);
-    std::tie(s1, s2, nc, ol, nol) = std::tuple(sums[0], sums[1], sums[2], sums[3], sums[4]);
+    std::tie(s1, s2, nc, ol, nol, tsum) = std::tuple(sums[0], sums[1], sums[2], sums[3], sums[4], sums[5]);
 
     if (nc == 0.0) {
       // No point carries pressure: either no contact at all (a valid solution of a
-      // displacement-controlled step whose indenter does not reach the surface), or
-      // the iteration lost its contact set.
-      if (!force_control && nol == 0.0) {
-        res.iterations = it;
-        res.residual = 0.0;
-        break;
-      }
-      if (force_control && mean_target == 0.0) {
+      // displacement-controlled step whose indenter does not reach the surface, or of
+      // zero load), or the iteration lost its contact set.
+      if ((!force_control && nol == 0.0) || (force_control && mean_target == 0.0)) {
         res.iterations = it;
         res.residual = 0.0;
         break;
@@ -117,7 +109,8 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
       // Restart from the geometric overlap.
       for (std::size_t i = 0; i < n; ++i) p[i] = std::max(0.0, delta - h[i]) * hs_.contact_modulus() * M_PI / grid.lx;
       if (Grid::sum(p) == 0.0) return finish(false, "Polonsky-Keer lost its contact set");
-      hs_.displacement(p, u);
+      hs_.set_pressure(p, 1.0, u);
+      since_exact = 0;
       conjugate = false;
       continue;
     }
@@ -135,54 +128,52 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
     if (opt_.progress && it % std::max(1, opt_.progress_every) == 0) opt_.progress(it, res.residual);
 
     if (res.residual <= opt_.tolerance) {
-      if (exact_u) break;
-      // Claimed convergence on an incrementally updated u: confirm on the exact one.
-      hs_.displacement(p, u);
-      exact_u = true;
+      if (since_exact == 0) break;
+      // Confirm on u recomputed from the real-space p (removes spectral round-off drift).
+      hs_.set_pressure(p, 1.0, u);
       since_exact = 0;
       continue;
     }
     if (it >= opt_.max_iterations) break;
 
-    // ---- (c) conjugate direction on Ic
+    // ---- (c) conjugate direction on Ic. Under load control the old direction is
+    // made load-neutral on the current Ic (Σ_Ic t = 0), so the step keeps Σ p and the
+    // exact line search needs only <t, G t> (PK subtract the Ic-mean of G t instead,
+    // which costs a second transform).
     const double beta = conjugate ? G / G_old : 0.0;
+    const double tbar = force_control ? tsum / nc : 0.0;
     G_old = G;
-    double sgt = 0.0, st_ = 0.0;
+    double sgt = 0.0;
     for (std::size_t i = 0; i < n; ++i) {
       if (p[i] > 0.0) {
         const double g = h[i] + u[i] - delta;
-        t[i] = g + beta * t[i];
+        t[i] = g + beta * (t[i] - tbar);
         sgt += g * t[i];
-        st_ += t[i];
       } else {
         t[i] = 0.0;
       }
     }
-    // ---- (d) r = G t, one FFT pair
-    hs_.displacement(t, r);
-    double srt = 0.0, sr = 0.0;
-    for (std::size_t i = 0; i < n; ++i)
-      if (p[i] > 0.0) {
-        srt += r[i] * t[i];
-        sr += r[i];
-      }
-    double red[4] = {sgt, st_, srt, sr};
+    double red[1] = {sgt};
     Grid::allreduce_sum(red);
-    std::tie(sgt, st_, srt, sr) = std::tuple(red[0], red[1], red[2], red[3]);
-    // Force control works with r − mean_Ic(r), which keeps the load fixed.
-    const double denom = force_control ? srt - (sr / nc) * st_ : srt;
-    if (!(denom > 0.0)) {
-      // Loss of positive curvature along t (round-off at convergence): restart.
-      if (!exact_u) {
-        hs_.displacement(p, u);
-        exact_u = true;
-        since_exact = 0;
-      }
+    sgt = red[0];
+    // ---- (d) curvature along t from its transform alone (one forward transform)
+    const double denom = hs_.set_direction(t);
+    double tau;
+    if (denom > 0.0 && sgt > 0.0) {
+      tau = last_tau = sgt / denom;
+    } else if (nol > 0.0) {
+      tau = last_tau;  // nothing to gain on Ic: only overlapping points move
       conjugate = false;
-      if (it > 0 && G == 0.0) break;
-      continue;
+    } else {
+      // No descent left and no overlap: round-off floor. Confirm on an exact u, then stop.
+      if (since_exact > 0) {
+        hs_.set_pressure(p, 1.0, u);
+        since_exact = 0;
+        conjugate = false;
+        continue;
+      }
+      break;
     }
-    const double tau = sgt / denom;
 
     // ---- (e)–(g) pressure update, projection onto p ≥ 0, overlap points join
     bool changed = false;
@@ -216,17 +207,15 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
       if (!(mean_p > 0.0)) return finish(false, "Polonsky-Keer: pressure vanished during the iteration");
       scale = mean_target / mean_p;
     }
+    // ---- new displacement: a linear step is one inverse transform; a projected one
+    // needs the transform of the new p (one forward more).
     if (changed || ++since_exact >= opt_.recompute_every) {
-      for (auto& x : p) x *= scale;
-      hs_.displacement(p, u);
-      exact_u = true;
+      hs_.set_pressure(p, scale, u);
       since_exact = 0;
     } else {
-      pending = true;
-      pending_scale = scale;
-      pending_tau = tau;
-      exact_u = false;
+      hs_.step_pressure(scale, tau, u);
     }
+    pending_scale = scale;
   }
 
   // ---- the solved state

@@ -21,7 +21,7 @@ struct SolveResult {
   double residual = std::numeric_limits<double>::quiet_NaN();
   double energy = 0.0;  // elastic energy (+ interaction energy, where there is one), reduced
   double wall_s = 0.0;
-  long fft_pairs = 0;
+  double fft_pairs = 0.0;  // (forward + inverse transforms) / 2
   std::string message;  // why it stopped, when it did not converge
 };
 
