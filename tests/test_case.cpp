@@ -128,3 +128,19 @@ TEST(Case, Overrides) {
   EXPECT_THROW(load_case(f, {"gridn3"}), CaseError);
   EXPECT_THROW(load_case(f, {"n=3"}), CaseError);
 }
+
+TEST(Case, SelfAffineAndObservablesKeys) {
+  std::string t = replace(kGood, "kind = \"sphere\"\nradius = 1e-2",
+                          "kind = \"self_affine\"\nrolloff_wavelength = 2e-4\ncutoff_wavelength = 1e-5");
+  const Case c = load_case(write(t + "\n[observables]\nenabled = true\n"));
+  EXPECT_EQ(c.surface.kind, "self_affine");
+  EXPECT_DOUBLE_EQ(c.surface.hurst, 0.8);
+  EXPECT_TRUE(c.observables.enabled);
+  EXPECT_DOUBLE_EQ(c.observables.cross_section_x, 0.5e-3);
+  auto m = error_of(replace(t, "cutoff_wavelength = 1e-5", "cutoff_wavelength = 3e-4"));
+  EXPECT_NE(m.find("[surface] cutoff_wavelength: expected cutoff_wavelength < rolloff_wavelength"), std::string::npos) << m;
+  m = error_of(replace(t, "rolloff_wavelength = 2e-4", "rolloff_wavelength = 2e-4\nhurst = 1.5"));
+  EXPECT_NE(m.find("[surface] hurst"), std::string::npos) << m;
+  m = error_of(t + "\n[observables]\nenabled = true\nstress_bins = 0\n");
+  EXPECT_NE(m.find("[observables] stress_bins"), std::string::npos) << m;
+}

@@ -1,6 +1,7 @@
 // Tests of the challenge surface generator, surface readers/writers and statistics.
 #include "cmc/SelfAffine.hpp"
 #include "cmc/SurfaceIO.hpp"
+#include "cmc/Interaction.hpp"
 #include "cmc/SurfaceStats.hpp"
 
 #include <gtest/gtest.h>
@@ -89,7 +90,7 @@ TEST(SelfAffine, ChallengeSurface2048) {
   // wavelength modes: realisation scatter < 0.5 %, expected 60.1 nm; 5 % as asked.
   EXPECT_NEAR(st.curvature_radius / 6e-4, 1.0, 0.05);
   // mu_T = 3 for w = 2e-5, E* = 1, rho = 2.071e-5 (reduced units of the problem definition).
-  EXPECT_NEAR(tabor_parameter(st.curvature_radius, 2e-5, 1.0, 2.071e-5) / 3.0, 1.0, 0.05);
+  EXPECT_NEAR(tabor_parameter(1.0, st.curvature_radius, 2e-5, 2.071e-5) / 3.0, 1.0, 0.05);
   // The other curvature definition (|Lap h|/2) would give ~73.6 nm: clearly distinguishable.
   EXPECT_GT(1.0 / st.rms_mean_curvature, 1.15 * 6e-4);
   EXPECT_NEAR(st.mean, s.shift, 1e-12);  // synthesis has zero mean
@@ -300,9 +301,9 @@ TEST(SurfaceStats, CosineExactMoments) {
 
 TEST(SurfaceStats, TaborParameterAndPsdNormalisation) {
   // mu_T = R^{1/3} (w/E*)^{2/3} / rho: R = 6e-4, w = 2e-5, rho = 2.071e-5 -> 3.0014...
-  EXPECT_NEAR(tabor_parameter(6e-4, 2e-5, 1.0, 2.071e-5), std::cbrt(6e-4) * std::pow(2e-5, 2.0 / 3.0) / 2.071e-5, 1e-12);
-  EXPECT_NEAR(tabor_parameter(6e-4, 2e-5, 1.0, 2.071e-5), 3.0, 0.01);
-  EXPECT_THROW(tabor_parameter(-1, 1, 1, 1), std::invalid_argument);
+  EXPECT_NEAR(tabor_parameter(1.0, 6e-4, 2e-5, 2.071e-5), std::cbrt(6e-4) * std::pow(2e-5, 2.0 / 3.0) / 2.071e-5, 1e-12);
+  EXPECT_NEAR(tabor_parameter(1.0, 6e-4, 2e-5, 2.071e-5), 3.0, 0.01);
+  EXPECT_THROW(tabor_parameter(1, -1, 1, 1), std::invalid_argument);
   // Parseval for the binned PSD: every mode of a K = 60 band on 256^2 lies inside the bins.
   const auto s = generate_self_affine(small_spec(), 256);
   const RadialPsd p = radial_psd(s.map.grid, s.map.heights);

@@ -176,8 +176,8 @@ class Section {
   std::set<std::string> used_;
 };
 
-const std::set<std::string> kSections = {"case", "grid", "material", "surface", "interaction",
-                                         "loading", "solver", "output", "validation"};
+const std::set<std::string> kSections = {"case", "grid", "material", "surface", "interaction", "loading",
+                                         "solver", "output", "observables", "validation"};
 
 }  // namespace
 
@@ -213,7 +213,7 @@ Case parse_case(const toml::table& input, const std::string& file) {
     if (!kSections.count(std::string(k.str())))
       throw CaseError(file + ": [" + std::string(k.str()) + "]: unknown section" + where(&v) +
                       " (expected one of [case] [grid] [material] [surface] [interaction] [loading] [solver] "
-                      "[output] [validation])");
+                      "[output] [observables] [validation])");
 
   {
     Section s(t, "case", file, true);
@@ -250,7 +250,7 @@ Case parse_case(const toml::table& input, const std::string& file) {
   {
     Section s(t, "surface", file, true);
     auto& sf = c.surface;
-    sf.kind = s.string("kind", {}, {"sphere", "wavy1d", "wavy2d", "flat"});
+    sf.kind = s.string("kind", {}, {"sphere", "wavy1d", "wavy2d", "flat", "self_affine", "file"});
     if (sf.kind == "sphere") {
       sf.radius = s.number("radius", {}, "the sphere radius in m", true);
       if (s.has("center")) {
@@ -264,6 +264,23 @@ Case parse_case(const toml::table& input, const std::string& file) {
       const double periods = c.grid.size_x / sf.wavelength;
       if (c.grid.periodic && std::abs(periods - std::round(periods)) > 1e-9)
         s.fail("wavelength", "a wavelength that divides the periodic grid size " + std::to_string(c.grid.size_x));
+    } else if (sf.kind == "self_affine") {
+      if (c.grid.size_x != c.grid.size_y) s.fail("kind", "a square grid (size_y = size) for a self-affine surface");
+      sf.hurst = s.number("hurst", 0.8, "the Hurst exponent H in (0, 1]", true);
+      if (sf.hurst > 1.0) s.fail("hurst", "the Hurst exponent H in (0, 1]");
+      sf.rolloff_wavelength = s.number("rolloff_wavelength", 0.2 * c.grid.size_x, "the roll-off wavelength in m", true);
+      sf.cutoff_wavelength = s.number("cutoff_wavelength", 1e-3 * c.grid.size_x, "the short-wavelength cutoff in m", true);
+      if (!(sf.cutoff_wavelength < sf.rolloff_wavelength) || sf.rolloff_wavelength > c.grid.size_x)
+        s.fail("cutoff_wavelength", "cutoff_wavelength < rolloff_wavelength <= grid size");
+      sf.rms_gradient = s.number("rms_gradient", 1.0, "the rms gradient of the surface", true);
+      sf.seed = s.integer("seed", 28, "a non-negative random seed", 0);
+    } else if (sf.kind == "file") {
+      sf.path = s.string("path");
+      sf.format = s.string("format", {}, {"challenge_hdf5", "challenge_ascii", "fourier", "hdf5", "ascii"});
+      sf.dataset = s.string("dataset", std::string("surface"));
+      // The challenge's own files hold heights in units of L; generic files say what they hold.
+      const bool challenge = sf.format.rfind("challenge", 0) == 0 || sf.format == "fourier";
+      sf.height_unit = s.number("height_unit", challenge ? c.grid.size_x : 1.0, "metres per height unit of the file", true);
     }
     s.finish();
   }
@@ -296,6 +313,17 @@ Case parse_case(const toml::table& input, const std::string& file) {
   {
     Section s(t, "output", file, false);
     c.write_fields = s.boolean("fields", true);
+    s.finish();
+  }
+  {
+    Section s(t, "observables", file, false);
+    auto& o = c.observables;
+    o.enabled = s.boolean("enabled", false);
+    o.cross_section_x = s.number("cross_section_x", 0.5 * c.grid.size_x, "the x of the cross-section in m", false, true);
+    o.stress_bins = int(s.integer("stress_bins", 100, "a positive number of bins", 1));
+    o.gap_bins_per_decade = int(s.integer("gap_bins_per_decade", 10, "a positive number of bins", 1));
+    o.patch_bins_per_decade = int(s.integer("patch_bins_per_decade", 5, "a positive number of bins", 1));
+    o.contact_gap_threshold = s.number("contact_gap_threshold", 0.0, "a gap in m (0: contact where p > 0)", false, true);
     s.finish();
   }
   if (t.contains("validation")) {

@@ -26,11 +26,29 @@ struct GridSpec {
 };
 
 struct SurfaceSpec {
-  std::string kind;  // sphere | wavy1d | wavy2d | flat
+  std::string kind;  // sphere | wavy1d | wavy2d | flat | self_affine | file
   double radius = 0.0;                    // m (sphere)
   std::optional<std::vector<double>> center;  // m (sphere apex), default: box centre
   double amplitude = 0.0;                 // m (wavy)
   double wavelength = 0.0;                // m (wavy), default: the grid size
+  // self_affine (the challenge's spectrum; Müser & Dapp, section "Surface Topography")
+  double hurst = 0.8;
+  double rolloff_wavelength = 0.0;        // m
+  double cutoff_wavelength = 0.0;         // m
+  double rms_gradient = 1.0;
+  long long seed = 28;
+  // file
+  std::string path, format, dataset;      // format: challenge_hdf5 | challenge_ascii | fourier | hdf5 | ascii
+  double height_unit = 0.0;               // m per height unit in the file (0: the format's own)
+};
+
+struct ObservablesSpec {
+  bool enabled = false;
+  double cross_section_x = 0.0;  // m
+  int stress_bins = 100;
+  int gap_bins_per_decade = 10;
+  int patch_bins_per_decade = 5;
+  double contact_gap_threshold = 0.0;  // m; 0: contact is where p > 0
 };
 
 struct InteractionSpec {
@@ -76,6 +94,7 @@ struct Case {
   LoadingSpec loading;
   SolverSpec solver;
   bool write_fields = true;
+  ObservablesSpec observables;
   std::optional<ValidationSpec> validation;
   toml::table resolved;  // the case as run: overrides applied, defaults filled in
 };

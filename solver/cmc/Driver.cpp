@@ -31,6 +31,7 @@ RunSummary run_scene(const Case& c, Scene& s, const StepCallback& on_step, const
     rec.penetration = u.to_m(state.penetration);
     rec.mean_gap = u.to_m(Grid::mean(state.gap));
     rec.elastic_energy = u.to_j(rec.result.energy);
+    if (s.observables.enabled) rec.observables = measure_step(s, state);
     run.fft_pairs += rec.result.fft_pairs;
     if (!rec.result.converged && run.status == "converged") {
       run.status = "not_converged";

@@ -4,6 +4,9 @@
 #pragma once
 
 #include "cmc/Scene.hpp"
+#include "cmc/StepObservables.hpp"
+
+#include <optional>
 
 #include <functional>
 #include <string>
@@ -22,6 +25,7 @@ struct StepRecord {
   double contact_fraction = 0.0; // fraction of grid points carrying pressure
   double elastic_energy = 0.0;   // J
   SolveResult result;
+  std::optional<StepObservables> observables;  // when the case asks for them
 };
 
 struct RunSummary {

@@ -20,9 +20,15 @@ double HalfSpace::energy(const Field& p, const Field& u) const {
   return 0.5 * v[0] * grid_.cell_area();
 }
 
-double HalfSpace::hermitian_weight(std::size_t k) const {
-  const int nqx = fourier_->nx() / 2 + 1, iqx = int(k % nqx);
-  return (iqx == 0 || 2 * iqx == fourier_->nx()) ? 1.0 : 2.0;
+template <class F>
+void HalfSpace::for_each_mode(F&& f) const {
+  // r2c layout: rows of nx/2 + 1 modes; interior columns stand for a ±q pair.
+  const int nxt = fourier_->nx(), nqx = nxt / 2 + 1, ny = fourier_->ny();
+  for (int iy = 0; iy < ny; ++iy) {
+    const std::size_t row = std::size_t(iy) * nqx;
+    f(row, 1.0);
+    for (int ix = 1; ix < nqx; ++ix) f(row + ix, 2 * ix == nxt ? 1.0 : 2.0);
+  }
 }
 
 void HalfSpace::displacement(const Field& p, Field& u) {
@@ -51,7 +57,7 @@ double HalfSpace::set_direction(const Field& t) {
   // Parseval with the unnormalised forward transform: Σ_i t_i (G t)_i =
   // (1/N) Σ_q G(q) |t̂_q|², and kernel_ already holds G(q)/N.
   double d = 0.0;
-  for (std::size_t k = 0; k < t_hat_.size(); ++k) d += hermitian_weight(k) * kernel_[k] * std::norm(t_hat_[k]);
+  for_each_mode([&](std::size_t k, double w) { d += w * kernel_[k] * std::norm(t_hat_[k]); });
   double v[1] = {d};
   Grid::allreduce_sum(v);
   return v[0];
@@ -97,12 +103,10 @@ double PeriodicHalfSpace::energy_from_displacement(const Field& u) {
   const auto& s = fourier_->spectrum();
   const double norm = fourier_->normalisation();
   double sum = 0.0;
-  for (int iy = 0; iy < grid_.ny; ++iy)
-    for (int ix = 0; ix < grid_.nqx(); ++ix) {
-      const std::size_t k = std::size_t(iy) * grid_.nqx() + ix;
-      const double q = std::hypot(grid_.qx(ix), grid_.qy(iy));
-      sum += hermitian_weight(k) * q * std::norm(s[k] * norm);
-    }
+  for_each_mode([&](std::size_t k, double w) {
+    const double q = std::hypot(grid_.qx(int(k % grid_.nqx())), grid_.qy(int(k / grid_.nqx())));
+    sum += w * q * std::norm(s[k] * norm);
+  });
   return grid_.area() * 0.25 * estar_ * sum;
 }
 

@@ -68,7 +68,10 @@ class HalfSpace {
   // transform grid is larger) and return it; and the way back.
   virtual const double* to_transform_grid(const Field& f) = 0;
   virtual void from_transform_grid(Field& out) = 0;  // inverse transform of spectrum() into out
-  double hermitian_weight(std::size_t k) const;       // weight of an r2c mode in a full sum
+  // Calls f(k, w) for every r2c mode k with its weight w in a sum over the full
+  // (Hermitian) spectrum.
+  template <class F>
+  void for_each_mode(F&& f) const;
 
   Grid grid_;
   double estar_;

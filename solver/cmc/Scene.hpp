@@ -23,6 +23,12 @@ struct Scene {
   // Shape parameters of analytic surfaces (reduced), for the validation harness.
   double sphere_radius = 0.0, apex_x = 0.0, apex_y = 0.0;
   double wave_amplitude = 0.0, wavelength = 0.0;
+  // Observables to compute per step (lengths reduced).
+  ObservablesSpec observables;
+  // Facts about the surface and the resolution for summary.json, in SI
+  // (e.g. rms_height, curvature_radius, dx_over_cutoff_wavelength), and warnings.
+  std::vector<std::pair<std::string, double>> surface_facts;
+  std::vector<std::string> warnings;
 };
 
 Scene build_scene(const Case& c);

@@ -72,12 +72,6 @@ SurfaceStatistics surface_statistics(const Grid& g, const Field& h, Fourier& fft
   return s;
 }
 
-double tabor_parameter(double rc, double w, double estar, double rho) {
-  if (!(rc > 0) || !(w >= 0) || !(estar > 0) || !(rho > 0))
-    throw std::invalid_argument("tabor_parameter: need R_c > 0, w >= 0, E* > 0, rho > 0");
-  return std::cbrt(rc) * std::pow(w / estar, 2.0 / 3.0) / rho;
-}
-
 RadialPsd radial_psd(const Grid& g, const Field& h, int bins, bool logarithmic) {
   check(g, h, "radial_psd");
   constexpr double two_pi = 2.0 * std::numbers::pi;

@@ -33,8 +33,8 @@ SurfaceStatistics surface_statistics(const Grid& grid, const Field& h);
 // Same, reusing a transform of the grid's shape (its spectrum buffer is overwritten).
 SurfaceStatistics surface_statistics(const Grid& grid, const Field& h, Fourier& fft);
 
-// Müser's local Tabor parameter mu_T = R_c^{1/3} (w / E*)^{2/3} / rho (problem definition).
-double tabor_parameter(double curvature_radius, double work_of_adhesion, double estar, double rho);
+// Müser's local Tabor parameter of a rough surface: tabor_parameter(E*, R_c, w, rho) in
+// Interaction.hpp, with R_c = curvature_radius.
 
 // Radially averaged PSD in Persson's convention (Persson et al., J. Phys.: Condens. Matter
 // 17, R1 (2005)): <dh^2> = integral d^2q C(q), i.e.

@@ -67,6 +67,16 @@ void dataset(hid_t where, const std::string& name, const Grid& g, const Field& v
   H5Dclose(d);
   H5Sclose(space);
 }
+void vector_dataset(hid_t where, const std::string& name, const std::vector<double>& v, const char* unit) {
+  hsize_t dims[1] = {hsize_t(v.size())};
+  hid_t space = H5Screate_simple(1, dims, nullptr);
+  hid_t d = H5Dcreate2(where, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  check(d, "dataset " + name);
+  if (!v.empty()) check(H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), "writing " + name);
+  attr_string(d, "units", unit);
+  H5Dclose(d);
+  H5Sclose(space);
+}
 }  // namespace
 
 Writer::Writer(fs::path dir, const Case& c, const Scene& s) : dir_(std::move(dir)), case_(c), scene_(s) {
@@ -111,13 +121,19 @@ void Writer::add_step(const StepRecord& rec, const ContactState& st) {
   attr_double(grp, "penetration", rec.penetration);
   attr_double(grp, "mean_gap", rec.mean_gap);
   attr_string(grp, "branch", rec.branch);
+  if (rec.observables) {
+    hid_t og = H5Gcreate2(grp, "observables", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    check(og, "group observables");
+    for (const auto& [name, a] : rec.observables->arrays) vector_dataset(og, name, a.values, a.unit.c_str());
+    H5Gclose(og);
+  }
   H5Gclose(grp);
   H5Fflush(hid_t(file_), H5F_SCOPE_LOCAL);
   ++steps_written_;
 }
 
 toml::table Writer::step_json(const StepRecord& r) {
-  return toml::table{{"index", r.index},
+  toml::table t{{"index", r.index},
                      {"branch", r.branch},
                      {"mean_pressure", r.mean_pressure},
                      {"force", r.force},
@@ -131,12 +147,18 @@ toml::table Writer::step_json(const StepRecord& r) {
                      {"wall_s", r.result.wall_s},
                      {"fft_pairs", r.result.fft_pairs},
                      {"message", r.result.message}};
+  if (r.observables) {
+    toml::table o;
+    for (const auto& [k, v] : r.observables->scalars) o.insert(k, v);
+    t.insert("observables", o);
+  }
+  return t;
 }
 
 toml::table Writer::summary_base() const {
   const Units& u = scene_.units;
   const Grid& g = scene_.grid;
-  return toml::table{
+  toml::table base{
       {"cmc_version", CMC_VERSION},
       {"case_file", case_.file},
       {"case", case_.resolved},
@@ -149,6 +171,13 @@ toml::table Writer::summary_base() const {
                            {"fft_size", (long long)scene_.half_space->transform_size()}}},
       {"surface", scene_.topography.description},
   };
+  toml::table facts;
+  for (const auto& [k, v] : scene_.surface_facts) facts.insert(k, v);
+  if (!facts.empty()) base.insert("surface_facts", facts);
+  toml::array warnings;
+  for (const auto& w : scene_.warnings) warnings.push_back(w);
+  base.insert("warnings", warnings);
+  return base;
 }
 
 void Writer::finish(const RunSummary& run, const toml::table& extra) {

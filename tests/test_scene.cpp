@@ -1,0 +1,76 @@
+// Case -> Scene: unit conversion in one place, surfaces from generators and files.
+#include "cmc/Scene.hpp"
+#include "cmc/SurfaceIO.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+using namespace cmc;
+
+namespace {
+toml::table base() {
+  return toml::parse(R"(
+[case]
+name = "s"
+[grid]
+n = 64
+size = 2e-3
+[material]
+contact_modulus = 4e6
+[surface]
+kind = "sphere"
+radius = 1e-2
+[loading]
+control = "force"
+values = [8.0]
+)");
+}
+}  // namespace
+
+TEST(Scene, ConvertsToReducedUnits) {
+  const Case c = parse_case(base(), "mem");
+  const Scene s = build_scene(c);
+  EXPECT_DOUBLE_EQ(s.grid.lx, 1.0);
+  EXPECT_DOUBLE_EQ(s.sphere_radius, 5.0);              // 1e-2 m / 2e-3 m
+  ASSERT_EQ(s.targets.size(), 1u);
+  EXPECT_NEAR(s.targets[0].value, 8.0 / (4e6 * 4e-6), 1e-12);  // F / (E* L²) over unit area
+  EXPECT_DOUBLE_EQ(s.units.to_n(s.targets[0].value * s.grid.area()), 8.0);
+}
+
+TEST(Scene, SurfaceFileIsReadAndInterpolated) {
+  const auto dir = std::filesystem::temp_directory_path() / ("cmc_scene_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  // A 16 x 16 challenge-format file (heights in units of L) holding one cosine.
+  HeightMap m{Grid{16, 16, 1.0, 1.0}, Field(256)};
+  for (int iy = 0; iy < 16; ++iy)
+    for (int ix = 0; ix < 16; ++ix) m.heights[iy * 16 + ix] = 1e-3 * (1 + std::cos(2 * M_PI * 3 * ix / 16.0));
+  write_hdf5_heights(dir / "surf.h5", m);
+  toml::table t = base();
+  t.insert_or_assign("surface", toml::table{{"kind", "file"}, {"path", "surf.h5"}, {"format", "challenge_hdf5"}});
+  Case c = parse_case(t, (dir / "case.toml").string());
+  const Scene s = build_scene(c);  // 64² from a 16² file: Fourier interpolation
+  for (int ix = 0; ix < 64; ++ix)
+    ASSERT_NEAR(s.topography.heights[5 * 64 + ix], 1e-3 * (1 + std::cos(2 * M_PI * 3 * ix / 64.0)), 1e-15);
+  // A grid coarser than the file is refused, naming the key.
+  t.insert_or_assign("grid", toml::table{{"n", 8}, {"size", 2e-3}});
+  c = parse_case(t, (dir / "case.toml").string());
+  try {
+    build_scene(c);
+    ADD_FAILURE() << "no error";
+  } catch (const CaseError& e) {
+    EXPECT_NE(std::string(e.what()).find("[grid] n"), std::string::npos) << e.what();
+  }
+  // A missing file names the file.
+  t.insert_or_assign("surface", toml::table{{"kind", "file"}, {"path", "nope.h5"}, {"format", "challenge_hdf5"}});
+  t.insert_or_assign("grid", toml::table{{"n", 16}, {"size", 2e-3}});
+  c = parse_case(t, (dir / "case.toml").string());
+  try {
+    build_scene(c);
+    ADD_FAILURE() << "no error";
+  } catch (const CaseError& e) {
+    EXPECT_NE(std::string(e.what()).find("nope.h5"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove_all(dir);
+}
