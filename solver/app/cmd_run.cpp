@@ -11,7 +11,7 @@
 namespace cmc::app {
 
 namespace {
-const char* kRunHelp = R"(usage: cmc run CASE.toml --out DIR [--set section.key=value ...] [--quiet]
+const char* kRunHelp = R"(usage: cmc run CASE.toml --out DIR [--set section.key=value ...] [--resume] [--quiet]
 
 Solves every load step of CASE.toml and writes, atomically:
   DIR/summary.json  the resolved case, units, grid, status, timing and one record per step
@@ -20,6 +20,9 @@ Solves every load step of CASE.toml and writes, atomically:
 --set overrides any case key, e.g. --set grid.n=512 --set solver.tolerance=1e-8
 (the value is TOML: numbers, "strings" or bare words, [arrays]).
 Progress goes to stderr when it is a terminal; --quiet silences it.
+After every load step a checkpoint is kept in DIR (hidden files); --resume continues
+an interrupted run of the same case (same file and --set values) from its last
+finished step instead of starting afresh.
 Exit codes: 0 converged, 2 bad input, 3 not converged (results are still written,
 with "status": "not_converged"), 4 failed.
 )";
@@ -33,7 +36,10 @@ int cmd_run(int argc, char** argv) {
   if (a.out.empty()) throw CaseError("cmc run needs --out DIR (see cmc run --help)");
   const Case c = load_case(a.positional[0], a.overrides);
   Scene scene = build_scene(c);
-  Writer writer(a.out, c, scene);
+  Writer writer(a.out, c, scene, a.resume);
+  const ResumePoint& rp = writer.resume_point();
+  if (!rp.done.empty() && !a.quiet)
+    std::fprintf(stderr, "resuming %s after step %d of %zu\n", c.name.c_str(), rp.done.back().index, scene.targets.size());
   int step = 0;
   const auto t0 = std::chrono::steady_clock::now();
   const bool tty = !a.quiet && isatty(STDERR_FILENO);
@@ -51,7 +57,7 @@ int cmd_run(int argc, char** argv) {
                          r.result.residual, r.result.wall_s, r.mean_pressure, r.contact_fraction);
           step = r.index + 1;
         },
-        make_progress(a.quiet, &step, t0));
+        make_progress(a.quiet, &step, t0), &rp.done, rp.done.empty() ? nullptr : &rp.state);
     writer.finish(run);
   } catch (const std::exception& e) {
     writer.fail(e.what());

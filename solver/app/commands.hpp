@@ -17,7 +17,7 @@ constexpr int kOk = 0, kUsage = 2, kNotConverged = 3, kFailed = 4, kValidationFa
 struct Args {
   std::vector<std::string> positional, overrides;
   std::string out;
-  bool quiet = false, help = false;
+  bool quiet = false, help = false, resume = false;
   // Options of the form --name value that a command accepts besides the common ones.
   std::vector<std::pair<std::string, std::string>> options;
   std::string option(const std::string& name, const std::string& def = "") const;

@@ -26,6 +26,7 @@ Args parse_args(int argc, char** argv, int first, const std::vector<std::string>
     auto take = [&]() { return eq == std::string::npos ? value(name) : s.substr(eq + 1); };
     if (s == "-h" || s == "--help") a.help = true;
     else if (s == "--quiet" || s == "-q") a.quiet = true;
+    else if (s == "--resume") a.resume = true;
     else if (name == "--out" || name == "-o") a.out = take();
     else if (name == "--set") a.overrides.push_back(take());
     else if (std::find(valued.begin(), valued.end(), name) != valued.end()) a.options.emplace_back(name, take());

@@ -6,7 +6,8 @@
 
 namespace cmc {
 
-RunSummary run_scene(const Case& c, Scene& s, const StepCallback& on_step, const Progress& progress) {
+RunSummary run_scene(const Case& c, Scene& s, const StepCallback& on_step, const Progress& progress,
+                     const std::vector<StepRecord>* done, const ContactState* warm) {
   const auto t0 = std::chrono::steady_clock::now();
   RunSummary run;
   PolonskyKeer::Options o;
@@ -16,8 +17,18 @@ RunSummary run_scene(const Case& c, Scene& s, const StepCallback& on_step, const
   o.progress = progress;
   PolonskyKeer solver(*s.half_space, s.topography.heights, o);
   ContactState state;
+  if (warm) state = *warm;
+  const std::size_t first = done ? done->size() : 0;
+  for (std::size_t k = 0; k < first; ++k) {
+    run.steps.push_back((*done)[k]);
+    run.fft_pairs += (*done)[k].result.fft_pairs;
+    if (!(*done)[k].result.converged && run.status == "converged") {
+      run.status = "not_converged";
+      run.message = "step " + std::to_string(k) + ": " + (*done)[k].result.message;
+    }
+  }
   const Units& u = s.units;
-  for (std::size_t k = 0; k < s.targets.size(); ++k) {
+  for (std::size_t k = first; k < s.targets.size(); ++k) {
     StepRecord rec;
     rec.index = int(k);
     rec.result = solver.solve(s.targets[k], state);

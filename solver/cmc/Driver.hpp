@@ -38,6 +38,9 @@ struct RunSummary {
 
 using StepCallback = std::function<void(const StepRecord&, const ContactState&)>;
 
-RunSummary run_scene(const Case& c, Scene& s, const StepCallback& on_step, const Progress& progress = {});
+// `done`: steps already finished by an interrupted run (skipped, kept in the summary);
+// `warm`: the state to warm-start the next step from.
+RunSummary run_scene(const Case& c, Scene& s, const StepCallback& on_step, const Progress& progress = {},
+                     const std::vector<StepRecord>* done = nullptr, const ContactState* warm = nullptr);
 
 }  // namespace cmc

@@ -79,13 +79,23 @@ void vector_dataset(hid_t where, const std::string& name, const std::vector<doub
 }
 }  // namespace
 
-Writer::Writer(fs::path dir, const Case& c, const Scene& s) : dir_(std::move(dir)), case_(c), scene_(s) {
+Writer::Writer(fs::path dir, const Case& c, const Scene& s, bool resume) : dir_(std::move(dir)), case_(c), scene_(s) {
   std::error_code ec;
   fs::create_directories(dir_, ec);
   if (ec || !fs::is_directory(dir_)) throw std::runtime_error(dir_.string() + ": cannot create the output folder");
-  if (!c.write_fields) return;
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  h5_tmp_ = dir_ / (".result.h5.tmp" + std::to_string(::getpid()));
+  progress_ = dir_ / ".progress.toml";
+  checkpoint_ = dir_ / ".checkpoint.h5";
+  h5_tmp_ = dir_ / ".result.h5.partial";
+  if (resume && fs::exists(progress_)) {
+    load_partial();
+    if (!resume_.done.empty()) return;
+  }
+  for (const auto& f : {progress_, checkpoint_, h5_tmp_}) fs::remove(f, ec);
+  if (!c.write_fields) {
+    h5_tmp_.clear();
+    return;
+  }
   file_ = H5Fcreate(h5_tmp_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   if (file_ < 0) throw std::runtime_error(h5_tmp_.string() + ": cannot create the HDF5 file");
   const Units& u = s.units;
@@ -101,13 +111,90 @@ Writer::Writer(fs::path dir, const Case& c, const Scene& s) : dir_(std::move(dir
   dataset(root, "heights", g, s.topography.heights, u.length_m, "m", "indenter heights h (gap g = h - penetration + u)");
 }
 
+void Writer::load_partial() {
+  toml::table t;
+  try {
+    t = toml::parse_file(progress_.string());
+  } catch (const toml::parse_error&) {
+    throw CaseError(progress_.string() + ": unreadable progress file of a partial run; remove it or run without --resume");
+  }
+  if (t["case"].value_or(std::string()) != to_json(case_.resolved))
+    throw CaseError(dir_.string() + " holds a partial run of a different case (or other --set values): run without "
+                    "--resume to start afresh, or use another --out");
+  const Units& u = scene_.units;
+  if (auto* steps = t["steps"].as_array())
+    for (auto& node : *steps) {
+      const toml::table& r = *node.as_table();
+      records_.push_back(r);
+      StepRecord rec;
+      rec.index = int(r["index"].value_or(0));
+      rec.branch = r["branch"].value_or(std::string("loading"));
+      rec.mean_pressure = r["mean_pressure"].value_or(0.0);
+      rec.force = r["force"].value_or(0.0);
+      rec.penetration = r["penetration"].value_or(0.0);
+      rec.mean_gap = r["mean_gap"].value_or(0.0);
+      rec.contact_fraction = r["contact_fraction"].value_or(0.0);
+      rec.elastic_energy = r["elastic_energy"].value_or(0.0);
+      rec.result.iterations = int(r["iterations"].value_or(0));
+      rec.result.converged = r["converged"].value_or(false);
+      rec.result.residual = r["residual"].value_or(0.0);
+      rec.result.wall_s = r["wall_s"].value_or(0.0);
+      rec.result.fft_pairs = r["fft_pairs"].value_or(0.0);
+      rec.result.message = r["message"].value_or(std::string());
+      if (auto* o = r["observables"].as_table()) {
+        StepObservables so;
+        for (const auto& [k, v] : *o) so.scalars.emplace_back(std::string(k.str()), v.value_or(0.0));
+        rec.observables = so;
+      }
+      resume_.done.push_back(rec);
+    }
+  // The warm start: the last finished step's fields (reduced units).
+  hid_t f = H5Fopen(checkpoint_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) throw CaseError(checkpoint_.string() + ": missing checkpoint of a partial run; run without --resume");
+  const std::size_t n = scene_.grid.size();
+  for (auto [name, field] : {std::pair{"pressure", &resume_.state.pressure}, {"displacement", &resume_.state.displacement},
+                             {"gap", &resume_.state.gap}}) {
+    field->resize(n);
+    hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
+    if (d < 0 || H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, field->data()) < 0) {
+      H5Fclose(f);
+      throw CaseError(checkpoint_.string() + ": unreadable checkpoint; run without --resume");
+    }
+    H5Dclose(d);
+  }
+  H5Fclose(f);
+  resume_.state.penetration = u.length(resume_.done.back().penetration);
+  resume_.state.mean_pressure = u.pressure(resume_.done.back().mean_pressure);
+  steps_written_ = int(resume_.done.size());
+  if (case_.write_fields) {
+    file_ = H5Fopen(h5_tmp_.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    if (file_ < 0) throw CaseError(h5_tmp_.string() + ": missing partial result file; run without --resume");
+  } else {
+    h5_tmp_.clear();
+  }
+}
+
 Writer::~Writer() {
   if (file_ >= 0) H5Fclose(hid_t(file_));
-  std::error_code ec;
-  if (!h5_tmp_.empty()) fs::remove(h5_tmp_, ec);
 }
 
 void Writer::add_step(const StepRecord& rec, const ContactState& st) {
+  // Checkpoint (reduced units, replaced atomically) and progress record, so that an
+  // interrupted run can be resumed from here with --resume.
+  {
+    const fs::path tmp = dir_ / ".checkpoint.h5.tmp";
+    hid_t f = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    if (f < 0) throw std::runtime_error(tmp.string() + ": cannot write the checkpoint");
+    dataset(f, "pressure", scene_.grid, st.pressure, 1.0, "E*", "reduced pressure");
+    dataset(f, "displacement", scene_.grid, st.displacement, 1.0, "L", "reduced displacement");
+    dataset(f, "gap", scene_.grid, st.gap, 1.0, "L", "reduced gap");
+    H5Fclose(f);
+    fs::rename(tmp, checkpoint_);
+    records_.push_back(step_json(rec));
+    std::ostringstream p;
+    p << toml::table{{"case", to_json(case_.resolved)}, {"steps", records_}} << "\n";
+    write_atomically(progress_, p.str());
+  }
   if (file_ < 0) return;
   const Units& u = scene_.units;
   char name[32];
@@ -193,7 +280,6 @@ void Writer::finish(const RunSummary& run, const toml::table& extra) {
     H5Fclose(hid_t(file_));
     file_ = -1;
     fs::rename(h5_tmp_, dir_ / "result.h5");
-    h5_tmp_.clear();
     // XDMF pointer for ParaView: one 2-D uniform grid per step.
     const Grid& g = scene_.grid;
     const Units& u = scene_.units;
@@ -218,6 +304,8 @@ void Writer::finish(const RunSummary& run, const toml::table& extra) {
     write_atomically(dir_ / "result.xdmf", x.str());
   }
   write_atomically(dir_ / "summary.json", to_json(s));
+  std::error_code ec;
+  for (const auto& f : {progress_, checkpoint_}) fs::remove(f, ec);
 }
 
 void Writer::fail(const std::string& message) {
@@ -226,7 +314,7 @@ void Writer::fail(const std::string& message) {
   for (const char* f : {"result.h5", "result.xdmf"}) fs::remove(dir_ / f, ec);
   toml::table s = summary_base();
   s.insert("status", "failed");
-  s.insert("message", message);
+  s.insert("message", message + (records_.empty() ? "" : " (the finished steps can be continued with --resume)"));
   write_atomically(dir_ / "summary.json", to_json(s));
 }
 

@@ -14,10 +14,20 @@
 
 namespace cmc {
 
+// What an interrupted run left behind: the finished steps and the last solved state.
+struct ResumePoint {
+  std::vector<StepRecord> done;
+  ContactState state;
+};
+
 class Writer {
  public:
-  Writer(std::filesystem::path dir, const Case& c, const Scene& s);
-  ~Writer();  // removes temporary files of an unfinished run
+  // With `resume`, a partial run of the same case in `dir` is continued (see
+  // resume_point()); without, any partial run there is discarded.
+  Writer(std::filesystem::path dir, const Case& c, const Scene& s, bool resume = false);
+  ~Writer();  // keeps the partial files of an unfinished run, so it can be resumed
+  // The steps a resumed run can skip and its warm start (empty without --resume).
+  const ResumePoint& resume_point() const { return resume_; }
   Writer(const Writer&) = delete;
   Writer& operator=(const Writer&) = delete;
 
@@ -34,7 +44,10 @@ class Writer {
 
  private:
   toml::table summary_base() const;
-  std::filesystem::path dir_, h5_tmp_;
+  void load_partial();
+  std::filesystem::path dir_, h5_tmp_, progress_, checkpoint_;
+  ResumePoint resume_;
+  toml::array records_;
   const Case& case_;
   const Scene& scene_;
   long long file_ = -1;  // hid_t
