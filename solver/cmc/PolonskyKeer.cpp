@@ -70,17 +70,16 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
   double last_tau = grid.lx / (M_PI * hs_.contact_modulus());  // compliance of the longest wave
   bool conjugate = false;     // PK's δ flag: false restarts steepest descent
   int since_exact = 0;        // linear spectral steps since p̂ was last taken from p
-  double pending_scale = 1.0; // the load scaling of the last step, applied to p lazily
+  double sigma = 1.0;         // the pressure is sigma * p: the last load scaling, applied lazily
   const double mean_target = force_control ? target.value : 0.0;
 
   for (int it = 0;; ++it) {
-    // ---- (a) gap statistics over the contact set Ic = {p > 0}, with the previous
-    // step's scaling of p fused in. Sums are shifted by the previous δ to avoid
-    // cancellation. Σ_Ic t is gathered to keep the next direction load-neutral.
+    // ---- (a) gap statistics over the contact set Ic = {p > 0} (σ > 0 does not change
+    // it). Sums are shifted by the previous δ to avoid cancellation. Σ_Ic t is gathered
+    // to keep the next direction load-neutral.
     const double c = delta;
     double s1 = 0.0, s2 = 0.0, nc = 0.0, ol = 0.0, nol = 0.0, tsum = 0.0;
     for (std::size_t i = 0; i < n; ++i) {
-      p[i] *= pending_scale;
       const double x = h[i] + u[i] - c;
       if (p[i] > 0.0) {
         s1 += x;
@@ -92,7 +91,6 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
         nol += 1.0;
       }
     }
-    pending_scale = 1.0;
     double sums[6] = {s1, s2, nc, ol, nol, tsum};
     Grid::allreduce_sum(sums);
     std::tie(s1, s2, nc, ol, nol, tsum) = std::tuple(sums[0], sums[1], sums[2], sums[3], sums[4], sums[5]);
@@ -109,6 +107,7 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
       // Restart from the geometric overlap.
       for (std::size_t i = 0; i < n; ++i) p[i] = std::max(0.0, delta - h[i]) * hs_.contact_modulus() * M_PI / grid.lx;
       if (Grid::sum(p) == 0.0) return finish(false, "Polonsky-Keer lost its contact set");
+      sigma = 1.0;
       hs_.set_pressure(p, 1.0, u);
       since_exact = 0;
       conjugate = false;
@@ -130,7 +129,7 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
     if (res.residual <= opt_.tolerance) {
       if (since_exact == 0) break;
       // Confirm on u recomputed from the real-space p (removes spectral round-off drift).
-      hs_.set_pressure(p, 1.0, u);
+      hs_.set_pressure(p, sigma, u);
       since_exact = 0;
       continue;
     }
@@ -167,7 +166,7 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
     } else {
       // No descent left and no overlap: round-off floor. Confirm on an exact u, then stop.
       if (since_exact > 0) {
-        hs_.set_pressure(p, 1.0, u);
+        hs_.set_pressure(p, sigma, u);
         since_exact = 0;
         conjugate = false;
         continue;
@@ -179,7 +178,7 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
     bool changed = false;
     double psum = 0.0;
     for (std::size_t i = 0; i < n; ++i) {
-      double pn = p[i];
+      double pn = sigma * p[i];
       if (pn > 0.0) {
         pn -= tau * t[i];
         if (pn < 0.0) {
@@ -215,8 +214,10 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
     } else {
       hs_.step_pressure(scale, tau, u);
     }
-    pending_scale = scale;
+    sigma = scale;
   }
+  if (sigma != 1.0)
+    for (auto& x : p) x *= sigma;
 
   // ---- the solved state
   st.penetration = delta;
