@@ -12,3 +12,13 @@ foreach(case_file ${CMC_VALIDATION_CASES})
            COMMAND cmc validate ${case_file} --quiet --out ${CMAKE_BINARY_DIR}/validation)
   set_tests_properties(validate.${case_name} PROPERTIES LABELS "${labels}" TIMEOUT 1800)
 endforeach()
+
+# The harness can fail: the same Hertz case on a grid too coarse for its tolerance
+# (measured: penetration error 1.3e-3 > 1e-3 at n = 32) must exit with code 5.
+add_test(NAME validate.can_fail
+         COMMAND sh -c "$<TARGET_FILE:cmc> validate ${CMAKE_SOURCE_DIR}/cases/validation/hertz-free.toml --quiet --set grid.n=32; test $? -eq 5")
+set_tests_properties(validate.can_fail PROPERTIES LABELS validation)
+
+# The report scripts on synthetic inputs (Debian's python3 with matplotlib/h5py).
+add_test(NAME reports.selftest COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/reports/selftest.py)
+set_tests_properties(reports.selftest PROPERTIES LABELS quick)

@@ -1,0 +1,589 @@
+"""reports/challenge/: the nine quantities of the Contact Mechanics Challenge, drawn as
+the problem definition asks (section "Quantities to be predicted"), with index.md
+giving the numbers behind them and the grid spacing of every run relative to
+lambda_s = 0.1 um and rho = 2.071 nm.
+
+Input: challenge runs under results/challenge*/ (summary.json, result.h5): a run is
+one whose case name starts with "challenge". Per step, summary.json may carry
+"observables" {contact_fraction, contact_fraction_corrected, repulsive_fraction,
+attractive_fraction, mean_gap, mean_pressure, n_patches} and a "tabor" value; result.h5
+step groups may carry an "observables" subgroup with gap_hist_*, stress_hist_*,
+patch_area_*, stress_spectrum_*, cross_section_* (SI). What is missing is reported as
+"not computed yet" with the command that computes it.
+
+Also writes, next to each figure, the numbers as CSV in the column convention of
+`cmc check` (data/*.csv), so a run can be checked against a reference directly.
+"""
+import glob
+import math
+import os
+import re
+
+import numpy as np
+
+from common import (CHALLENGE, case_name, finite, fmt, get, h5_open, load_json, md_table, plt, rel, savefig,
+                    step_groups, write_csv)
+
+P0 = CHALLENGE["p0"]
+
+
+class Run:
+    def __init__(self, summary, folder):
+        self.s = summary
+        self.folder = folder
+        self.name = case_name(summary) or os.path.basename(folder)
+        self.Estar = get(summary, "case", "material", "contact_modulus") or CHALLENGE["Estar"]
+        g = summary.get("grid") or {}
+        self.nx, self.ny = g.get("nx"), g.get("ny")
+        self.dx = g.get("dx")
+        self.size = g.get("size_x")
+        self.status = summary.get("status", "?")
+        self.wall_s = get(summary, "timing", "wall_s")
+        self.h5path = os.path.join(folder, "result.h5")
+        run_tabor = None
+        for keys in (("tabor",), ("case", "interaction", "tabor"), ("case", "interaction", "tabor_parameter"),
+                     ("case", "interaction", "tabor_coefficient"), ("case", "interaction", "mu_T"),
+                     ("interaction", "tabor")):
+            v = get(summary, *keys)
+            if finite(v):
+                run_tabor = float(v)
+                break
+        self.run_tabor = run_tabor
+        self.steps = []
+        for k, st in enumerate(summary.get("steps") or []):
+            if not isinstance(st, dict):
+                continue
+            ob = st.get("observables") if isinstance(st.get("observables"), dict) else {}
+
+            def pick(key, default=None):
+                v = ob.get(key)
+                if finite(v):
+                    return float(v)
+                v = st.get(key)
+                return float(v) if finite(v) else default
+
+            tabor = st.get("tabor", ob.get("tabor"))
+            self.steps.append({
+                "k": k, "index": st.get("index", k),
+                "p": pick("mean_pressure"), "ar": pick("contact_fraction"),
+                "ar_corr": pick("contact_fraction_corrected"), "rep": pick("repulsive_fraction"),
+                "att": pick("attractive_fraction"), "gap": pick("mean_gap"), "n_patches": pick("n_patches"),
+                "tabor": float(tabor) if finite(tabor) else run_tabor,
+                "converged": st.get("converged", True), "branch": st.get("branch", ""),
+                "has_observables": bool(ob),
+            })
+
+    @property
+    def label(self):
+        return f"{self.name} ({self.nx}²)" if self.nx == self.ny else f"{self.name} ({self.nx}×{self.ny})"
+
+    def tag(self):
+        return re.sub(r"[^A-Za-z0-9_.-]", "_", f"{self.name}_{self.nx}")
+
+    def pressures(self):
+        return [st["p"] for st in self.steps if st["p"] is not None]
+
+    def is_load_sweep(self):
+        ps = {round(p, 9) for p in self.pressures() if p > 0}
+        taborss = {st["tabor"] for st in self.steps if st["tabor"] is not None}
+        return len(ps) >= 3 and len(taborss) <= 1
+
+    def reference_step(self):
+        """The step nearest the reference pressure 250 kPa (within 5 %), else None."""
+        best = None
+        for st in self.steps:
+            if st["p"] and st["p"] > 0:
+                d = abs(math.log(st["p"] / P0))
+                if d < math.log(1.05) and (best is None or d < best[0]):
+                    best = (d, st)
+        return best[1] if best else None
+
+
+def _find_runs(results_dir, notes):
+    """Challenge runs: every results/**/summary.json whose case name starts with
+    "challenge" (results/challenge*/ by convention; also e.g. results/refine/<run>/),
+    except the validation and performance folders."""
+    files = set(glob.glob(os.path.join(results_dir, "**", "summary.json"), recursive=True))
+    skip = (os.path.join(results_dir, "validation") + os.sep, os.path.join(results_dir, "performance") + os.sep)
+    runs = []
+    for f in sorted(files):
+        if f.startswith(skip):
+            continue
+        s = load_json(f, notes)
+        if not isinstance(s, dict):
+            continue
+        name = case_name(s)
+        in_challenge_dir = os.path.relpath(f, results_dir).startswith("challenge")
+        if not (name.startswith("challenge") if name is not None else in_challenge_dir):
+            continue
+        runs.append(Run(s, os.path.dirname(f)))
+    return runs
+
+
+def _cases_hint(case_dir, words):
+    files = sorted(glob.glob(os.path.join(case_dir, "*.toml")))
+    hits = [f for f in files if any(w in os.path.basename(f) for w in words)]
+    return hits
+
+
+def _run_cmd(case_file):
+    stem = os.path.splitext(os.path.basename(case_file))[0]
+    return f"`build/cmc run {case_file} --out results/challenge-{stem}`"
+
+
+def _hint(case_dir, words, what):
+    hits = _cases_hint(case_dir, words)
+    if hits:
+        return "not computed yet — run " + " and ".join(_run_cmd(h) for h in hits) + f" ({what}), then `scripts/report.sh`."
+    return (f"not computed yet — needs {what}; no matching case file in `{case_dir}/` yet "
+            "(add one and run `build/cmc run CASE --out results/challenge-NAME`).")
+
+
+# ------------------------------------------------------------------------ h5 observables
+def _observables(run, notes):
+    """{dataset name: array} of the reference step's observables subgroup, or {}."""
+    st = run.reference_step()
+    if st is None or not os.path.isfile(run.h5path):
+        return {}, st
+    h5 = h5_open(run.h5path, notes)
+    if h5 is None:
+        return {}, st
+    out = {}
+    with h5:
+        groups = step_groups(h5)
+        gname = f"step_{int(st['index']):04d}"
+        if gname not in h5 and st["k"] < len(groups):
+            gname = groups[st["k"]]
+        if gname in h5 and "observables" in h5[gname]:
+            for k, v in h5[gname]["observables"].items():
+                try:
+                    out[k] = np.asarray(v[()], dtype=float).ravel()
+                except (TypeError, ValueError):
+                    pass
+    return out, st
+
+
+def _centers(edges, log):
+    e = np.asarray(edges, dtype=float)
+    if log and np.all(e > 0):
+        return np.sqrt(e[:-1] * e[1:])
+    return 0.5 * (e[:-1] + e[1:])
+
+
+# ------------------------------------------------------------------------ figures
+def _secondary_pressure_axis(ax, Estar):
+    sec = ax.secondary_xaxis("top", functions=(lambda x: x * Estar / 1e6, lambda x: x * 1e6 / Estar))
+    sec.set_xlabel("mean pressure (MPa)", fontsize=8)
+
+
+def _load_sweep(runs, out_dir, data_dir, case_dir, lines):
+    sweeps = [r for r in runs if r.is_load_sweep()]
+    res = {}
+    if not sweeps:
+        msg = _hint(case_dir, ["sweep"], "a load sweep: many mean pressures from ~0.1 % to above 75 % contact")
+        res["area"] = res["gap"] = msg
+        return res
+    Es = sweeps[0].Estar
+    # Item 2: contact area vs pressure.
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.4))
+    tables = []
+    for r in sweeps:
+        pts = sorted((st for st in r.steps if st["p"] and st["p"] > 0 and st["ar"] is not None), key=lambda s: s["p"])
+        if not pts:
+            continue
+        pt = np.array([s["p"] / r.Estar for s in pts])
+        ar = np.array([s["ar"] for s in pts])
+        line, = a1.loglog(pt, ar, "o-", ms=4, label=f"{r.label}: a_r")
+        corr = [(s["p"] / r.Estar, s["ar_corr"]) for s in pts if s["ar_corr"] is not None]
+        if corr:
+            a1.loglog([c[0] for c in corr], [c[1] for c in corr], "s--", ms=3, mfc="none", color=line.get_color(),
+                      lw=0.8, label=f"{r.label}: perimeter-corrected")
+        m = ar < 1
+        a2.loglog(pt[m], 1 - ar[m], "o-", ms=4, color=line.get_color(), label=r.label)
+        cols = [("pressure_Pa", [s["p"] for s in pts]), ("contact_fraction", ar)]
+        if corr and len(corr) == len(pts):
+            cols.append(("contact_fraction_corrected", [s["ar_corr"] for s in pts]))
+        gaps = [s["gap"] for s in pts]
+        if all(g is not None for g in gaps):
+            cols.append(("mean_gap_m", gaps))
+        csv = os.path.join(data_dir, f"load_sweep__{r.tag()}.csv")
+        write_csv(csv, cols, f"cmc challenge load sweep: {r.name}, grid {r.nx}x{r.ny}, from {r.folder}\n"
+                             "checkable with: cmc check FILE --quantity contact_area_vs_pressure | mean_gap_vs_pressure")
+        rows = [[fmt(s["p"] / 1e3, 4), fmt(s["p"] / r.Estar, 3), fmt(s["ar"], 4), fmt(s["ar_corr"], 4),
+                 fmt(s["gap"] * 1e6 if s["gap"] is not None else None, 4), fmt(s["n_patches"]),
+                 "yes" if s["converged"] else "**no**"] for s in pts]
+        tables.append((r, csv, rows))
+    a1.axhline(0.75, color="gray", ls=":", lw=0.8)
+    a1.set_xlabel("p / (E* ḡ)   (E* ḡ = 25 MPa)")
+    a1.set_ylabel("relative contact area a_r")
+    a1.set_title("2. contact area vs pressure", fontsize=10)
+    a1.grid(True, which="both", alpha=0.3)
+    a1.legend(fontsize=7)
+    _secondary_pressure_axis(a1, Es)
+    a2.set_xlabel("p / (E* ḡ)")
+    a2.set_ylabel("1 − a_r  (non-contact fraction)")
+    a2.set_title("approach to full contact", fontsize=10)
+    a2.grid(True, which="both", alpha=0.3)
+    a2.legend(fontsize=7)
+    path = os.path.join(out_dir, "contact_area_vs_pressure.png")
+    savefig(fig, path)
+    res["area"] = (path, tables)
+    # Item 8: mean gap vs pressure (log abscissa).
+    fig, ax = plt.subplots(figsize=(6, 4.4))
+    any_gap = False
+    for r in sweeps:
+        pts = sorted((st for st in r.steps if st["p"] and st["p"] > 0 and st["gap"] is not None), key=lambda s: s["p"])
+        if pts:
+            any_gap = True
+            ax.semilogx([s["p"] / r.Estar for s in pts], [s["gap"] * 1e6 for s in pts], "o-", ms=4, label=r.label)
+    if any_gap:
+        ax.set_xlabel("p / (E* ḡ)   (E* ḡ = 25 MPa)")
+        ax.set_ylabel("mean gap ū (µm)")
+        ax.set_title("8. mean gap vs pressure", fontsize=10)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+        _secondary_pressure_axis(ax, Es)
+        path = os.path.join(out_dir, "mean_gap_vs_pressure.png")
+        savefig(fig, path)
+        res["gap"] = (path, tables)
+    else:
+        plt.close(fig)
+        res["gap"] = "not computed yet — the load sweeps carry no mean gap."
+    return res
+
+
+def _tabor(runs, out_dir, data_dir, case_dir):
+    pts = []
+    for r in runs:
+        with_tabor = [st for st in r.steps if st["tabor"] is not None]
+        if not with_tabor:
+            continue
+        if len({st["tabor"] for st in with_tabor}) > 1:  # one run, a "tabor" per step
+            use = with_tabor
+        else:
+            st = r.reference_step()
+            use = [st] if st is not None and st["tabor"] is not None else []
+        for st in use:
+            if st["ar"] is not None or st["gap"] is not None:
+                pts.append((r, st))
+    if not pts:
+        msg = _hint(case_dir, ["tabor"], "a Tabor sweep at the reference load: runs at several Tabor coefficients "
+                                         "(one run each, or one run with a \"tabor\" value per step)")
+        return {"area": msg, "gap": msg}
+    groups = {}
+    for r, st in pts:
+        groups.setdefault((r.nx, r.ny), []).append((r, st))
+    res = {}
+    rows = []
+    csvs = []
+    for key, items in sorted(groups.items()):
+        items.sort(key=lambda t: t[1]["tabor"])
+        cols = [("tabor", [st["tabor"] for _, st in items])]
+        if all(st["ar"] is not None for _, st in items):
+            cols.append(("contact_fraction", [st["ar"] for _, st in items]))
+        if all(st["gap"] is not None for _, st in items):
+            cols.append(("mean_gap_m", [st["gap"] for _, st in items]))
+        if all(st["p"] is not None for _, st in items):
+            cols.append(("pressure_Pa", [st["p"] for _, st in items]))
+        csv = os.path.join(data_dir, f"tabor_sweep__{key[0]}x{key[1]}.csv")
+        write_csv(csv, cols, "cmc challenge Tabor sweep at the reference load\n"
+                             "checkable with: cmc check FILE --quantity contact_area_vs_tabor | mean_gap_vs_tabor")
+        csvs.append(csv)
+        for r, st in items:
+            rows.append([fmt(st["tabor"], 4), r.name, f"{r.nx}²", fmt(st["p"] / 1e3 if st["p"] else None, 4),
+                         fmt(st["ar"], 4), fmt(st["rep"], 4), fmt(st["gap"] * 1e9 if st["gap"] is not None else None, 5)])
+    for what, ylabel, scale, fname, title in (("ar", "relative contact area a_r", 1.0, "contact_area_vs_tabor.png",
+                                               "6. contact area vs Tabor coefficient"),
+                                              ("gap", "mean gap ū (nm)", 1e9, "mean_gap_vs_tabor.png",
+                                               "7. mean gap vs Tabor coefficient")):
+        fig, ax = plt.subplots(figsize=(6, 4.4))
+        drawn = False
+        for key, items in sorted(groups.items()):
+            xy = [(st["tabor"], st[what] * scale) for _, st in items if st[what] is not None and st["tabor"] > 0]
+            if xy:
+                drawn = True
+                ax.semilogx([p[0] for p in xy], [p[1] for p in xy], "o-", ms=4, label=f"grid {key[0]}×{key[1]}")
+        if not drawn:
+            plt.close(fig)
+            res["area" if what == "ar" else "gap"] = "not computed yet — the Tabor runs carry no " + \
+                ("contact fraction." if what == "ar" else "mean gap.")
+            continue
+        ax.axvline(CHALLENGE["tabor"], color="gray", ls=":", lw=0.8)
+        ax.set_xlabel("Tabor coefficient μ_T  (default 3)")
+        ax.set_ylabel(ylabel)
+        ax.set_title(title + " at p = 250 kPa", fontsize=10)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+        path = os.path.join(out_dir, fname)
+        savefig(fig, path)
+        res["area" if what == "ar" else "gap"] = (path, rows, csvs)
+    return res
+
+
+def _distribution_runs(runs, notes):
+    out = []
+    for r in runs:
+        obs, st = _observables(r, notes)
+        if obs:
+            out.append((r, obs, st))
+    return out
+
+
+def _hist_figure(dists, key_edges, key_density, xscale, yscale, xunit, yunit, xlabel, ylabel, title, path,
+                 data_dir, csv_names, csv_stem, extra=None):
+    fig, ax = plt.subplots(figsize=(6, 4.4))
+    rows, csvs = [], []
+    for r, obs, st in dists:
+        if key_edges not in obs or key_density not in obs:
+            continue
+        e, d = obs[key_edges], obs[key_density]
+        if len(e) != len(d) + 1 or len(d) == 0:
+            continue
+        c = _centers(e, xscale == "log")
+        m = np.isfinite(d) & (d > 0 if yscale == "log" else np.isfinite(d)) & (c > 0 if xscale == "log" else True)
+        ax.plot(c[m] * xunit, d[m] * yunit, ".-", ms=3, lw=0.8,
+                label=f"{r.label}, p = {st['p'] / 1e3:.4g} kPa")
+        csv = os.path.join(data_dir, f"{csv_stem}__{r.tag()}.csv")
+        write_csv(csv, [(csv_names[0], c), (csv_names[1], d)],
+                  f"cmc challenge {csv_stem}: {r.name}, grid {r.nx}x{r.ny}, step at p = {st['p']:.6g} Pa\n"
+                  "bin centres (geometric for log bins) and probability densities, SI")
+        csvs.append(csv)
+        w = np.diff(e)
+        mass = float(np.sum(d * w))
+        mean = float(np.sum(c * d * w) / mass) if mass > 0 else float("nan")
+        rows.append([r.label, fmt(st["p"] / 1e3, 4), len(d), f"{fmt(e[0] * xunit, 3)} – {fmt(e[-1] * xunit, 3)}",
+                     fmt(mass, 4), fmt(mean * xunit, 4)])
+    if not rows:
+        plt.close(fig)
+        return None
+    ax.set_xscale(xscale)
+    ax.set_yscale(yscale)
+    if extra:
+        extra(ax)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title, fontsize=10)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+    savefig(fig, path)
+    return path, rows, csvs
+
+
+def _spectrum(dists, out_dir, data_dir):
+    fig, ax = plt.subplots(figsize=(6, 4.4))
+    rows, csvs = [], []
+    for r, obs, st in dists:
+        q, C = obs.get("stress_spectrum_q"), obs.get("stress_spectrum_C")
+        if q is None or C is None or len(q) != len(C) or len(q) == 0:
+            continue
+        m = (q > 0) & (C > 0) & np.isfinite(C)
+        ax.loglog(q[m], C[m], ".-", ms=3, lw=0.8, label=f"{r.label}, p = {st['p'] / 1e3:.4g} kPa")
+        csv = os.path.join(data_dir, f"stress_spectrum__{r.tag()}.csv")
+        write_csv(csv, [("q_per_m", q[m]), ("C_Pa2m2", C[m])],
+                  f"cmc challenge stress spectrum: {r.name}, grid {r.nx}x{r.ny}, step at p = {st['p']:.6g} Pa\n"
+                  "isotropic spectral density of the interfacial stress, integral d^2q C(q) = variance")
+        csvs.append(csv)
+        qq, CC = q[m], C[m]
+        # The stress variance from the spectrum (2-D: integral 2 pi q C dq).
+        var = float(np.trapz(2 * np.pi * qq * CC, qq)) if len(qq) > 1 else float("nan")
+        rows.append([r.label, fmt(st["p"] / 1e3, 4), len(qq), f"{fmt(qq.min(), 3)} – {fmt(qq.max(), 3)}",
+                     fmt(math.sqrt(var) / 1e6 if var > 0 else None, 4)])
+    if not rows:
+        plt.close(fig)
+        return None
+    qr, qs = 2 * np.pi / CHALLENGE["lambda_r"], 2 * np.pi / CHALLENGE["lambda_s"]
+    ax.axvline(qr, color="gray", ls=":", lw=0.8)
+    ax.axvline(qs, color="gray", ls="--", lw=0.8)
+    ax.text(qr, ax.get_ylim()[0], " q_r", fontsize=7, va="bottom")
+    ax.text(qs, ax.get_ylim()[0], " q_s", fontsize=7, va="bottom")
+    ax.set_xlabel("wavenumber q (1/m)")
+    ax.set_ylabel("stress spectrum C_σ(q) (Pa² m²)")
+    ax.set_title("5. interfacial stress spectrum", fontsize=10)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+    path = os.path.join(out_dir, "stress_spectrum.png")
+    savefig(fig, path)
+    return path, rows, csvs
+
+
+def _cross_section(dists, out_dir, data_dir):
+    have = [(r, o, st) for r, o, st in dists if "cross_section_y" in o and
+            ("cross_section_gap" in o or "cross_section_pressure" in o)]
+    if not have:
+        return None
+    fig, axes = plt.subplots(2, 2, figsize=(11, 6.5))
+    rows, csvs = [], []
+    for r, o, st in have:
+        y = o["cross_section_y"]
+        g = o.get("cross_section_gap")
+        p = o.get("cross_section_pressure")
+        lab = f"{r.label}, p = {st['p'] / 1e3:.4g} kPa"
+        # Zoom window, 2 um wide: around the largest tension (the adhesive neck at a contact
+        # line) if there is tension, else around the contact edge nearest the largest stress.
+        okg = g is not None and len(g) == len(y)
+        okp = p is not None and len(p) == len(y)
+        if okp and np.min(p) < 0:
+            yc = y[int(np.argmin(p))]
+        elif okp or okg:
+            i_max = int(np.argmax(p)) if okp else int(np.argmin(g))
+            inside = (g <= 0) if okg else (p > 0)
+            edges = np.nonzero(inside[1:] != inside[:-1])[0]
+            yc = y[int(edges[np.argmin(np.abs(edges - i_max))])] if len(edges) else y[i_max]
+        else:
+            continue
+        zoom = np.abs(y - yc) <= 1e-6
+        if g is not None and len(g) == len(y):
+            axes[0, 0].plot(y * 1e6, g * 1e6, "-", lw=0.7, label=lab)
+            axes[0, 1].plot(y[zoom] * 1e6, g[zoom] * 1e9, ".-", ms=2, lw=0.7)
+        if p is not None and len(p) == len(y):
+            axes[1, 0].plot(y * 1e6, p / 1e6, "-", lw=0.7, label=lab)
+            axes[1, 1].plot(y[zoom] * 1e6, p[zoom] / 1e6, ".-", ms=2, lw=0.7)
+        cols = [("y_m", y)]
+        if g is not None and len(g) == len(y):
+            cols.append(("gap_m", g))
+        if p is not None and len(p) == len(y):
+            cols.append(("pressure_Pa", p))
+        csv = os.path.join(data_dir, f"cross_section__{r.tag()}.csv")
+        x0 = get(r.s, "case", "observables", "cross_section_x")
+        write_csv(csv, cols, f"cmc challenge cross section x = {x0} m: {r.name}, grid {r.nx}x{r.ny}, "
+                             f"step at p = {st['p']:.6g} Pa\n"
+                             "checkable with: cmc check FILE --quantity cross_section_gap | cross_section_pressure")
+        csvs.append(csv)
+        contact = float(np.mean(g <= 0)) if g is not None and len(g) else None
+        rows.append([r.label, fmt(x0 * 1e6 if finite(x0) else None, 4), len(y),
+                     fmt(float(np.min(g)) * 1e9 if g is not None and len(g) else None, 4),
+                     fmt(float(np.max(g)) * 1e6 if g is not None and len(g) else None, 4),
+                     fmt(float(np.max(p)) / 1e6 if p is not None and len(p) else None, 4),
+                     fmt(float(np.min(p)) / 1e6 if p is not None and len(p) else None, 4), fmt(contact, 4),
+                     fmt(yc * 1e6, 4)])
+    if not rows:
+        plt.close(fig)
+        return None
+    axes[0, 0].set_ylabel("gap (µm)")
+    axes[0, 1].set_ylabel("gap (nm)")
+    axes[1, 0].set_ylabel("interfacial stress p (MPa, compressive > 0)")
+    axes[1, 1].set_ylabel("p (MPa)")
+    axes[0, 0].set_title("9. gap and stress along the cross section x = 50 µm", fontsize=10)
+    axes[0, 1].set_title("zoom: 2 µm around a contact line", fontsize=10)
+    for a in axes.ravel():
+        a.set_xlabel("y (µm)")
+        a.grid(True, alpha=0.3)
+    axes[0, 0].legend(fontsize=7)
+    path = os.path.join(out_dir, "cross_section.png")
+    savefig(fig, path)
+    return path, rows, csvs
+
+
+# ------------------------------------------------------------------------ index
+def _no_rows(content):
+    """The same figure and data files, without repeating a table shown for another item."""
+    if isinstance(content, str) or content is None:
+        return content
+    return (content[0], [], content[2] if len(content) > 2 else [])
+
+
+def _grid_table(runs):
+    rows = []
+    for r in runs:
+        dx = r.dx
+        rows.append([r.name, f"`{r.folder}`", f"{r.nx}×{r.ny}", fmt(dx * 1e9 if dx else None, 4),
+                     fmt(CHALLENGE["lambda_s"] / dx if dx else None, 4), fmt(dx / CHALLENGE["rho"] if dx else None, 4),
+                     len(r.steps), r.status, fmt(r.wall_s, 4),
+                     fmt(r.run_tabor, 3) if r.run_tabor is not None else "–"])
+    return md_table(["case", "folder", "grid", "dx (nm)", "λ_s/dx", "dx/ρ", "steps", "status", "wall (s)", "μ_T"], rows)
+
+
+def build(results_dir, case_dir, out_dir, notes):
+    os.makedirs(out_dir, exist_ok=True)
+    data_dir = os.path.join(out_dir, "data")
+    runs = _find_runs(results_dir, notes)
+    lines = ["# Contact Mechanics Challenge: cmc's results", "",
+             "The nine quantities of the problem definition (Müser & Dapp, section \"Quantities to be predicted\"), "
+             "drawn in the representations it asks for. Default parameters: E* = 25 MPa, ḡ = 1, L = 0.1 mm, "
+             "λ_r = 20 µm, λ_s = 0.1 µm, H = 0.8, γ0 = 50 mJ/m², ρ = 2.071 nm (μ_T = 3), reference pressure "
+             "p = 250 kPa = 0.01 E*ḡ. Numbers behind every figure are in `data/*.csv` (columns as `cmc check` "
+             "reads them).", ""]
+    if not runs:
+        lines += [f"No challenge runs found under `{results_dir}/` (a summary.json whose case name starts with "
+                  f"\"challenge\"; by convention in `{results_dir}/challenge-*/`).", ""]
+    lines += ["## Runs and grid spacing", ""]
+    if runs:
+        lines += ["Grid spacing relative to the shortest wavelength λ_s = 0.1 µm and to the adhesion range "
+                  "ρ = 2.071 nm. The challenge's reference solution used dx ≈ λ_s/64 = 1.56 nm ≈ 0.75 ρ "
+                  "(65536² points).", "", _grid_table(runs), ""]
+    else:
+        lines += ["(none yet)", ""]
+
+    sweep = _load_sweep(runs, out_dir, data_dir, case_dir, lines)
+    tabor = _tabor(runs, out_dir, data_dir, case_dir)
+    dists = _distribution_runs(runs, notes)
+    ref_hint = _hint(case_dir, ["reference"], "a run at the reference load 250 kPa with observables and fields "
+                                              "(result.h5 step_*/observables)")
+    if not dists and runs and any(r.reference_step() for r in runs):
+        ref_hint = ("not computed yet — runs at 250 kPa exist but their result.h5 has no step_*/observables "
+                    "group (enable [observables] and fields in the case). " + ref_hint)
+
+    def section(num, title, content, cols, extra_lines=()):
+        lines.append(f"## {num}. {title}")
+        lines.append("")
+        if isinstance(content, str) or content is None:
+            lines.append(content or ref_hint)
+            lines.append("")
+            return
+        path, rows = content[0], content[1]
+        csvs = content[2] if len(content) > 2 else []
+        lines.append(f"![{title}]({rel(path, out_dir)})")
+        lines.append("")
+        lines.extend(extra_lines)
+        if rows:
+            lines.append(md_table(cols, rows))
+            lines.append("")
+        if csvs:
+            lines.append("Data: " + ", ".join(f"[{os.path.basename(c)}]({rel(c, out_dir)})" for c in csvs))
+            lines.append("")
+
+    dist_cols = ["run", "p (kPa)", "bins", "range", "binned fraction", "mean"]
+    patch = _hist_figure(dists, "patch_area_edges", "patch_area_density", "log", "log", 1e12, 1e-12,
+                         "contact patch area A (µm²)", "probability density of A (1/µm²)",
+                         "1. contact patch size distribution", os.path.join(out_dir, "patch_size_distribution.png"),
+                         data_dir, ("patch_area_m2", "density_per_m2"), "patch_size_distribution")
+    section(1, "Distribution of contact patch size (log-log)", patch,
+            ["run", "p (kPa)", "bins", "area range (µm²)", "fraction of patches binned", "mean area (µm²)"])
+
+    def area_rows(content):
+        if isinstance(content, str):
+            return content
+        path, tables = content
+        rows = []
+        for r, csv, rws in tables:
+            rows += [[r.label] + row for row in rws]
+        return (path, rows, [t[1] for t in tables])
+
+    sweep_cols = ["run", "p (kPa)", "p/(E*ḡ)", "a_r", "a_r corrected", "mean gap (µm)", "patches", "converged"]
+    section(2, "Contact area as a function of pressure (log-log; 1 − a_r for the approach to full contact)",
+            area_rows(sweep["area"]), sweep_cols)
+    gap = _hist_figure(dists, "gap_hist_edges", "gap_hist_density", "log", "log", 1e6, 1e-6,
+                       "gap g (µm)", "probability density P(g) (1/µm)", "3. gap distribution (contact points excluded)",
+                       os.path.join(out_dir, "gap_distribution.png"), data_dir, ("gap_m", "density_per_m"),
+                       "gap_distribution")
+    section(3, "Gap distribution function (log-log)", gap,
+            ["run", "p (kPa)", "bins", "gap range (µm)", "binned fraction", "mean gap of the non-contact part (µm)"])
+    stress = _hist_figure(dists, "stress_hist_edges", "stress_hist_density", "linear", "log", 1e-6, 1e6,
+                          "interfacial stress p (MPa, compressive > 0)", "probability density P(p) (1/MPa)",
+                          "4. interfacial stress distribution", os.path.join(out_dir, "stress_distribution.png"),
+                          data_dir, ("stress_Pa", "density_per_Pa"), "stress_distribution",
+                          extra=lambda ax: ax.axvline(0, color="gray", lw=0.8))
+    section(4, "Interfacial stress distribution (stress linear, probability logarithmic)", stress,
+            ["run", "p (kPa)", "bins", "stress range (MPa)", "binned fraction", "mean stress of the binned part (MPa)"])
+    section(5, "Interfacial stress spectrum (log-log)", _spectrum(dists, out_dir, data_dir),
+            ["run", "p (kPa)", "q points", "q range (1/m)", "rms stress from the spectrum (MPa)"])
+    tabor_cols = ["μ_T", "run", "grid", "p (kPa)", "a_r", "repulsive fraction", "mean gap (nm)"]
+    section(6, "Contact area as a function of the Tabor coefficient (log μ_T)", tabor["area"], tabor_cols)
+    section(7, "Mean gap as a function of the Tabor coefficient (log μ_T)", _no_rows(tabor["gap"]), tabor_cols,
+            ["Numbers: the table of item 6.", ""])
+    section(8, "Mean gap as a function of pressure (log pressure)", _no_rows(area_rows(sweep["gap"])), sweep_cols,
+            ["Numbers: the table of item 2.", ""])
+    section(9, "Gap and stress along the cross section x = 50 µm", _cross_section(dists, out_dir, data_dir),
+            ["run", "x (µm)", "points", "min gap (nm)", "max gap (µm)", "max p (MPa)", "min p (MPa)",
+             "contact fraction on the line", "zoom centre y (µm)"])
+    return "\n".join(lines) + "\n"

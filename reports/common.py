@@ -1,0 +1,187 @@
+"""Shared helpers of the cmc reports (reports/make_reports.py).
+
+Only the Python standard library, numpy, matplotlib and h5py (Debian's python3-*
+packages, run with /usr/bin/python3). Every reader returns None (and says why) instead
+of raising on a missing or malformed input: a report never crashes on missing data.
+"""
+import glob
+import json
+import math
+import os
+
+import numpy as np
+
+try:
+    import h5py  # noqa: F401
+    HAVE_H5PY = True
+except ImportError:  # pragma: no cover - depends on the machine
+    HAVE_H5PY = False
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+# The challenge's parameters (problem definition, "Summary of default parameters").
+CHALLENGE = {
+    "Estar": 25e6,          # Pa, E* (rms gradient g = 1, so E* g = 25 MPa)
+    "L": 1e-4,              # m, system size
+    "lambda_r": 20e-6,      # m, roll-off wavelength
+    "lambda_s": 0.1e-6,     # m, short-wavelength cutoff
+    "rho": 2.071e-9,        # m, range of the exponential adhesion
+    "gamma0": 50e-3,        # J/m^2
+    "p0": 250e3,            # Pa, reference pressure
+    "tabor": 3.0,
+}
+
+
+def load_json(path, notes=None):
+    """The parsed JSON file, or None (with a note) when it is missing or malformed."""
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except FileNotFoundError:
+        return None
+    except (OSError, ValueError) as e:
+        if notes is not None:
+            notes.append(f"`{path}` could not be read ({e}); skipped")
+        return None
+
+
+def get(d, *keys, default=None):
+    """d[k0][k1]... or default if any level is missing or not a dict."""
+    for k in keys:
+        if not isinstance(d, dict) or k not in d:
+            return default
+        d = d[k]
+    return d
+
+
+def case_name(summary):
+    """The run's case name: summary["case"]["case"]["name"] (the resolved case file) or
+    summary["case"]["name"]."""
+    c = summary.get("case")
+    if isinstance(c, dict):
+        n = get(c, "case", "name")
+        if isinstance(n, str):
+            return n
+        if isinstance(c.get("name"), str):
+            return c["name"]
+    if isinstance(c, str):
+        return c
+    return None
+
+
+def finite(x):
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
+
+
+def md_table(header, rows):
+    """A Markdown table."""
+    out = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    for r in rows:
+        out.append("| " + " | ".join(str(c).replace("|", "\\|").replace("\n", " ") for c in r) + " |")
+    return "\n".join(out)
+
+
+def fmt(x, digits=4):
+    if x is None:
+        return "–"
+    if isinstance(x, bool):
+        return "yes" if x else "no"
+    if isinstance(x, (int, np.integer)):
+        return str(int(x))
+    if isinstance(x, (float, np.floating)):
+        if not math.isfinite(x):
+            return str(x)
+        if x == 0:
+            return "0"
+        if 1e-3 <= abs(x) < 1e5:
+            return f"{x:.{digits}g}"
+        return f"{x:.{digits - 1}e}"
+    return str(x)
+
+
+def savefig(fig, path):
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def read_reference_csv(path):
+    """A cmc reference CSV (reference/README.md): (metadata dict, column names, 2-D
+    array with one column per name), or None if missing/malformed."""
+    try:
+        meta, names, rows = {}, None, []
+        with open(path) as f:
+            for line in f:
+                s = line.strip()
+                if not s:
+                    continue
+                if s.startswith("#"):
+                    body = s[1:].strip()
+                    if names is None and ":" in body:
+                        k, v = body.split(":", 1)
+                        meta[k.strip()] = v.strip()
+                    continue
+                if names is None:
+                    names = [c.strip() for c in s.split(",")]
+                    continue
+                rows.append([float(v) for v in s.split(",")])
+        if names is None or not rows:
+            return None
+        return meta, names, np.array(rows)
+    except (OSError, ValueError):
+        return None
+
+
+def write_csv(path, columns, header_comment=None):
+    """Write columns [(name, values), ...] as CSV in the format `cmc check` reads."""
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    n = min(len(v) for _, v in columns)
+    with open(path, "w") as f:
+        if header_comment:
+            for line in header_comment.splitlines():
+                f.write(f"# {line}\n")
+        f.write(",".join(name for name, _ in columns) + "\n")
+        for i in range(n):
+            f.write(",".join(f"{float(v[i]):.9e}" for _, v in columns) + "\n")
+
+
+def find_summaries(patterns):
+    """Paths of summary.json files matching any of the glob patterns (recursive), sorted."""
+    out = set()
+    for p in patterns:
+        for f in glob.glob(p, recursive=True):
+            if os.path.basename(f) == "summary.json" and os.path.isfile(f):
+                out.add(os.path.normpath(f))
+    return sorted(out)
+
+
+def h5_open(path, notes=None):
+    if not HAVE_H5PY:
+        if notes is not None:
+            notes.append("h5py is missing (install python3-h5py): fields in result.h5 were not read")
+        return None
+    if not os.path.isfile(path):
+        return None
+    try:
+        import h5py
+        return h5py.File(path, "r")
+    except OSError as e:
+        if notes is not None:
+            notes.append(f"`{path}` could not be opened ({e}); skipped")
+        return None
+
+
+def step_groups(h5):
+    """Names of the step groups of a result.h5 in order (step_0000, ...)."""
+    return sorted(k for k in h5.keys() if k.startswith("step_"))
+
+
+def rel(path, start):
+    try:
+        return os.path.relpath(path, start)
+    except ValueError:
+        return path

@@ -1,0 +1,190 @@
+"""reports/performance/: speed against accuracy, and iteration time against FFT time.
+
+Inputs (each optional; a missing one becomes a line in index.md saying what to run):
+  results/performance/*.json   records written by a benchmark script, each
+        {case, grid, tolerance, wall_s, iterations, fft_pairs, fft_pair_s,
+         error: {quantity: value, ...}}
+        (a file holds one record, a list of records, or {"records": [...]}).
+  build/bench.json             Google Benchmark JSON (cmc_bench --benchmark_format=json):
+        BM_FFTPair/N and BM_PolonskyKeerIteration/N, items_per_second = iterations
+        (or FFT pairs) per second.
+"""
+import glob
+import os
+import re
+
+import numpy as np
+
+from common import finite, fmt, load_json, md_table, plt, savefig
+
+
+def _records(perf_dir, notes):
+    recs = []
+    for f in sorted(glob.glob(os.path.join(perf_dir, "*.json"))):
+        d = load_json(f, notes)
+        if isinstance(d, dict) and isinstance(d.get("records"), list):
+            d = d["records"]
+        if isinstance(d, dict):
+            d = [d]
+        if not isinstance(d, list):
+            notes.append(f"`{f}`: not a record or a list of records; skipped")
+            continue
+        for r in d:
+            if isinstance(r, dict) and finite(r.get("wall_s")):
+                r = dict(r)
+                r["_file"] = os.path.basename(f)
+                recs.append(r)
+    return recs
+
+
+def _speed_vs_error(recs, out_dir):
+    quantities = sorted({q for r in recs for q, v in (r.get("error") or {}).items() if finite(v) and v > 0})
+    figs = []
+    for q in quantities:
+        fig, ax = plt.subplots(figsize=(5.6, 4.4))
+        cases = sorted({str(r.get("case", "?")) for r in recs})
+        for c in cases:
+            pts = sorted(((r["error"][q], r["wall_s"], r) for r in recs
+                          if str(r.get("case", "?")) == c and finite((r.get("error") or {}).get(q))
+                          and r["error"][q] > 0 and r["wall_s"] > 0), key=lambda t: t[1])
+            if not pts:
+                continue
+            ax.loglog([p[1] for p in pts], [p[0] for p in pts], "o-", ms=4, label=c)
+            for e, w, r in pts:
+                ax.annotate(f"{r.get('grid', '')}, tol {fmt(r.get('tolerance'), 2)}", (w, e), fontsize=6,
+                            textcoords="offset points", xytext=(3, 3))
+        ax.set_xlabel("wall time (s)")
+        ax.set_ylabel(f"error of {q}")
+        ax.set_title(f"speed vs accuracy: {q}", fontsize=10)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+        path = os.path.join(out_dir, f"speed_vs_error_{re.sub(r'[^A-Za-z0-9_.-]', '_', q)}.png")
+        savefig(fig, path)
+        figs.append((q, path))
+    return figs
+
+
+_UNIT = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}
+
+
+def _bench(bench_path, notes):
+    """{benchmark family: {N: seconds per item}} from Google Benchmark JSON."""
+    d = load_json(bench_path, notes)
+    if not isinstance(d, dict) or not isinstance(d.get("benchmarks"), list):
+        return None, d
+    fam = {}
+    for b in d["benchmarks"]:
+        if not isinstance(b, dict):
+            continue
+        name = b.get("run_name") or b.get("name", "")
+        if b.get("run_type") == "aggregate" and b.get("aggregate_name") not in ("median", "mean"):
+            continue
+        m = re.match(r"^(BM_[A-Za-z0-9_]+)/(\d+)", name)
+        if not m:
+            continue
+        family, n = m.group(1), int(m.group(2))
+        ips = b.get("items_per_second")
+        if finite(ips) and ips > 0:
+            t = 1.0 / ips
+        elif finite(b.get("real_time")):
+            t = b["real_time"] * _UNIT.get(b.get("time_unit", "ns"), 1e-9)
+        else:
+            continue
+        # Prefer the median aggregate, then the mean, then the last plain run.
+        rank = {"median": 2, "mean": 1}.get(b.get("aggregate_name"), 0)
+        cur = fam.setdefault(family, {}).get(n)
+        if cur is None or rank >= cur[1]:
+            fam[family][n] = (t, rank)
+    return {f: {n: v[0] for n, v in d2.items()} for f, d2 in fam.items()}, d
+
+
+def _bench_plot(fam, out_dir):
+    fft = fam.get("BM_FFTPair", {})
+    it = fam.get("BM_PolonskyKeerIteration", {})
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4.2))
+    if fft:
+        ns = sorted(fft)
+        a1.loglog(ns, [fft[n] * 1e3 for n in ns], "o-", label="FFT pair (r2c + c2r)")
+    if it:
+        ns = sorted(it)
+        a1.loglog(ns, [it[n] * 1e3 for n in ns], "s-", label="Polonsky–Keer iteration")
+    for fname, d in fam.items():
+        if fname not in ("BM_FFTPair", "BM_PolonskyKeerIteration") and d:
+            ns = sorted(d)
+            a1.loglog(ns, [d[n] * 1e3 for n in ns], ".--", lw=0.8, label=fname)
+    a1.set_xlabel("grid points per side n (n × n grid)")
+    a1.set_ylabel("time (ms)")
+    a1.set_title("time per FFT pair and per iteration", fontsize=10)
+    a1.grid(True, which="both", alpha=0.3)
+    a1.legend(fontsize=7)
+    common = sorted(set(fft) & set(it))
+    rows = []
+    if common:
+        ratio = [it[n] / fft[n] for n in common]
+        a2.semilogx(common, ratio, "o-", color="tab:red", label="iteration / FFT pair")
+        a2.axhspan(1.2, 1.3, color="tab:green", alpha=0.2, label="target 1.2–1.3")
+        a2.axhline(1.0, color="gray", lw=0.8)
+        a2.set_ylim(0, max(2.0, max(ratio) * 1.1))
+        rows = [[n, fmt(fft[n] * 1e3, 4), fmt(it[n] * 1e3, 4), fmt(it[n] / fft[n], 3)] for n in common]
+    else:
+        a2.text(0.5, 0.5, "needs BM_FFTPair/N and\nBM_PolonskyKeerIteration/N\nat the same N",
+                ha="center", va="center", transform=a2.transAxes)
+    a2.set_xlabel("grid points per side n")
+    a2.set_ylabel("iteration time / FFT-pair time")
+    a2.set_title("cost of one iteration in FFT pairs", fontsize=10)
+    a2.legend(fontsize=7)
+    path = os.path.join(out_dir, "iteration_vs_fft.png")
+    savefig(fig, path)
+    return path, rows
+
+
+def build(perf_dir, bench_path, out_dir, notes):
+    os.makedirs(out_dir, exist_ok=True)
+    lines = ["# Performance report", ""]
+    recs = _records(perf_dir, notes) if os.path.isdir(perf_dir) else []
+    lines += ["## Speed vs accuracy", ""]
+    if not recs:
+        lines += [f"No records in `{perf_dir}/*.json` yet: run the benchmark script that writes "
+                  "records {case, grid, tolerance, wall_s, iterations, fft_pairs, fft_pair_s, error: {quantity: "
+                  "value}} there (contract in reports/README.md), then `scripts/report.sh`.", ""]
+    else:
+        figs = _speed_vs_error(recs, out_dir)
+        rows = []
+        def grid_key(g):
+            m = re.match(r"^\s*(\d+)", str(g))
+            return (int(m.group(1)) if m else 0, str(g))
+
+        for r in sorted(recs, key=lambda r: (str(r.get("case")), grid_key(r.get("grid")), r.get("wall_s", 0))):
+            errs = ", ".join(f"{q} {fmt(v, 3)}" for q, v in sorted((r.get("error") or {}).items()))
+            fp = r.get("fft_pairs")
+            fps = r.get("fft_pair_s")
+            it_per_fft = (r["wall_s"] / (fp * fps)) if finite(fp) and finite(fps) and fp > 0 and fps > 0 else None
+            rows.append([r.get("case", "?"), r.get("grid", "?"), fmt(r.get("tolerance"), 3), fmt(r["wall_s"], 4),
+                         fmt(r.get("iterations")), fmt(fp), fmt(fps, 3), fmt(it_per_fft, 3), errs])
+        lines += [md_table(["case", "grid", "tolerance", "wall (s)", "iterations", "FFT pairs", "s / FFT pair",
+                            "wall / (pairs × s/pair)", "errors"], rows), ""]
+        if figs:
+            for q, p in figs:
+                lines += [f"![speed vs error: {q}]({os.path.basename(p)})", ""]
+        else:
+            lines += ["(no positive error values to plot)", ""]
+    lines += ["## Iteration time vs FFT-pair time", ""]
+    fam, raw = (None, None)
+    if os.path.isfile(bench_path):
+        fam, raw = _bench(bench_path, notes)
+    if not fam:
+        lines += [f"No Google Benchmark results in `{bench_path}`"
+                  + (" (no BM_*/N entries)" if os.path.isfile(bench_path) else "")
+                  + ": run `build/cmc_bench --benchmark_format=json --benchmark_out=build/bench.json "
+                    "--benchmark_out_format=json` (or `build/cmc_bench --benchmark_format=json > build/bench.json`),"
+                    " then `scripts/report.sh`.", ""]
+    else:
+        path, rows = _bench_plot(fam, out_dir)
+        ctx = raw.get("context", {}) if isinstance(raw, dict) else {}
+        lines += [f"From `{bench_path}` ({ctx.get('date', '')}, {ctx.get('num_cpus', '?')} CPUs, "
+                  f"{ctx.get('host_name', '')}). The target (shared/notes/performance-targets.md) is an iteration "
+                  "costing at most 1.2–1.3 FFT pairs.", ""]
+        if rows:
+            lines += [md_table(["n", "FFT pair (ms)", "iteration (ms)", "ratio"], rows), ""]
+        lines += [f"![iteration vs FFT]({os.path.basename(path)})", ""]
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,223 @@
+#!/usr/bin/python3
+"""Self-test of the report scripts on synthetic inputs (no cmc run needed).
+
+usage: /usr/bin/python3 reports/selftest.py [--keep DIR]
+
+Writes small synthetic inputs that follow the output contracts (summary.json and
+result.h5 of validation and challenge runs, results/performance/*.json, Google
+Benchmark JSON) into a temporary folder, runs make_reports.py on them, and checks
+that every figure is drawn and that an empty input tree gives "not computed yet"
+lines instead of a crash. Exit 0 when all is well, 1 with the failures listed,
+3 when numpy/matplotlib/h5py are missing.
+"""
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+
+
+def write_json(path, obj):
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path, "w") as f:
+        json.dump(obj, f, indent=1)
+
+
+def challenge_case(name, interaction=None, x0=50e-6):
+    return {"case": {"name": name}, "material": {"contact_modulus": 25e6},
+            "interaction": interaction or {"kind": "hard_wall"},
+            "observables": {"enabled": True, "cross_section_x": x0}}
+
+
+def grid(n):
+    dx = 1e-4 / n
+    return {"nx": n, "ny": n, "size_x": 1e-4, "size_y": 1e-4, "dx": dx, "dy": dx, "boundary": "periodic"}
+
+
+def make_inputs(root, np, h5py):
+    res = os.path.join(root, "results")
+    # --- a load sweep (summary only) -------------------------------------------------
+    steps = []
+    for k, p in enumerate([12.5e3, 25e3, 50e3, 125e3, 250e3, 500e3, 1.25e6, 2.5e6, 5e6, 10e6, 17.5e6, 25e6]):
+        t = p / 25e6
+        ar = 1 - math.exp(-2.2 * t * (1 + 3 * t) / 0.9) if t < 1 else 0.999
+        gap = 0.43e-6 * math.log(0.4 / t) if t < 0.4 else 1e-9 / t
+        obs = {"contact_fraction": ar, "contact_fraction_corrected": ar * 0.97, "repulsive_fraction": ar,
+               "attractive_fraction": 0.0, "mean_gap": gap, "mean_pressure": p, "n_patches": int(500 * ar + 3)}
+        steps.append({"index": k, "branch": "loading", "mean_pressure": p, "contact_fraction": ar, "mean_gap": gap,
+                      "converged": True, "iterations": 100, "observables": obs})
+    write_json(os.path.join(res, "challenge-load-sweep-test", "summary.json"),
+               {"case": challenge_case("challenge-load-sweep-test"), "grid": grid(256), "status": "converged",
+                "timing": {"wall_s": 12.0, "fft_pairs": 1000}, "steps": steps})
+    # --- a reference-load run with result.h5 observables -------------------------------
+    folder = os.path.join(res, "challenge-reference-test")
+    write_json(os.path.join(folder, "summary.json"),
+               {"case": challenge_case("challenge-reference-test"), "grid": grid(256), "status": "converged",
+                "timing": {"wall_s": 3.0, "fft_pairs": 300},
+                "steps": [{"index": 0, "mean_pressure": 250e3, "contact_fraction": 0.03, "mean_gap": 1.1e-6,
+                           "converged": True,
+                           "observables": {"contact_fraction": 0.03, "mean_gap": 1.1e-6, "mean_pressure": 250e3,
+                                           "n_patches": 40}}]})
+    rng = np.random.default_rng(1)
+    with h5py.File(os.path.join(folder, "result.h5"), "w") as f:
+        f["heights"] = rng.random((8, 8)) * 1e-6
+        o = f.create_group("step_0000/observables")
+        ge = np.logspace(-10, -5.5, 46)
+        gc = np.sqrt(ge[:-1] * ge[1:])
+        o["gap_hist_edges"] = ge
+        o["gap_hist_density"] = np.where(gc < 3e-6, 0.97 * np.sqrt(gc) / (2 / 3 * (3e-6) ** 1.5), 0.0)
+        se = np.linspace(-24e6, 60e6, 101)
+        sc = 0.5 * (se[:-1] + se[1:])
+        o["stress_hist_edges"] = se
+        o["stress_hist_density"] = 0.03 * np.exp(-np.abs(sc) / 5e6) / 1e7
+        ae = np.logspace(-16, -10, 31)
+        ac = np.sqrt(ae[:-1] * ae[1:])
+        o["patch_area_edges"] = ae
+        o["patch_area_density"] = 1e14 * (ac / 1e-16) ** -1.9
+        q = np.logspace(4.5, 7.8, 80)
+        o["stress_spectrum_q"] = q
+        o["stress_spectrum_C"] = 1e-2 * (q / 3e5) ** -1.0
+        y = np.arange(2048) * 1e-4 / 2048
+        gsec = np.clip(1e-6 * np.sin(2 * np.pi * y / 2e-5) ** 2 - 1e-7, 0, None)
+        o["cross_section_y"] = y
+        o["cross_section_gap"] = gsec
+        o["cross_section_pressure"] = np.where(gsec == 0, 2e6, 0.0) - np.where((gsec > 0) & (gsec < 5e-9), 1e6, 0.0)
+    # --- a Tabor sweep: one run per Tabor value (run-level), plus one run with a "tabor" per step
+    for mu in (0.5, 1.0, 2.0, 3.0):
+        write_json(os.path.join(res, f"challenge-tabor-{mu}", "summary.json"),
+                   {"case": challenge_case(f"challenge-tabor-{mu}", {"kind": "exponential", "tabor": mu}),
+                    "grid": grid(256), "status": "converged", "timing": {"wall_s": 5.0, "fft_pairs": 500},
+                    "steps": [{"index": 0, "mean_pressure": 250e3, "contact_fraction": 0.03 + 0.01 * math.log(1 + mu),
+                               "mean_gap": 1.0e-6 - 2e-8 * mu, "converged": True}]})
+    write_json(os.path.join(res, "challenge-tabor-steps", "summary.json"),
+               {"case": challenge_case("challenge-tabor-steps", {"kind": "exponential"}), "grid": grid(512),
+                "status": "converged", "timing": {"wall_s": 9.0, "fft_pairs": 900},
+                "steps": [{"index": k, "tabor": mu, "mean_pressure": 250e3, "converged": True,
+                           "observables": {"contact_fraction": 0.031 + 0.01 * math.log(1 + mu),
+                                           "mean_gap": 0.99e-6 - 2e-8 * mu, "mean_pressure": 250e3}}
+                          for k, mu in enumerate([0.3, 1.0, 3.0, 10.0])]})
+    # A run of another project in the same folder must be ignored.
+    write_json(os.path.join(res, "challenge-not", "summary.json"),
+               {"case": {"case": {"name": "hertz-free"}}, "grid": grid(64), "steps": []})
+    # A malformed summary must not crash the report.
+    os.makedirs(os.path.join(res, "challenge-broken"), exist_ok=True)
+    with open(os.path.join(res, "challenge-broken", "summary.json"), "w") as f:
+        f.write("{ not json")
+    # --- performance records and Google Benchmark output -------------------------------
+    write_json(os.path.join(res, "performance", "pk.json"), {"records": [
+        {"case": "challenge-hardwall", "grid": n, "tolerance": tol, "wall_s": 0.1 * (n / 256) ** 2 / tol ** 0.1,
+         "iterations": 100, "fft_pairs": 110, "fft_pair_s": 1e-3 * (n / 256) ** 2,
+         "error": {"contact_fraction": 0.1 * 256 / n + tol, "mean_gap": 0.02 * 256 / n + tol}}
+        for n in (256, 512, 1024) for tol in (1e-4, 1e-8)]})
+    benches = []
+    for n in (256, 512, 1024, 2048):
+        benches.append({"name": f"BM_FFTPair/{n}", "run_name": f"BM_FFTPair/{n}", "run_type": "iteration",
+                        "real_time": 0.5 * (n / 256) ** 2, "time_unit": "ms", "items_per_second": 2000 / (n / 256) ** 2})
+        benches.append({"name": f"BM_PolonskyKeerIteration/{n}", "run_name": f"BM_PolonskyKeerIteration/{n}",
+                        "run_type": "iteration", "real_time": 0.62 * (n / 256) ** 2, "time_unit": "ms",
+                        "items_per_second": 1000 / 0.62 / (n / 256) ** 2})
+    write_json(os.path.join(root, "build", "bench.json"),
+               {"context": {"date": "synthetic", "num_cpus": 2, "host_name": "selftest"}, "benchmarks": benches})
+    # --- validation: one passing case with a refinement study, one failing check ---------
+    v = os.path.join(root, "build", "validation")
+    write_json(os.path.join(v, "synthetic-pass", "summary.json"),
+               {"case": {"case": {"name": "synthetic-pass"}, "validation": {"reference": "none"}},
+                "grid": {"nx": 128, "ny": 128, "size_x": 1e-3, "dx": 1e-3 / 128}, "status": "converged",
+                "timing": {"wall_s": 0.1, "fft_pairs": 10},
+                "validation": [{"reference": "none", "quantity": "penetration", "definition": "|d - d_ref| / d_ref",
+                                "error": 1e-4, "tolerance": 1e-3, "pass": True},
+                               {"reference": "none", "quantity": "order(penetration)", "grids": [64, 128, 256],
+                                "errors": [4e-4, 1e-4, 2.5e-5], "observed_order": 2.0, "min_order": 1.2,
+                                "pass": True}]})
+    write_json(os.path.join(v, "synthetic-fail", "summary.json"),
+               {"case": {"case": {"name": "synthetic-fail"}}, "grid": {"nx": 64, "ny": 64}, "status": "converged",
+                "validation": [{"reference": "none", "quantity": "mean_gap", "definition": "d", "error": 0.5,
+                                "tolerance": 1e-3, "pass": False}]})
+
+
+def run_reports(root, out):
+    cmd = [sys.executable, os.path.join(HERE, "make_reports.py"),
+           "--validation", os.path.join(root, "build", "validation"), "--results", os.path.join(root, "results"),
+           "--bench", os.path.join(root, "build", "bench.json"), "--reference", os.path.join(ROOT, "reference"),
+           "--cases", os.path.join(ROOT, "cases", "challenge"), "--out", out]
+    return subprocess.run(cmd, capture_output=True, text=True)
+
+
+def main(argv):
+    try:
+        import numpy as np
+        import h5py
+        import matplotlib  # noqa: F401
+    except ImportError as e:
+        print(f"selftest.py: {e}: install python3-numpy, python3-matplotlib, python3-h5py", file=sys.stderr)
+        return 3
+    keep = argv[argv.index("--keep") + 1] if "--keep" in argv else None
+    root = keep or tempfile.mkdtemp(prefix="cmc_reports_selftest_")
+    failures = []
+    try:
+        make_inputs(root, np, h5py)
+        out = os.path.join(root, "reports")
+        r = run_reports(root, out)
+        if r.returncode != 0:
+            failures.append(f"make_reports.py exited {r.returncode}:\n{r.stdout}\n{r.stderr}")
+        expect = {
+            "validation": ["index.md", "refinement_synthetic-pass.png"],
+            "performance": ["index.md", "iteration_vs_fft.png", "speed_vs_error_contact_fraction.png",
+                            "speed_vs_error_mean_gap.png"],
+            "challenge": ["index.md", "patch_size_distribution.png", "contact_area_vs_pressure.png",
+                          "gap_distribution.png", "stress_distribution.png", "stress_spectrum.png",
+                          "contact_area_vs_tabor.png", "mean_gap_vs_tabor.png", "mean_gap_vs_pressure.png",
+                          "cross_section.png"],
+        }
+        for sub, files in expect.items():
+            for f in files:
+                if not os.path.isfile(os.path.join(out, sub, f)):
+                    failures.append(f"missing {sub}/{f}")
+        idx = open(os.path.join(out, "challenge", "index.md")).read() if os.path.isfile(
+            os.path.join(out, "challenge", "index.md")) else ""
+        if "not computed yet" in idx:
+            failures.append("challenge/index.md says 'not computed yet' although every input exists")
+        if "hertz-free" in idx:
+            failures.append("challenge/index.md lists a run whose case name does not start with 'challenge'")
+        if "λ_s/dx" not in idx:
+            failures.append("challenge/index.md lacks the grid-spacing table")
+        vidx = open(os.path.join(out, "validation", "index.md")).read()
+        if "**1 checks pass" not in vidx.replace("**2 checks pass", "**1 checks pass") or "**FAIL**" not in vidx:
+            failures.append("validation/index.md does not show the failing check")
+        # The challenge CSVs are readable by `cmc check` conventions (header row + numbers).
+        data = os.path.join(out, "challenge", "data")
+        if not os.path.isdir(data) or not any(f.startswith("load_sweep__") for f in os.listdir(data)):
+            failures.append("challenge/data/load_sweep__*.csv missing")
+        # Empty inputs: no crash, and lines saying what to run.
+        empty = os.path.join(root, "empty")
+        os.makedirs(empty, exist_ok=True)
+        r2 = subprocess.run([sys.executable, os.path.join(HERE, "make_reports.py"), "--validation",
+                             os.path.join(empty, "v"), "--results", os.path.join(empty, "r"), "--bench",
+                             os.path.join(empty, "b.json"), "--reference", os.path.join(ROOT, "reference"),
+                             "--cases", os.path.join(empty, "cases"), "--out", os.path.join(empty, "out")],
+                            capture_output=True, text=True)
+        if r2.returncode != 0:
+            failures.append(f"empty inputs: make_reports.py exited {r2.returncode}: {r2.stderr}")
+        else:
+            for sub, phrase in (("challenge", "not computed yet"), ("validation", "No validation results"),
+                                ("performance", "No records"), ("performance", "No Google Benchmark")):
+                text = open(os.path.join(empty, "out", sub, "index.md")).read()
+                if phrase not in text:
+                    failures.append(f"empty inputs: {sub}/index.md lacks '{phrase}'")
+    finally:
+        if not keep:
+            shutil.rmtree(root, ignore_errors=True)
+    if failures:
+        print("reports selftest FAILED:\n  " + "\n  ".join(failures))
+        return 1
+    print("reports selftest: ok" + (f" (inputs and reports kept in {root})" if keep else ""))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

@@ -1,0 +1,143 @@
+// The prediction checker behind `cmc check`: which challenge quantities can be checked,
+// which column names and units a submitted CSV may use, and how a curve is scored
+// against a reference curve.
+//
+// Scoring (documented for users in reference/README.md):
+//   1. Both curves are converted to SI and transformed into the representation the
+//      challenge asks for: X = log10(x) on a log axis, else x; likewise Y.
+//      Points that are <= 0 on a log axis are left out (and counted).
+//   2. Common range: [max(first X), min(last X)] of the two curves (error if empty).
+//   3. Evaluation points: every abscissa of either curve inside the common range, plus
+//      its ends; both curves are interpolated piecewise-linearly in (X, Y).
+//   4. d = Y_pred - Y_ref at each point.
+//        abs error: |d|, in decades on a log y axis, in the SI unit on a linear one;
+//        rel error: |10^d - 1| = |y_pred/y_ref - 1| on a log y axis;
+//                   |d| / max|y_ref| (over the evaluation points) on a linear one.
+//      max_* is the largest over the points; rms_* is sqrt(integral of e^2 dX / range),
+//      trapezoidal in X, so it does not depend on how densely either curve is sampled.
+//   5. Verdict: pass when the chosen metric (max_abs, rms_abs, max_rel, rms_rel) is at
+//      most the tolerance. Tolerance from --tolerance, else the reference file's
+//      "# tolerance:" line, else the quantity's default below.
+#pragma once
+
+#include "References.hpp"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace cmc::check {
+
+using reference::InputError;
+using reference::Representation;
+using reference::Table;
+
+// Physical dimension of an axis; each has a fixed list of unit suffixes (see units()).
+enum class Dim { None, Fraction, Pressure, Length, Area, InvLength, InvPressure, InvArea, StressSpectrum };
+
+struct UnitChoice {
+  std::string suffix;  // appended to the base name with '_' ("" = no suffix)
+  double to_si;        // SI value = file value * to_si
+  std::string meaning;
+};
+const std::vector<UnitChoice>& units(Dim d);
+std::string si_unit(Dim d);  // "Pa", "m", "1/m", ...
+
+// Challenge units used by the reduced suffixes: E* g = 25 MPa (g = rms gradient = 1),
+// L = 0.1 mm (problem definition, "Summary of default parameters").
+inline constexpr double kChallengeEstar = 25e6;  // Pa
+inline constexpr double kChallengeL = 1e-4;      // m
+
+struct AxisSpec {
+  std::string label;               // "mean pressure"
+  std::vector<std::string> bases;  // accepted column-name stems, first = preferred
+  Dim dim = Dim::None;
+};
+
+struct QuantitySpec {
+  std::string id;     // "contact_area_vs_pressure"
+  std::string title;  // "Contact area vs pressure"
+  int item = 0;       // number in the problem definition's list (0: not a challenge item)
+  AxisSpec x, y;
+  Representation rep;
+  double tolerance = 0.05;
+  std::string metric = "max_rel";
+};
+
+const std::vector<QuantitySpec>& quantities();
+// Throws InputError naming the known quantities.
+const QuantitySpec& quantity(const std::string& id);
+// "log-log" etc.
+std::string representation_name(Representation r);
+
+// A curve in SI units, strictly increasing in x.
+struct XY {
+  std::string file;
+  std::string x_column, y_column;  // as in the file
+  double x_to_si = 1, y_to_si = 1;
+  std::vector<double> x, y;
+  std::vector<int> line;  // file line of each point
+  std::vector<std::string> ignored_columns;
+};
+
+// Picks the abscissa and ordinate columns of `spec` from a table (see QuantitySpec),
+// converts them to SI, and checks that x is strictly monotonic (a decreasing x is
+// reversed). Throws InputError naming the file, line/column and what was expected.
+XY extract(const Table& t, const QuantitySpec& spec);
+
+// A spec for comparing two files column by column without unit conversion: the columns
+// named x and y (exact names), in the given representation (generic `cmc check
+// --reference FILE` without --quantity).
+QuantitySpec generic_spec(const std::string& quantity, const std::string& x, const std::string& y,
+                          Representation rep, double tolerance, const std::string& metric);
+
+struct Metrics {
+  double max_abs = 0, rms_abs = 0, max_rel = 0, rms_rel = 0;
+  double x_lo = 0, x_hi = 0;     // common range, SI
+  double x_at_max_abs = 0;       // where |d| is largest, SI
+  double rel_scale = 0;          // max|y_ref| used for rel on a linear y axis (SI); 0 on a log one
+  double coverage = 0;           // common range / reference range, in representation
+  std::size_t points = 0;        // evaluation points
+  std::size_t excluded_prediction = 0, excluded_reference = 0;  // <= 0 on a log axis
+  std::vector<double> eval_x, eval_pred, eval_ref;  // SI
+  double get(const std::string& metric) const;  // throws InputError for an unknown name
+};
+
+// Throws InputError when fewer than two points of a curve remain on the log axes or the
+// curves do not overlap.
+Metrics compare(const XY& prediction, const XY& ref, Representation rep);
+
+struct Verdict {
+  double tolerance = 0;
+  std::string metric, source;  // source: "--tolerance", "reference file", "default for <quantity>"
+  double value = 0;
+  bool pass = false;
+};
+Verdict verdict(const Metrics& m, double tolerance, const std::string& metric, const std::string& source);
+
+// Everything `cmc check` reports, as JSON (check.json; read by reports/plot_check.py).
+struct Report {
+  QuantitySpec spec;
+  std::string prediction_file, reference_file, reference_name, reference_source;
+  XY prediction, ref;
+  Metrics metrics;
+  Verdict verdict;
+  std::vector<std::string> notes;
+};
+std::string report_json(const Report& r);
+// The human-readable summary printed by `cmc check`.
+std::string report_text(const Report& r);
+
+// Runs the whole check without writing anything (the command writes check.json and the
+// figure afterwards). `reference_file` empty: the stored challenge reference for the
+// quantity (reference/challenge/<quantity>.csv), an InputError if it does not exist.
+struct Options {
+  std::string prediction, quantity, reference_file, x, y, metric;
+  std::optional<double> tolerance;
+};
+Report run_check(const Options& o);
+
+// Path of the stored reference for a challenge quantity.
+std::string default_reference_path(const std::string& quantity);
+
+}  // namespace cmc::check

@@ -1,0 +1,130 @@
+// Reference curves: the one CSV format cmc stores curves in (reference/*.csv), its
+// reader and writer, and the generators of the analytic curves.
+//
+// The format (documented for users in reference/README.md):
+//
+//   # cmc-reference-csv: 1
+//   # name: hertz_penetration_force          <- file stem, [a-z0-9_.-]
+//   # quantity: ...                          <- what the curve is (a `cmc check` quantity
+//   #                                           for challenge curves)
+//   # title: ...                             <- one line for humans
+//   # source: analytic: <formula, citation>  |  cmc run: <how>
+//   # ... further "# key: value" lines (parameters, cmc_version, case_file, grid, date)
+//   # unit.<column>: <unit> (<meaning>)     <- one per column
+//   # columns: c1,c2,...
+//   # x: c1                                  <- default abscissa / ordinate
+//   # y: c2
+//   # representation: log-log               <- x-y axis scales: lin-lin, log-lin, lin-log, log-log
+//   # estimated_error: ...
+//   # tolerance: 1e-3                        <- acceptance for a comparison with this curve
+//   # tolerance_metric: max_rel              <- max_abs | rms_abs | max_rel | rms_rel (see Check.hpp)
+//   c1,c2,...                                <- header row
+//   1.000000000000e-04,2.000000000000e-03    <- data, "%.12e", one row per point
+//
+// Analytic curves contain no date and no version, so regenerating them reproduces the
+// stored file byte for byte (tests/test_references.cpp enforces it).
+#pragma once
+
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace cmc::reference {
+
+// A malformed file or argument: the message names the file, the line and column, and
+// what was expected. `cmc` maps it to exit code 2.
+struct InputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+using Meta = std::vector<std::pair<std::string, std::string>>;
+
+// A parsed CSV table: "# key: value" metadata, the header row and the numbers (one vector
+// per column). Also used for predictions handed to `cmc check` (metadata optional there).
+struct Table {
+  std::string file;                   // for messages
+  Meta meta;                          // in file order
+  std::vector<std::string> comments;  // '#' lines that are not "key: value"
+  std::vector<std::string> columns;
+  std::vector<std::vector<double>> data;  // data[column][row]
+  std::vector<int> row_line;              // 1-based file line of each row
+  int header_line = 0;
+
+  std::size_t rows() const { return data.empty() ? 0 : data.front().size(); }
+  std::optional<std::string> get(const std::string& key) const;
+  std::string require(const std::string& key) const;  // throws InputError naming the file
+  void set(const std::string& key, const std::string& value);  // replaces or appends
+  int column_index(const std::string& name) const;             // -1 if absent
+  const std::vector<double>& column(const std::string& name) const;  // throws InputError
+};
+
+// Parse CSV text. Rules: '#' lines are comments ("# key: value" ones are metadata);
+// blank lines are skipped; the first other line is the header row (comma-separated,
+// non-empty, distinct names); every data row has as many fields as the header, each a
+// finite number (strtod, whole field). At least `min_rows` data rows. Errors throw
+// InputError("FILE:LINE: column K ('name'): ...").
+Table parse_csv(const std::string& text, const std::string& file, std::size_t min_rows = 1);
+Table read_csv(const std::string& path, std::size_t min_rows = 1);  // file missing: InputError
+
+// ---- curves with metadata ------------------------------------------------------------
+struct Column {
+  std::string name, unit, meaning;
+  std::vector<double> values;
+};
+
+struct Curve {
+  std::string name, quantity, title, source;
+  Meta extra;  // written after `source`, in this order (parameters, case_file, grid, date, ...)
+  std::vector<Column> columns;
+  std::string x, y;               // default abscissa and ordinate (column names)
+  std::string representation;     // lin-lin | log-lin | lin-log | log-log (x-y)
+  std::string estimated_error;    // free text with a number and what it bounds
+  std::optional<double> tolerance;
+  std::string tolerance_metric = "max_rel";
+};
+
+// The file text of a curve (deterministic: fixed key order, "%.12e", no trailing spaces).
+// Throws std::invalid_argument for missing metadata, unequal column lengths, a name
+// with a comma or newline, or a non-finite value.
+std::string format_curve(const Curve& c);
+void write_curve(const std::string& path, const Curve& c);  // atomically
+// The inverse of format_curve for files in the format (metadata checked).
+Curve curve_from_table(const Table& t);
+Curve read_curve(const std::string& path);
+
+// Axis scales of a representation string ("log-log" -> {true, true}); throws InputError.
+struct Representation {
+  bool log_x = false, log_y = false;
+};
+Representation parse_representation(const std::string& s);
+
+// ---- curves from cmc runs (challenge references) -------------------------------------
+// A curve produced by a cmc run: source "cmc run", with the version, case file, grid,
+// solver tolerance, date (UTC, ISO 8601) and the estimated discretisation error.
+struct RunProvenance {
+  std::string cmc_version;  // empty: this build's CMC_VERSION
+  std::string case_file;
+  std::string grid;         // e.g. "4096x4096, dx = 24.4 nm (lambda_s/4.1)"
+  std::string solver_tolerance;
+  std::string date;         // empty: now
+  std::string command;      // how it was produced, e.g. "cmc run cases/challenge/... --out ..."
+};
+Curve make_run_curve(const std::string& name, const std::string& quantity, const std::string& title,
+                     const RunProvenance& how, std::vector<Column> columns, const std::string& x,
+                     const std::string& y, const std::string& representation,
+                     const std::string& estimated_error, std::optional<double> tolerance,
+                     const std::string& tolerance_metric = "max_rel");
+
+// ---- analytic curves -----------------------------------------------------------------
+// Every analytic curve, in a fixed order; `generate` builds one by name (throws
+// std::invalid_argument for an unknown name).
+std::vector<std::string> analytic_curve_names();
+std::string analytic_curve_title(const std::string& name);
+Curve generate(const std::string& name);
+
+// The folder holding the stored curves: $CMC_REFERENCE_DIR, else <source>/reference.
+std::string default_reference_dir();
+
+}  // namespace cmc::reference
