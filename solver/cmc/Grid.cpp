@@ -1,6 +1,7 @@
 #include "cmc/Grid.hpp"
 
 #include <fftw3.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -91,6 +92,7 @@ void init_fftw() {
   if (fftw_ready) return;
   fftw_init_threads();
   fftw_plan_with_nthreads(thread_count());
+  omp_set_num_threads(thread_count());
   const auto w = wisdom_path();
   if (!w.empty() && std::filesystem::exists(w)) fftw_import_wisdom_from_filename(w.c_str());
   fftw_ready = true;

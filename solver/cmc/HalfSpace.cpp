@@ -39,16 +39,17 @@ void HalfSpace::displacement(const Field& p, Field& u) {
   from_transform_grid(u);
 }
 
+void HalfSpace::set_offset(const Field& h) {
+  offset_hat_.resize(fourier_->spectrum_size());
+  fourier_->forward(to_transform_grid(h), offset_hat_.data());
+  const double norm = fourier_->normalisation();
+  for (auto& c : offset_hat_) c *= norm;
+}
+
 void HalfSpace::set_pressure(const Field& p, double scale, Field& u) {
   p_hat_.resize(fourier_->spectrum_size());
   fourier_->forward(to_transform_grid(p), p_hat_.data());
-  auto& s = fourier_->spectrum();
-  for (std::size_t k = 0; k < s.size(); ++k) {
-    p_hat_[k] *= scale;
-    s[k] = p_hat_[k] * kernel_[k];
-  }
-  u.resize(grid_.size());
-  from_transform_grid(u);
+  step_pressure(scale, 0.0, u);
 }
 
 double HalfSpace::set_direction(const Field& t) {
@@ -65,9 +66,17 @@ double HalfSpace::set_direction(const Field& t) {
 
 void HalfSpace::step_pressure(double scale, double tau, Field& u) {
   auto& s = fourier_->spectrum();
-  for (std::size_t k = 0; k < s.size(); ++k) {
-    p_hat_[k] = scale * (p_hat_[k] - tau * t_hat_[k]);
-    s[k] = p_hat_[k] * kernel_[k];
+  Complex* ph = p_hat_.data();
+  const Complex* th = tau != 0.0 ? t_hat_.data() : nullptr;
+  const Complex* off = offset_hat_.empty() ? nullptr : offset_hat_.data();
+  const double* ker = kernel_.data();
+  Complex* out = s.data();
+  const std::ptrdiff_t m = std::ptrdiff_t(s.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t k = 0; k < m; ++k) {
+    const Complex pk = scale * (th ? ph[k] - tau * th[k] : ph[k]);
+    ph[k] = pk;
+    out[k] = off ? pk * ker[k] + off[k] : pk * ker[k];
   }
   u.resize(grid_.size());
   from_transform_grid(u);

@@ -53,6 +53,11 @@ class HalfSpace {
   // p̂ ← s (p̂ − τ t̂) and u = G p (one inverse). The caller applies the same step to
   // its real-space p.
   void step_pressure(double s, double tau, Field& u);
+  // From now on set_pressure and step_pressure return h + G p instead of G p (the
+  // offset is added in Fourier space, so it costs no pass over the grid): solvers that
+  // only ever need h + u save reading h. One forward transform.
+  void set_offset(const Field& h);
+  void clear_offset() { offset_hat_.clear(); }
 
   // FFT pairs done so far by this operator (forward + inverse transforms, halved):
   // the unit of cost cmc reports.
@@ -77,7 +82,7 @@ class HalfSpace {
   double estar_;
   std::unique_ptr<Fourier> fourier_;
   Field kernel_;  // real Fourier multiplier of G on the transform grid, times 1/N
-  Spectrum p_hat_, t_hat_;
+  Spectrum p_hat_, t_hat_, offset_hat_;  // offset_hat_ = FFT(h)/N, or empty
 };
 
 class PeriodicHalfSpace final : public HalfSpace {

@@ -63,7 +63,16 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
       for (auto& x : p) x *= s;
     }
   }
-  hs_.set_pressure(p, 1.0, u);  // u = G p, and the operator keeps p̂
+  // The iteration works with w = h + u (the gap plus δ): the operator adds h in
+  // Fourier space, so no pass reads h. u = w − h at the end.
+  Field& w = u;
+  hs_.set_offset(h_);
+  struct ClearOffset {
+    HalfSpace& hs;
+    ~ClearOffset() { hs.clear_offset(); }
+  } clear_offset{hs_};
+  std::string failure;
+  hs_.set_pressure(p, 1.0, w);  // w = h + G p, and the operator keeps p̂
 
   Field t(n, 0.0);
   double G_old = 1.0;
@@ -79,8 +88,9 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
     // to keep the next direction load-neutral.
     const double c = delta;
     double s1 = 0.0, s2 = 0.0, nc = 0.0, ol = 0.0, nol = 0.0, tsum = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : s1, s2, nc, ol, nol, tsum)
     for (std::size_t i = 0; i < n; ++i) {
-      const double x = h[i] + u[i] - c;
+      const double x = w[i] - c;
       if (p[i] > 0.0) {
         s1 += x;
         s2 += x * x;
@@ -106,9 +116,12 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
       }
       // Restart from the geometric overlap.
       for (std::size_t i = 0; i < n; ++i) p[i] = std::max(0.0, delta - h[i]) * hs_.contact_modulus() * M_PI / grid.lx;
-      if (Grid::sum(p) == 0.0) return finish(false, "Polonsky-Keer lost its contact set");
+      if (Grid::sum(p) == 0.0) {
+        failure = "Polonsky-Keer lost its contact set";
+        break;
+      }
       sigma = 1.0;
-      hs_.set_pressure(p, 1.0, u);
+      hs_.set_pressure(p, 1.0, w);
       since_exact = 0;
       conjugate = false;
       continue;
@@ -129,7 +142,7 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
     if (res.residual <= opt_.tolerance) {
       if (since_exact == 0) break;
       // Confirm on u recomputed from the real-space p (removes spectral round-off drift).
-      hs_.set_pressure(p, sigma, u);
+      hs_.set_pressure(p, sigma, w);
       since_exact = 0;
       continue;
     }
@@ -143,9 +156,10 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
     const double tbar = force_control ? tsum / nc : 0.0;
     G_old = G;
     double sgt = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : sgt)
     for (std::size_t i = 0; i < n; ++i) {
       if (p[i] > 0.0) {
-        const double g = h[i] + u[i] - delta;
+        const double g = w[i] - delta;
         t[i] = g + beta * (t[i] - tbar);
         sgt += g * t[i];
       } else {
@@ -166,7 +180,7 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
     } else {
       // No descent left and no overlap: round-off floor. Confirm on an exact u, then stop.
       if (since_exact > 0) {
-        hs_.set_pressure(p, sigma, u);
+        hs_.set_pressure(p, sigma, w);
         since_exact = 0;
         conjugate = false;
         continue;
@@ -177,6 +191,7 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
     // ---- (e)–(g) pressure update, projection onto p ≥ 0, overlap points join
     bool changed = false;
     double psum = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : psum) reduction(|| : changed)
     for (std::size_t i = 0; i < n; ++i) {
       double pn = sigma * p[i];
       if (pn > 0.0) {
@@ -187,7 +202,7 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
         }
       }
       if (pn == 0.0) {
-        const double g = h[i] + u[i] - delta;
+        const double g = w[i] - delta;
         if (g < 0.0) {
           pn = -tau * g;
           changed = true;
@@ -203,16 +218,19 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
     double scale = 1.0;
     if (force_control) {
       const double mean_p = ps[0] / double(n);
-      if (!(mean_p > 0.0)) return finish(false, "Polonsky-Keer: pressure vanished during the iteration");
+      if (!(mean_p > 0.0)) {
+        failure = "Polonsky-Keer: pressure vanished during the iteration";
+        break;
+      }
       scale = mean_target / mean_p;
     }
     // ---- new displacement: a linear step is one inverse transform; a projected one
     // needs the transform of the new p (one forward more).
     if (changed || ++since_exact >= opt_.recompute_every) {
-      hs_.set_pressure(p, scale, u);
+      hs_.set_pressure(p, scale, w);
       since_exact = 0;
     } else {
-      hs_.step_pressure(scale, tau, u);
+      hs_.step_pressure(scale, tau, w);
     }
     sigma = scale;
   }
@@ -222,12 +240,15 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
   // ---- the solved state
   st.penetration = delta;
   st.gap.resize(n);
-  for (std::size_t i = 0; i < n; ++i) st.gap[i] = h[i] - delta + u[i];
+  for (std::size_t i = 0; i < n; ++i) {
+    st.gap[i] = w[i] - delta;
+    u[i] = w[i] - h[i];  // w becomes the displacement again
+  }
   st.mean_pressure = Grid::mean(p);
   res.energy = hs_.energy(p, u);
-  const bool ok = res.residual <= opt_.tolerance;
-  std::string msg;
-  if (!ok) {
+  const bool ok = failure.empty() && res.residual <= opt_.tolerance;
+  std::string msg = failure;
+  if (!ok && msg.empty()) {
     std::ostringstream s;
     s << "Polonsky-Keer stopped after " << res.iterations << " iterations at residual " << res.residual
       << " > tolerance " << opt_.tolerance;
