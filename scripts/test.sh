@@ -9,4 +9,7 @@ scripts/setup.sh
 # FFTW plans: MEASURE, with wisdom kept in the build folder between runs.
 export CMC_FFTW_WISDOM="${CMC_FFTW_WISDOM:-$PWD/build/fftw-wisdom}"
 cd build
+# Tests run two at a time: one thread each (threads of two processes on two cores
+# only spin against each other).
+export CMC_THREADS="${CMC_THREADS:-1}"
 ctest --output-on-failure -j"$(nproc 2>/dev/null || echo 2)" -LE slow "$@"

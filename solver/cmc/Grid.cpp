@@ -117,6 +117,8 @@ Fourier::Fourier(int nx, int ny) : nx_(nx), ny_(ny), spec_(std::size_t(nx / 2 + 
     init_fftw();
     Field scratch(real_size());
     const unsigned flags = planner_flags();
+    // Threads only pay on large transforms: on small (e.g. 1-D) ones they cost 3-8x.
+    fftw_plan_with_nthreads(real_size() < (std::size_t(1) << 16) ? 1 : thread_count());
     auto* c = reinterpret_cast<fftw_complex*>(spec_.data());
     if (ny == 1) {
       plan_forward_ = fftw_plan_dft_r2c_1d(nx, scratch.data(), c, flags);

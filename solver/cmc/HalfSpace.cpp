@@ -72,7 +72,7 @@ void HalfSpace::step_pressure(double scale, double tau, Field& u) {
   const double* ker = kernel_.data();
   Complex* out = s.data();
   const std::ptrdiff_t m = std::ptrdiff_t(s.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (m > (1 << 15))
   for (std::ptrdiff_t k = 0; k < m; ++k) {
     const Complex pk = scale * (th ? ph[k] - tau * th[k] : ph[k]);
     ph[k] = pk;

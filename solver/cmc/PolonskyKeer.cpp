@@ -8,6 +8,10 @@
 
 namespace cmc {
 
+namespace {
+constexpr std::size_t kParallelMin = 1 << 15;  // smaller grids: one thread (no fork/join cost)
+}
+
 PolonskyKeer::PolonskyKeer(HalfSpace& hs, const Field& heights, Options o) : hs_(hs), h_(heights), opt_(std::move(o)) {
   if (heights.size() != hs.grid().size()) throw std::invalid_argument("PolonskyKeer: heights do not match the grid");
   const double hm = Grid::mean(heights);
@@ -88,7 +92,7 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
     // to keep the next direction load-neutral.
     const double c = delta;
     double s1 = 0.0, s2 = 0.0, nc = 0.0, ol = 0.0, nol = 0.0, tsum = 0.0;
-#pragma omp parallel for schedule(static) reduction(+ : s1, s2, nc, ol, nol, tsum)
+#pragma omp parallel for schedule(static) if (n > kParallelMin) reduction(+ : s1, s2, nc, ol, nol, tsum)
     for (std::size_t i = 0; i < n; ++i) {
       const double x = w[i] - c;
       if (p[i] > 0.0) {
@@ -156,7 +160,7 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
     const double tbar = force_control ? tsum / nc : 0.0;
     G_old = G;
     double sgt = 0.0;
-#pragma omp parallel for schedule(static) reduction(+ : sgt)
+#pragma omp parallel for schedule(static) if (n > kParallelMin) reduction(+ : sgt)
     for (std::size_t i = 0; i < n; ++i) {
       if (p[i] > 0.0) {
         const double g = w[i] - delta;
@@ -191,7 +195,7 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
     // ---- (e)–(g) pressure update, projection onto p ≥ 0, overlap points join
     bool changed = false;
     double psum = 0.0;
-#pragma omp parallel for schedule(static) reduction(+ : psum) reduction(|| : changed)
+#pragma omp parallel for schedule(static) if (n > kParallelMin) reduction(+ : psum) reduction(|| : changed)
     for (std::size_t i = 0; i < n; ++i) {
       double pn = sigma * p[i];
       if (pn > 0.0) {
