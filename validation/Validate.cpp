@@ -2,7 +2,9 @@
 
 #include "cmc/Analytic.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <variant>
 #include <numbers>
 #include <stdexcept>
 
@@ -99,31 +101,133 @@ double westergaard_error(const std::string& q, const Scene& s, const ContactStat
   throw std::invalid_argument("validation: reference westergaard has no quantity '" + q + "'");
 }
 
+double force_of(const ContactState& st, double area) { return st.mean_pressure * area; }
+
+// A sampled parametric reference curve.
+struct Curve {
+  std::vector<double> x, y;
+};
+
+// Sphere with adhesion against JKR (Johnson, Kendall & Roberts 1971; Maugis 2000) or
+// Maugis–Dugdale (Maugis 1992): the force-penetration curve, sampled at 4000 contact
+// radii (interpolation error far below the tolerances), and the pull-off = the most
+// negative force of the path.
+double sphere_adhesion_error(const std::string& ref, const std::string& q, const Scene& s,
+                             const std::vector<ContactState>& states, const RunSummary& run, std::string& def) {
+  const double R = s.sphere_radius, w = work_of_adhesion(s.interaction), A = s.grid.area();
+  Curve all;  // the whole curve, parametrised by the contact radius
+  double pulloff, d_pulloff;
+  auto sample_all = [&](double s0, double s1, auto xf, auto yf) {
+    for (int i = 0; i <= 4000; ++i) {
+      const double sv = s0 + (s1 - s0) * i / 4000.0;
+      all.x.push_back(xf(sv)), all.y.push_back(yf(sv));
+    }
+  };
+  if (ref == "jkr") {
+    const double a_max = 4.0 * std::cbrt(R * R * w);  // beyond every contact radius of the cases
+    sample_all(1e-6 * a_max, a_max, [&](double a) { return an::jkr_penetration(1.0, R, w, a); },
+               [&](double a) { return an::jkr_force(1.0, R, w, a); });
+    const auto po = an::jkr_pulloff_load_controlled(1.0, R, w);
+    pulloff = po.force, d_pulloff = po.penetration;
+  } else {
+    const auto* d = std::get_if<DugdaleAdhesion>(&s.interaction);
+    if (!d) throw std::invalid_argument("validation: maugis_dugdale needs a Dugdale interaction");
+    const double lambda = an::md_lambda(1.0, R, w, d->stress());
+    const auto sc = an::md_scales(1.0, R, w);
+    sample_all(1e-4, 6.0, [&](double a) { return an::md_point(lambda, a).Delta * sc.penetration; },
+               [&](double a) { return an::md_point(lambda, a).Pbar * sc.force; });
+    const auto po = an::md_pulloff(lambda);
+    pulloff = po.Pbar * sc.force, d_pulloff = po.Delta * sc.penetration;
+  }
+  if (q == "force") {
+    // Distance of each solved (δ, F) in contact from the reference curve, in units of
+    // the pull-off penetration and force: a vertical force error would blow up where the
+    // curve turns vertical at snap-off.
+    def = "distance of (delta, F) from the " + ref + " curve in units of (|delta_pulloff|, |F_pulloff|)";
+    double worst = 0.0;
+    for (const auto& st : states) {
+      if (!(Grid::min(st.gap) <= 0.0)) continue;  // out of contact: off the curve's domain
+      const double x = st.penetration / std::abs(d_pulloff), y = force_of(st, A) / std::abs(pulloff);
+      double best = INFINITY;
+      for (std::size_t k = 0; k + 1 < all.x.size(); ++k) {
+        const double x0 = all.x[k] / std::abs(d_pulloff), y0 = all.y[k] / std::abs(pulloff);
+        const double ex = all.x[k + 1] / std::abs(d_pulloff) - x0, ey = all.y[k + 1] / std::abs(pulloff) - y0;
+        const double t = std::clamp(((x - x0) * ex + (y - y0) * ey) / std::max(ex * ex + ey * ey, 1e-300), 0.0, 1.0);
+        best = std::min(best, std::hypot(x - x0 - t * ex, y - y0 - t * ey));
+      }
+      worst = std::max(worst, best);
+    }
+    return worst;
+  }
+  if (q == "pulloff") {
+    def = "|most negative force of the path - pull-off_" + ref + "| / |pull-off_" + ref + "|";
+    return std::abs(run.pulloff_force / (s.units.pressure_pa * s.units.length_m * s.units.length_m) - pulloff) /
+           std::abs(pulloff);
+  }
+  throw std::invalid_argument("validation: reference " + ref + " has no quantity '" + q + "'");
+}
+
+// 1-D wavy surface with adhesion against Johnson (1995): mean pressure at the measured
+// mean gap (both parametrised by the contact half-width a), and the pull-off.
+double johnson_error(const std::string& q, const Scene& s, const std::vector<ContactState>& states,
+                     const RunSummary& run, std::string& def) {
+  const double h = s.wave_amplitude, lambda = s.wavelength, w = work_of_adhesion(s.interaction);
+  const double pstar = an::westergaard_full_contact_pressure(1.0, h, lambda);
+  if (q == "mean_pressure") {
+    // Johnson (1995): pbar/p* = sin²(πa/λ) − α √tan(πa/λ), at the contact half-width
+    // counted on the grid (2a = points with a closed gap x Δx, ±Δx/2).
+    def = "|pbar - pbar_Johnson(a counted)| / p*";
+    double worst = 0.0;
+    for (const auto& st : states) {
+      double closed = 0.0;
+      for (double g : st.gap) closed += g <= 0.0 ? 1.0 : 0.0;
+      if (closed == 0.0) continue;  // out of contact
+      const double a = 0.5 * closed * s.grid.dx();
+      worst = std::max(worst, std::abs(st.mean_pressure - an::johnson_mean_pressure(1.0, w, h, lambda, a)) / pstar);
+    }
+    return worst;
+  }
+  if (q == "pulloff") {
+    def = "|most negative mean pressure of the path - pull-off_Johnson| / |pull-off_Johnson|";
+    const double ref = an::johnson_pulloff(1.0, w, h, lambda).mean_pressure;
+    return std::abs(s.units.pressure(run.pulloff_mean_pressure) - ref) / std::abs(ref);
+  }
+  throw std::invalid_argument("validation: reference johnson has no quantity '" + q + "'");
+}
+
 }  // namespace
 
 double validation_error(const std::string& reference, const std::string& quantity, const Scene& s,
-                        const std::vector<ContactState>& states, std::string* definition) {
-  double worst = 0.0;
+                        const std::vector<ContactState>& states, const RunSummary& run, std::string* definition) {
   std::string def;
-  for (const auto& st : states) {
-    double e;
-    if (reference == "hertz" || reference == "hertz_periodic") e = hertz_error(reference == "hertz_periodic", quantity, s, st, def);
-    else if (reference == "westergaard") e = westergaard_error(quantity, s, st, def);
-    else throw std::invalid_argument("validation: unknown reference '" + reference + "'");
-    worst = std::max(worst, std::isfinite(e) ? e : INFINITY);
+  double worst = 0.0;
+  if (reference == "jkr" || reference == "maugis_dugdale") {
+    worst = sphere_adhesion_error(reference, quantity, s, states, run, def);
+  } else if (reference == "johnson") {
+    worst = johnson_error(quantity, s, states, run, def);
+  } else {
+    for (const auto& st : states) {
+      double e;
+      if (reference == "hertz" || reference == "hertz_periodic") e = hertz_error(reference == "hertz_periodic", quantity, s, st, def);
+      else if (reference == "westergaard") e = westergaard_error(quantity, s, st, def);
+      else throw std::invalid_argument("validation: unknown reference '" + reference + "'");
+      worst = std::max(worst, std::isfinite(e) ? e : INFINITY);
+    }
   }
-  if (definition) *definition = "max over steps of " + def;
+  if (!std::isfinite(worst)) worst = INFINITY;
+  if (definition) *definition = (quantity == "pulloff" ? "" : "max over steps of ") + def;
   return worst;
 }
 
-std::vector<CheckResult> evaluate_checks(const Case& c, const Scene& s, const std::vector<ContactState>& states) {
+std::vector<CheckResult> evaluate_checks(const Case& c, const Scene& s, const std::vector<ContactState>& states,
+                                         const RunSummary& run) {
   std::vector<CheckResult> out;
   if (!c.validation) return out;
   for (const auto& ch : c.validation->checks) {
     CheckResult r;
     r.quantity = ch.quantity;
     r.tolerance = ch.tolerance;
-    r.error = validation_error(c.validation->reference, ch.quantity, s, states, &r.definition);
+    r.error = validation_error(c.validation->reference, ch.quantity, s, states, run, &r.definition);
     r.pass = r.error <= r.tolerance;
     out.push_back(r);
   }
@@ -147,7 +251,7 @@ RefinementResult run_refinement(const Case& c) {
     const SolvedCase sc = solve_case(cn);
     if (sc.run.status != "converged") throw std::runtime_error(cn.file + ": refinement run did not converge: " + sc.run.message);
     rr.grids.push_back(n);
-    rr.errors.push_back(validation_error(c.validation->reference, spec.quantity, sc.scene, sc.states));
+    rr.errors.push_back(validation_error(c.validation->reference, spec.quantity, sc.scene, sc.states, sc.run));
   }
   // Least-squares slope of log(error) against log(n): error ~ n^-order.
   double sx = 0, sy = 0, sxx = 0, sxy = 0;

@@ -23,10 +23,13 @@ struct CheckResult {
 };
 
 // The error of `quantity` over all steps of a solved case (the largest over steps).
+// `run` supplies the pull-off of adhesive load paths (quantity "pulloff").
 double validation_error(const std::string& reference, const std::string& quantity, const Scene& s,
-                        const std::vector<ContactState>& states, std::string* definition = nullptr);
+                        const std::vector<ContactState>& states, const RunSummary& run,
+                        std::string* definition = nullptr);
 
-std::vector<CheckResult> evaluate_checks(const Case& c, const Scene& s, const std::vector<ContactState>& states);
+std::vector<CheckResult> evaluate_checks(const Case& c, const Scene& s, const std::vector<ContactState>& states,
+                                         const RunSummary& run);
 
 struct RefinementResult {
   std::vector<int> grids;

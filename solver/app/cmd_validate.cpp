@@ -34,7 +34,7 @@ int cmd_validate(int argc, char** argv) {
     const auto t0 = std::chrono::steady_clock::now();
     int step = 0;
     SolvedCase sc = solve_case(c, {}, make_progress(a.quiet, &step, t0));
-    auto checks = evaluate_checks(c, sc.scene, sc.states);
+    auto checks = evaluate_checks(c, sc.scene, sc.states, sc.run);
     if (sc.run.status != "converged") {
       checks.push_back({"convergence", sc.run.message, 1.0, 0.0, false});
     }

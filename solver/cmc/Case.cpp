@@ -286,26 +286,55 @@ Case parse_case(const toml::table& input, const std::string& file) {
   }
   {
     Section s(t, "interaction", file, false);
-    c.interaction.kind = s.string("kind", std::string("hard_wall"), {"hard_wall"});
+    auto& in = c.interaction;
+    in.kind = s.string("kind", std::string("hard_wall"), {"hard_wall", "exponential", "dugdale"});
+    if (in.kind != "hard_wall") {
+      in.work_of_adhesion = s.number("work_of_adhesion", {}, "the work of adhesion in J/m^2", true);
+      const bool sphere = c.surface.kind == "sphere", rough = c.surface.kind == "self_affine" || c.surface.kind == "file";
+      int given = 0;
+      if (s.has("range")) in.range = s.number("range", {}, "the interaction range in m", true), ++given;
+      if (in.kind == "exponential" && s.has("tabor")) {
+        if (!sphere && !rough) s.fail("tabor", "a sphere or rough surface (a radius of curvature to define mu_T); give range");
+        in.tabor = s.number("tabor", {}, "the Tabor parameter mu_T", true), ++given;
+      }
+      if (in.kind == "dugdale" && s.has("maugis_lambda")) {
+        if (!sphere) s.fail("maugis_lambda", "a sphere (Maugis' lambda needs its radius); give range");
+        in.maugis_lambda = s.number("maugis_lambda", {}, "Maugis' parameter lambda", true), ++given;
+      }
+      if (given != 1)
+        s.fail("range", in.kind == "exponential" ? "exactly one of range (m) or tabor"
+                                                 : "exactly one of range (h0, m) or maugis_lambda");
+      if (in.kind == "dugdale") in.smoothing = s.number("smoothing", 0.0, "a smoothing width in m", false, true);
+    }
     s.finish();
   }
   {
     Section s(t, "loading", file, true);
     c.loading.control = s.string("control", {}, {"force", "mean_pressure", "penetration", "mean_gap"});
     const bool pressure_like = c.loading.control == "force" || c.loading.control == "mean_pressure";
-    c.loading.values = s.numbers("values", pressure_like ? "a non-empty array of loads (N or Pa)"
-                                                         : "a non-empty array of lengths in m");
-    if (pressure_like)
-      for (double v : c.loading.values)
-        if (v < 0.0) s.fail("values", "non-negative loads for a hard-wall (non-adhesive) contact");
+    const std::string what = pressure_like ? "a non-empty array of loads (N or Pa)" : "a non-empty array of lengths in m";
+    c.loading.values = s.numbers("values", what);
+    if (s.has("unloading")) c.loading.unloading = s.numbers("unloading", what);
+    if (pressure_like && c.interaction.kind == "hard_wall")
+      for (const char* key : {"values", "unloading"})
+        for (double v : key == std::string("values") ? c.loading.values : c.loading.unloading)
+          if (v < 0.0) s.fail(key, "non-negative loads for a hard-wall (non-adhesive) contact");
     if (c.loading.control == "mean_gap" && !c.grid.periodic)
       s.fail("control", "\"force\" or \"penetration\": a mean gap needs a periodic grid");
+    c.loading.max_halvings = int(s.integer("max_halvings", 5, "a non-negative number of halvings", 0));
+    c.loading.jump_fraction = s.number("jump_fraction", 0.5, "a relative change that counts as a jump", true);
+    c.loading.jump_pressure_floor =
+        s.number("jump_pressure_floor", 0.0, "a pressure in Pa (0: the largest |mean pressure| so far)", false, true);
+    c.loading.refine_pulloff = int(s.integer("refine_pulloff", 0, "a non-negative number of extra solves", 0));
     s.finish();
   }
   {
     Section s(t, "solver", file, false);
-    c.solver.kind = s.string("kind", std::string("polonsky_keer"), {"polonsky_keer"});
-    c.solver.tolerance = s.number("tolerance", 1e-10, "a relative residual", true);
+    const bool adhesive = c.interaction.kind != "hard_wall";
+    c.solver.kind = s.string("kind", std::string(adhesive ? "adhesive_cg" : "polonsky_keer"), {"polonsky_keer", "adhesive_cg"});
+    if (adhesive && c.solver.kind == "polonsky_keer")
+      s.fail("kind", "\"adhesive_cg\": Polonsky-Keer solves hard-wall contact only");
+    c.solver.tolerance = s.number("tolerance", c.solver.kind == "polonsky_keer" ? 1e-10 : 1e-8, "a relative residual", true);
     c.solver.max_iterations = int(s.integer("max_iterations", 2000, "a positive iteration cap", 1));
     c.solver.recompute_every = int(s.integer("recompute_every", 32, "a positive number of iterations", 1));
     s.finish();
@@ -329,8 +358,10 @@ Case parse_case(const toml::table& input, const std::string& file) {
   if (t.contains("validation")) {
     Section s(t, "validation", file, false);
     ValidationSpec v;
-    v.reference = s.string("reference", {}, {"hertz", "hertz_periodic", "westergaard"});
-    const std::set<std::string> quantities = {"penetration", "pressure_profile", "mean_pressure", "mean_gap"};
+    v.reference = s.string("reference", {}, {"hertz", "hertz_periodic", "westergaard", "jkr", "maugis_dugdale",
+                                             "johnson"});
+    const std::set<std::string> quantities = {"penetration", "pressure_profile", "mean_pressure", "mean_gap", "force",
+                                              "pulloff"};
     if (auto* a = s.array("check")) {
       int i = 0;
       for (auto& e : *a) {

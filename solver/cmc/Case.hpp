@@ -52,16 +52,27 @@ struct ObservablesSpec {
 };
 
 struct InteractionSpec {
-  std::string kind = "hard_wall";
+  std::string kind = "hard_wall";  // hard_wall | exponential | dugdale
+  double work_of_adhesion = 0.0;   // J/m^2
+  // Exactly one of: range (m; rho of the exponential law, h0 of Dugdale's), tabor
+  // (Müser's mu_T = R^{1/3} (w/E*)^{2/3} / rho with R the sphere radius or the surface's
+  // R_c; exponential), maugis_lambda (Dugdale, sphere). 0 = not given.
+  double range = 0.0, tabor = 0.0, maugis_lambda = 0.0;
+  double smoothing = 0.0;  // m, Dugdale only; 0: the smallest that keeps grid points stable
 };
 
 struct LoadingSpec {
   std::string control;         // force | mean_pressure | penetration | mean_gap
-  std::vector<double> values;  // N | Pa | m | m
+  std::vector<double> values;  // N | Pa | m | m: the loading branch
+  std::vector<double> unloading;  // same units: steps after `values`, on the unloading branch
+  int max_halvings = 5;        // a step that fails or jumps is halved up to this often
+  double jump_fraction = 0.5;  // a jump: contact fraction or mean pressure changes by more
+  double jump_pressure_floor = 0.0;  // Pa: mean-pressure changes count relative to at least this
+  int refine_pulloff = 0;      // extra solves to locate the pull-off between path steps
 };
 
 struct SolverSpec {
-  std::string kind = "polonsky_keer";
+  std::string kind = "polonsky_keer";  // polonsky_keer | adhesive_cg
   double tolerance = 1e-10;
   int max_iterations = 2000;
   int recompute_every = 32;
@@ -79,7 +90,7 @@ struct RefinementSpec {
 };
 
 struct ValidationSpec {
-  std::string reference;  // hertz | hertz_periodic | westergaard
+  std::string reference;  // hertz | hertz_periodic | westergaard | jkr | maugis_dugdale | johnson
   std::vector<ValidationCheck> checks;
   std::optional<RefinementSpec> refinement;
 };

@@ -23,7 +23,9 @@ struct StepRecord {
   double penetration = 0.0;      // m, rigid-body approach δ
   double mean_gap = 0.0;         // m
   double contact_fraction = 0.0; // fraction of grid points carrying pressure
-  double elastic_energy = 0.0;   // J
+  double energy = 0.0;           // J: elastic energy plus interaction energy (adhesion), if any
+  bool jump = false;             // an instability (jump in or out of contact) before this step
+  int halvings = 0;              // how often the step had to be halved to get here
   SolveResult result;
   std::optional<StepObservables> observables;  // when the case asks for them
 };
@@ -34,6 +36,12 @@ struct RunSummary {
   std::vector<StepRecord> steps;
   double wall_s = 0.0;
   double fft_pairs = 0.0;
+  // Load path (adhesive runs): pull-off = the most negative load of every converged
+  // solve, sub-steps included; steps that needed halving; steps after a jump.
+  bool load_path = false;
+  double pulloff_mean_pressure = 0.0, pulloff_force = 0.0;  // Pa, N
+  std::string pulloff_branch;
+  int halved_steps = 0, jumps = 0;
 };
 
 using StepCallback = std::function<void(const StepRecord&, const ContactState&)>;

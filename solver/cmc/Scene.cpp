@@ -88,13 +88,41 @@ Scene build_scene(const Case& c) {
     if (sf.kind == "self_affine") s.surface_facts.push_back({"dx_over_cutoff_wavelength", s.grid.dx() / u.length(sf.cutoff_wavelength)});
   }
   s.mean_height = Grid::mean(s.topography.heights);
+  // ---- interaction (reduced: w in E* L, ranges in L)
+  const auto& in = c.interaction;
+  if (in.kind != "hard_wall") {
+    const double w = u.energy_per_area(in.work_of_adhesion);
+    // The radius behind mu_T / lambda: the sphere's, or the rough surface's R_c.
+    double R = s.sphere_radius;
+    for (const auto& [k, v] : s.surface_facts)
+      if (k == "curvature_radius") R = u.length(v);
+    if (in.kind == "exponential") {
+      const double rho = in.tabor > 0.0 ? exponential_range_from_tabor(1.0, R, w, in.tabor) : u.length(in.range);
+      s.interaction = ExponentialAdhesion(w, rho);
+    } else {
+      const double sigma0 = in.maugis_lambda > 0.0 ? dugdale_stress_from_lambda(1.0, R, w, in.maugis_lambda)
+                                                   : w / u.length(in.range);
+      const double eps = in.smoothing > 0.0 ? u.length(in.smoothing) : dugdale_min_smoothing(1.0, sigma0, s.grid.dx());
+      s.interaction = DugdaleAdhesion(w, w / sigma0, eps);
+    }
+    const double range = interaction_range(s.interaction);
+    s.surface_facts.push_back({"interaction_range", u.to_m(range)});
+    s.surface_facts.push_back({"dx_over_range", s.grid.dx() / range});
+    // w dx / (E* rho²) above ~1 makes single grid points bistable (shared/notes).
+    s.surface_facts.push_back({"bistability_number", w * s.grid.dx() / (range * range)});
+    if (R > 0.0) s.surface_facts.push_back({"tabor_parameter", tabor_parameter(1.0, R, w, range)});
+  }
+
   s.observables = c.observables;
   s.observables.cross_section_x = u.length(c.observables.cross_section_x);
   s.observables.contact_gap_threshold = u.length(c.observables.contact_gap_threshold);
   s.half_space = make_half_space(s.grid, 1.0, c.grid.periodic);  // E* = 1 in reduced units
 
   const std::string& ctl = c.loading.control;
-  for (double v : c.loading.values) {
+  std::vector<double> values = c.loading.values;
+  values.insert(values.end(), c.loading.unloading.begin(), c.loading.unloading.end());
+  s.unloading_from = c.loading.values.size();
+  for (double v : values) {
     if (ctl == "force") s.targets.push_back({Control::MeanPressure, u.force(v) / s.grid.area()});
     else if (ctl == "mean_pressure") s.targets.push_back({Control::MeanPressure, u.pressure(v)});
     else if (ctl == "penetration") s.targets.push_back({Control::Penetration, u.length(v)});

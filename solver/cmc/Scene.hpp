@@ -4,6 +4,7 @@
 
 #include "cmc/Case.hpp"
 #include "cmc/HalfSpace.hpp"
+#include "cmc/Interaction.hpp"
 #include "cmc/Solver.hpp"
 #include "cmc/Topography.hpp"
 #include "cmc/Units.hpp"
@@ -18,7 +19,9 @@ struct Scene {
   Grid grid;
   Topography topography;
   std::unique_ptr<HalfSpace> half_space;
+  Interaction interaction;       // reduced units
   std::vector<Target> targets;  // one per load step, reduced
+  std::size_t unloading_from = 0;  // targets from this index on are on the unloading branch
   double mean_height = 0.0;     // <h>, reduced
   // Shape parameters of analytic surfaces (reduced), for the validation harness.
   double sphere_radius = 0.0, apex_x = 0.0, apex_y = 0.0;

@@ -1,6 +1,7 @@
 #include "cmc/StepObservables.hpp"
 
 #include <cmath>
+#include <variant>
 
 namespace cmc {
 
@@ -22,8 +23,11 @@ StepObservables measure_step(const Scene& s, const ContactState& st) {
   const Grid& g = s.grid;
   const auto& spec = s.observables;
   StepObservables o;
-  const ContactRule rule = spec.contact_gap_threshold > 0.0 ? ContactRule::gap_below(spec.contact_gap_threshold)
-                                                            : ContactRule::repulsive();
+  // Hard wall: contact where p > 0. Adhesion: contact where the gap is closed (the
+  // adhesive solver keeps contact points at g = 0 exactly), or below the threshold.
+  const bool adhesive = !std::holds_alternative<HardWall>(s.interaction);
+  const ContactRule rule = spec.contact_gap_threshold > 0.0 || adhesive ? ContactRule::gap_below(spec.contact_gap_threshold)
+                                                                       : ContactRule::repulsive();
   const ScalarObservables sc = scalar_observables(g, st.gap, st.pressure, rule, Connectivity::Four, &st.displacement);
   const double L = u.length_m, P = u.pressure_pa;
   o.scalars = {{"contact_fraction", sc.contact_fraction},

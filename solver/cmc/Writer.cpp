@@ -134,13 +134,15 @@ void Writer::load_partial() {
       rec.penetration = r["penetration"].value_or(0.0);
       rec.mean_gap = r["mean_gap"].value_or(0.0);
       rec.contact_fraction = r["contact_fraction"].value_or(0.0);
-      rec.elastic_energy = r["elastic_energy"].value_or(0.0);
+      rec.energy = r["energy"].value_or(0.0);
       rec.result.iterations = int(r["iterations"].value_or(0));
       rec.result.converged = r["converged"].value_or(false);
       rec.result.residual = r["residual"].value_or(0.0);
       rec.result.wall_s = r["wall_s"].value_or(0.0);
       rec.result.fft_pairs = r["fft_pairs"].value_or(0.0);
       rec.result.message = r["message"].value_or(std::string());
+      rec.jump = r["jump"].value_or(false);
+      rec.halvings = int(r["halvings"].value_or(0));
       if (auto* o = r["observables"].as_table()) {
         StepObservables so;
         for (const auto& [k, v] : *o) so.scalars.emplace_back(std::string(k.str()), v.value_or(0.0));
@@ -227,12 +229,14 @@ toml::table Writer::step_json(const StepRecord& r) {
                      {"penetration", r.penetration},
                      {"mean_gap", r.mean_gap},
                      {"contact_fraction", r.contact_fraction},
-                     {"elastic_energy", r.elastic_energy},
+                     {"energy", r.energy},
                      {"iterations", r.result.iterations},
                      {"converged", r.result.converged},
                      {"residual", r.result.residual},
                      {"wall_s", r.result.wall_s},
                      {"fft_pairs", r.result.fft_pairs},
+                     {"jump", r.jump},
+                     {"halvings", r.halvings},
                      {"message", r.result.message}};
   if (r.observables) {
     toml::table o;
@@ -275,6 +279,12 @@ void Writer::finish(const RunSummary& run, const toml::table& extra) {
   toml::array steps;
   for (const auto& r : run.steps) steps.push_back(step_json(r));
   s.insert("steps", steps);
+  if (run.load_path)
+    s.insert("load_path", toml::table{{"pulloff_mean_pressure", run.pulloff_mean_pressure},
+                                      {"pulloff_force", run.pulloff_force},
+                                      {"pulloff_branch", run.pulloff_branch},
+                                      {"halved_steps", run.halved_steps},
+                                      {"jumps", run.jumps}});
   for (const auto& [k, v] : extra) s.insert_or_assign(k, v);
   if (file_ >= 0) {
     H5Fclose(hid_t(file_));
