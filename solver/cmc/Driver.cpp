@@ -14,23 +14,19 @@ RunSummary run_scene(const Case& c, Scene& s, const StepCallback& on_step, const
                      const std::vector<StepRecord>* done, const ContactState* warm) {
   const auto t0 = std::chrono::steady_clock::now();
   RunSummary run;
-  PolonskyKeer::Options o;
-  o.tolerance = c.solver.tolerance;
-  o.max_iterations = c.solver.max_iterations;
-  o.recompute_every = c.solver.recompute_every;
-  o.progress = progress;
-  PolonskyKeer solver(*s.half_space, s.topography.heights, o);
   ContactState state;
   if (warm) state = *warm;
-  const std::size_t first = done ? done->size() : 0;
-  for (std::size_t k = 0; k < first; ++k) {
-    run.steps.push_back((*done)[k]);
-    run.fft_pairs += (*done)[k].result.fft_pairs;
-    if (!(*done)[k].result.converged && run.status == "converged") {
+  // Adds a finished step to the run; the first unconverged one sets the status.
+  auto account = [&](const StepRecord& rec) {
+    run.fft_pairs += rec.result.fft_pairs;
+    if (!rec.result.converged && run.status == "converged") {
       run.status = "not_converged";
-      run.message = "step " + std::to_string(k) + ": " + (*done)[k].result.message;
+      run.message = "step " + std::to_string(rec.index) + ": " + rec.result.message;
     }
-  }
+    run.steps.push_back(rec);
+  };
+  const std::size_t first = done ? done->size() : 0;
+  for (std::size_t k = 0; k < first; ++k) account((*done)[k]);
   const Units& u = s.units;
   const bool adhesive = !std::holds_alternative<HardWall>(s.interaction);
   // Fill an SI record of step k from its solved state.
@@ -48,13 +44,8 @@ RunSummary run_scene(const Case& c, Scene& s, const StepCallback& on_step, const
     if (s.observables.enabled) rec.observables = measure_step(s, st);
     return rec;
   };
-  auto keep = [&](StepRecord rec, const ContactState& st) {
-    run.fft_pairs += rec.result.fft_pairs;
-    if (!rec.result.converged && run.status == "converged") {
-      run.status = "not_converged";
-      run.message = "step " + std::to_string(rec.index) + ": " + rec.result.message;
-    }
-    run.steps.push_back(rec);
+  auto keep = [&](const StepRecord& rec, const ContactState& st) {
+    account(rec);
     if (on_step) on_step(run.steps.back(), st);
   };
 
