@@ -28,7 +28,19 @@ StepObservables measure_step(const Scene& s, const ContactState& st) {
   const bool adhesive = !std::holds_alternative<HardWall>(s.interaction);
   const ContactRule rule = spec.contact_gap_threshold > 0.0 || adhesive ? ContactRule::gap_below(spec.contact_gap_threshold)
                                                                        : ContactRule::repulsive();
-  const ScalarObservables sc = scalar_observables(g, st.gap, st.pressure, rule, Connectivity::Four, &st.displacement);
+  ScalarObservables sc = scalar_observables(g, st.gap, st.pressure, rule, Connectivity::Four, &st.displacement);
+  if (adhesive) {
+    // The adhesive solver's pressure is converged to a residual, not zero where the
+    // interaction vanishes: count as repulsive / attractive only stresses beyond 1e-3 of
+    // the peak tension w/rho (below that they are solver noise, not contact).
+    const double cut = 1e-3 * peak_tension(s.interaction);
+    double rep = 0.0, att = 0.0;
+    for (double p : st.pressure) rep += p > cut ? 1.0 : 0.0, att += p < -cut ? 1.0 : 0.0;
+    double v[2] = {rep, att};
+    Grid::allreduce_sum(v);
+    sc.repulsive_fraction = v[0] / double(g.size());
+    sc.attractive_fraction = v[1] / double(g.size());
+  }
   const double L = u.length_m, P = u.pressure_pa;
   o.scalars = {{"contact_fraction", sc.contact_fraction},
                {"contact_fraction_corrected", sc.contact_fraction_corrected},
