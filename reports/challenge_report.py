@@ -41,7 +41,8 @@ class Run:
         self.wall_s = get(summary, "timing", "wall_s")
         self.h5path = os.path.join(folder, "result.h5")
         run_tabor = None
-        for keys in (("tabor",), ("case", "interaction", "tabor"), ("case", "interaction", "tabor_parameter"),
+        for keys in (("tabor",), ("surface_facts", "tabor_parameter"), ("case", "interaction", "tabor"),
+                     ("case", "interaction", "tabor_parameter"),
                      ("case", "interaction", "tabor_coefficient"), ("case", "interaction", "mu_T"),
                      ("interaction", "tabor")):
             v = get(summary, *keys)

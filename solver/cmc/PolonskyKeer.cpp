@@ -244,8 +244,10 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
   // ---- the solved state
   st.penetration = delta;
   st.gap.resize(n);
+  // The reported gap is the solution's: zero where pressure is carried, and the
+  // non-negative gap elsewhere. How far the iterate is from that is the residual.
   for (std::size_t i = 0; i < n; ++i) {
-    st.gap[i] = w[i] - delta;
+    st.gap[i] = p[i] > 0.0 ? 0.0 : std::max(0.0, w[i] - delta);
     u[i] = w[i] - h[i];  // w becomes the displacement again
   }
   st.mean_pressure = Grid::mean(p);

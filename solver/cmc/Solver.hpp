@@ -29,7 +29,7 @@ struct SolveResult {
 struct ContactState {
   Field pressure;      // p, compressive > 0
   Field displacement;  // u, into the solid > 0
-  Field gap;           // g = h − δ + u
+  Field gap;           // g = h − δ + u, projected on the constraints (0 in contact, ≥ 0)
   double penetration = 0.0;    // δ: rigid-body approach of the indenter
   double mean_pressure = 0.0;  // mean of p over the grid
   bool empty() const { return pressure.empty(); }
