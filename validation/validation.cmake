@@ -22,3 +22,7 @@ set_tests_properties(validate.can_fail PROPERTIES LABELS validation)
 # The report scripts on synthetic inputs (Debian's python3 with matplotlib/h5py).
 add_test(NAME reports.selftest COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/reports/selftest.py)
 set_tests_properties(reports.selftest PROPERTIES LABELS quick)
+
+# cmc surface prints the challenge surface's statistics (a 256² low-passed preview).
+add_test(NAME cli.surface COMMAND cmc surface ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load.toml --set grid.n=256)
+set_tests_properties(cli.surface PROPERTIES LABELS quick PASS_REGULAR_EXPRESSION "R_c +[0-9.e+-]+ m")

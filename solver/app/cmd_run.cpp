@@ -57,7 +57,7 @@ int cmd_run(int argc, char** argv) {
                          r.result.residual, r.result.wall_s, r.mean_pressure, r.contact_fraction);
           step = r.index + 1;
         },
-        make_progress(a.quiet, &step, t0), &rp.done, rp.done.empty() ? nullptr : &rp.state);
+        make_progress(a.quiet, &step, t0, int(scene.targets.size())), &rp.done, rp.done.empty() ? nullptr : &rp.state);
     writer.finish(run);
   } catch (const std::exception& e) {
     writer.fail(e.what());

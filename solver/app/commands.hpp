@@ -28,12 +28,15 @@ struct Args {
 // error (CaseError, exit code 2).
 Args parse_args(int argc, char** argv, int first, const std::vector<std::string>& valued = {});
 
-// Progress on stderr, only for a terminal and without --quiet.
-Progress make_progress(bool quiet, int* step, std::chrono::steady_clock::time_point t0);
+// Progress on stderr, only for a terminal and without --quiet: step, iteration,
+// residual, elapsed time and, once a step has finished, the estimated time left
+// (elapsed per finished step x steps left).
+Progress make_progress(bool quiet, int* step, std::chrono::steady_clock::time_point t0, int total_steps = 0);
 
 int cmd_run(int argc, char** argv);
 int cmd_validate(int argc, char** argv);
 int cmd_reference(int argc, char** argv);  // cmd_reference.cpp
 int cmd_check(int argc, char** argv);      // cmd_check.cpp
+int cmd_surface(int argc, char** argv);    // cmd_surface.cpp
 
 }  // namespace cmc::app

@@ -36,11 +36,14 @@ Args parse_args(int argc, char** argv, int first, const std::vector<std::string>
   return a;
 }
 
-Progress make_progress(bool quiet, int* step, std::chrono::steady_clock::time_point t0) {
+Progress make_progress(bool quiet, int* step, std::chrono::steady_clock::time_point t0, int total_steps) {
   if (quiet || !isatty(STDERR_FILENO)) return {};
-  return [step, t0](int it, double residual) {
+  return [step, t0, total_steps](int it, double residual) {
     const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::fprintf(stderr, "\r  step %d  iteration %5d  residual %.3e  elapsed %7.1f s ", *step, it, residual, el);
+    std::fprintf(stderr, "\r  step %d%s%s  iteration %5d  residual %.3e  elapsed %7.1f s", *step,
+                 total_steps ? "/" : "", total_steps ? std::to_string(total_steps).c_str() : "", it, residual, el);
+    if (total_steps && *step > 0) std::fprintf(stderr, "  left ~%7.0f s", el / *step * (total_steps - *step));
+    std::fputs("  ", stderr);
     std::fflush(stderr);
   };
 }

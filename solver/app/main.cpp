@@ -21,6 +21,8 @@ commands:
         solve each case and compare it with the reference its [validation]
         section names; prints a table; exits non-zero if a check fails
 
+  surface CASE.toml [--write FILE.h5]
+        the case's surface: statistics (rms height, gradient, R_c, Tabor) and the map
   reference [NAME ...] [--out DIR] [--list]
         regenerate the stored analytic reference curves (reference/*.csv)
   check PREDICTION.csv --quantity Q [--reference FILE] [--out DIR]
@@ -50,6 +52,7 @@ int main(int argc, char** argv) {
     if (cmd == "validate") return cmd_validate(argc, argv);
     if (cmd == "reference") return cmd_reference(argc, argv);
     if (cmd == "check") return cmd_check(argc, argv);
+    if (cmd == "surface") return cmd_surface(argc, argv);
     std::fprintf(stderr, "cmc: unknown command '%s' (see cmc --help)\n", cmd.c_str());
     return kUsage;
   } catch (const cmc::CaseError& e) {
