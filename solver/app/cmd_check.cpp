@@ -35,7 +35,7 @@ point; column names say the quantity and unit, e.g. pressure_Pa,contact_fraction
 or p_over_Estar,contact_fraction (see --list and reference/README.md).
 
   --quantity Q    a challenge quantity (cmc check --list); its stored reference is
-                  reference/challenge/Q.csv (until it exists, --reference is needed)
+                  reference/challenge/Q.csv (where it exists; else --reference is needed)
   --reference F   the reference curve (cmc reference CSV format); without
                   --quantity the columns are matched by name (--x/--y, default the
                   reference's x and y) and no units are converted

@@ -1,0 +1,463 @@
+#!/usr/bin/python3
+"""Regenerate the challenge reference curves reference/challenge/<quantity>.csv (and
+reference/challenge/README.md) from cmc's own challenge runs.
+
+    /usr/bin/python3 scripts/challenge_reference.py [--results results] [--out reference/challenge]
+
+Inputs (read only, SI, layout of solver/cmc/Writer.cpp):
+  results/challenge-reference/        the challenge's problem (adhesion, mu_T = 3) at 250 kPa:
+                                      summary.json + result.h5 step_*/observables
+                                      -> items 1, 3, 4, 5, 9
+  results/challenge-load-sweep/       adhesive load sweep, if present -> items 2, 8
+  results/challenge-tabor-sweep/*/    adhesive Tabor sweep, if present -> items 6, 7
+  results/refine/reference-load-hardwall/n*/summary.json
+                                      hard-wall refinement study, quoted in estimated_error
+                                      for context only (the adhesive curves have no study yet)
+
+The curves are the same numbers as reports/challenge/data/*.csv: the extraction
+(run discovery, the step at the reference load, the observables subgroup, bin centres)
+is imported from reports/challenge_report.py. Bins with zero density are left out of
+log-scaled curves (the checker would drop them anyway). The files are written in the
+exact text of validation/References.cpp format_curve (make_run_curve provenance keys in
+its order), so tests/test_references.cpp re-formats them to themselves. Output is a
+function of the inputs only: the `date` is the run's summary.json modification time (UTC).
+Each file is written atomically. Nothing is deleted: a quantity without data keeps no
+file only if none was there before (remove stale files by hand).
+"""
+import argparse
+import datetime
+import glob
+import json
+import math
+import os
+import sys
+import tempfile
+
+import h5py
+import numpy as np
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
+sys.path.insert(0, os.path.join(ROOT, "reports"))
+from challenge_report import Run, _centers, _observables  # noqa: E402  (the report's extraction)
+from common import CHALLENGE, load_json  # noqa: E402
+
+RHO, LAMBDA_S, P0 = CHALLENGE["rho"], CHALLENGE["lambda_s"], CHALLENGE["p0"]
+GENERATOR = "scripts/challenge_reference.py (extraction: reports/challenge_report.py)"
+
+
+# ------------------------------------------------------------------ the format (References.cpp)
+def _num(v):
+    v = float(v)
+    if not math.isfinite(v):
+        raise ValueError(f"non-finite value {v}")
+    return "%.12e" % (0.0 if v == 0 else v)
+
+
+def format_curve(c):
+    """The text validation/References.cpp format_curve writes for this curve (byte for byte)."""
+    cols = c["columns"]
+    n = len(cols[0][3])
+    assert n >= 2 and all(len(col[3]) == n for col in cols), c["name"]
+    names = ",".join(col[0] for col in cols)
+    meta = [("cmc-reference-csv", "1"), ("name", c["name"]), ("quantity", c["quantity"])]
+    if c.get("title"):
+        meta.append(("title", c["title"]))
+    meta.append(("source", "cmc run"))
+    meta += c["extra"]
+    meta += [("unit." + name, unit + (f" ({meaning})" if meaning else "")) for name, unit, meaning, _ in cols]
+    meta += [("columns", names), ("x", c["x"]), ("y", c["y"]), ("representation", c["representation"]),
+             ("estimated_error", c["estimated_error"])]
+    out = []
+    for k, v in meta:
+        assert "\n" not in v and "\r" not in v, k
+        out.append(f"# {k}: {v}\n")
+    out.append(names + "\n")
+    for i in range(n):
+        out.append(",".join(_num(col[3][i]) for col in cols) + "\n")
+    return "".join(out)
+
+
+def write_atomically(path, text):
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=os.path.dirname(path), prefix=".tmp-")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as f:
+            f.write(text)
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        raise
+
+
+# ------------------------------------------------------------------ provenance
+def _rel(path):
+    return os.path.relpath(os.path.abspath(path), ROOT)
+
+
+def _mtime_utc(path):
+    t = datetime.datetime.fromtimestamp(os.path.getmtime(path), tz=datetime.timezone.utc)
+    return t.strftime("%Y-%m-%dT%H:%M:%SZ")
+
+
+def _grid_text(run):
+    dx = run.dx
+    return (f"{run.nx}x{run.ny}, dx = {dx * 1e9:.4g} nm = {dx / RHO:.3g} rho = lambda_s/{LAMBDA_S / dx:.3g} "
+            f"(L = {run.size * 1e6:.4g} um; rho = {RHO * 1e9:.4g} nm)")
+
+
+def provenance(run, steps):
+    """make_run_curve's keys (cmc_version, case_file, grid, solver_tolerance, date, command)."""
+    s = run.s
+    solver = (s.get("case") or {}).get("solver") or {}
+    raw = s.get("steps") or []
+    res = [raw[st["k"]].get("residual") for st in steps if st["k"] < len(raw)]
+    its = [raw[st["k"]].get("iterations") for st in steps if st["k"] < len(raw)]
+    res = [r for r in res if isinstance(r, (int, float))]
+    its = [i for i in its if isinstance(i, (int, float))]
+    tol = f"{solver.get('tolerance', float('nan')):g} ({solver.get('kind', '?')}"
+    if res:
+        tol += f"; final residual <= {max(res):.3g}"
+    if its:
+        tol += f", <= {int(max(its))} iterations"
+    tol += f"; run status {s.get('status', '?')})"
+    case_file = s.get("case_file") or "?"
+    return [("cmc_version", str(s.get("cmc_version") or "?")), ("case_file", case_file),
+            ("grid", _grid_text(run)), ("solver_tolerance", tol),
+            ("date", _mtime_utc(os.path.join(run.folder, "summary.json"))),
+            ("command", f"cmc run {case_file} --out {_rel(run.folder)}")]
+
+
+# ------------------------------------------------------------------ hard-wall refinement (context)
+HW_LABELS = {"contact_fraction": "contact fraction (raw)", "contact_fraction_corrected": "contact fraction (corrected)",
+             "mean_gap": "mean gap", "max_gap": "max gap", "max_pressure": "max pressure",
+             "n_patches": "number of patches", "mean_patch_area": "mean patch area",
+             "largest_patch_area": "largest patch area", "contact_perimeter": "contact perimeter"}
+
+
+def hardwall_refinement(folder):
+    """{observable: (coarse, fine, relative change)} between the two finest converged grids of
+    the hard-wall study, and (n_coarse, n_fine); None without two grids."""
+    runs = {}
+    for f in glob.glob(os.path.join(folder, "n*", "summary.json")):
+        s = load_json(f)
+        if isinstance(s, dict) and s.get("status") == "converged" and s.get("steps"):
+            runs[int((s.get("grid") or {}).get("nx", 0))] = s
+    if len(runs) < 2:
+        return None
+    n1, n2 = sorted(runs)[-2:]
+
+    def obs(s):
+        st = s["steps"][-1]
+        return {**{k: st.get(k) for k in ("contact_fraction", "mean_gap")}, **(st.get("observables") or {})}
+
+    a, b = obs(runs[n1]), obs(runs[n2])
+    out = {}
+    for k in HW_LABELS:
+        if isinstance(a.get(k), (int, float)) and isinstance(b.get(k), (int, float)) and b[k]:
+            out[k] = (a[k], b[k], (b[k] - a[k]) / b[k])
+    return {"grids": (n1, n2), "changes": out, "folder": _rel(folder),
+            "table": os.path.isfile(os.path.join(folder, "refinement.json"))}
+
+
+def hw_context(hw, keys):
+    if not hw:
+        return "no hard-wall refinement study found either"
+    n1, n2 = hw["grids"]
+    parts = [f"{HW_LABELS[k]} {100 * hw['changes'][k][2]:+.2g} %" for k in keys if k in hw["changes"]]
+    return (f"for context only, the hard-wall problem at the same load changes between {n1}^2 and {n2}^2 "
+            f"({hw['folder']}): " + ", ".join(parts))
+
+
+def _bistable(run):
+    b = ((run.s.get("surface_facts") or {}).get("bistability_number"))
+    if isinstance(b, (int, float)) and b > 1:
+        return f" and every grid point is bistable (w dx/(E* rho^2) = {b:.3g} > 1)"
+    return ""
+
+
+def adhesive_error(run, hw, keys):
+    return (f"NOT CONVERGED, not estimated by a refinement study: one adhesive run on one grid "
+            f"({run.nx}^2, dx = {run.dx * 1e9:.3g} nm = {run.dx / RHO:.3g} rho, far coarser than the ~0.75 rho of the "
+            f"published solution), so the adhesive neck (range rho) is unresolved{_bistable(run)}; "
+            f"the error is unknown and may be large (tens of per cent or more), above all in the tensile part, near contact lines and in patch statistics; "
+            + hw_context(hw, keys) + " (between a curve and this one, compare shapes, not digits)")
+
+
+# ------------------------------------------------------------------ curves
+def _clean(x, y, log_x, log_y):
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    m = np.isfinite(x) & np.isfinite(y)
+    if log_x:
+        m &= x > 0
+    if log_y:
+        m &= y > 0
+    return x[m], y[m], int(len(x) - m.sum())
+
+
+def reference_load_curves(run, hw, notes):
+    obs, st = _observables(run, notes)
+    if not obs:
+        return [], st
+    # The summary and result.h5 must belong to the same run (a run may be being rewritten).
+    with h5py.File(run.h5path, "r") as f:
+        g = f.get(f"step_{int(st['index']):04d}")
+        p_h5 = float(g.attrs.get("mean_pressure", float("nan"))) if g is not None else float("nan")
+    if not (abs(p_h5 - st["p"]) <= 1e-9 * abs(st["p"])):
+        raise SystemExit(f"challenge_reference: {run.h5path} (p = {p_h5}) and its summary.json (p = {st['p']}) "
+                         "differ: the run is being rewritten; retry when it has finished")
+    prov = provenance(run, [st])
+    label = (f"at p = {st['p'] / 1e3:.5g} kPa (target {P0 / 1e3:g} kPa), step {int(st['index'])}, "
+             f"branch {st['branch'] or '?'}, contact fraction {st['ar']:.4g}")
+    params = (f"challenge defaults (E* = {run.Estar / 1e6:g} MPa, L = {run.size * 1e3:g} mm, H = 0.8, "
+              f"lambda_r = 20 um, lambda_s = 0.1 um, gamma0 = 50 mJ/m^2, rho = {RHO * 1e9:.4g} nm, "
+              f"mu_T = {run.run_tabor:.4g}) {label}" if run.run_tabor else label)
+    curves = []
+
+    def hist(q, item, title, ek, dk, log_x, log_y, xcol, ycol, rep, keys, what):
+        if ek not in obs or dk not in obs or len(obs[ek]) != len(obs[dk]) + 1:
+            return
+        x, y, dropped = _clean(_centers(obs[ek], log_x), obs[dk], log_x, log_y)
+        samp = (f"{len(obs[dk])} bins from result.h5 step_{int(st['index']):04d}/observables/{ek}, {dk}: "
+                f"{'geometric' if log_x else 'arithmetic'} bin centres; {what}")
+        if dropped:
+            samp += f"; {dropped} empty bin(s) left out (zero density on a log axis)"
+        curves.append(dict(name=q, quantity=q, item=item, title=title + f", cmc {run.nx}^2 (not converged)",
+                           columns=[xcol + (x,), ycol + (y,)], x=xcol[0], y=ycol[0], representation=rep,
+                           extra=prov + [("parameters", params), ("sampling", samp), ("generator", GENERATOR)],
+                           estimated_error=adhesive_error(run, hw, keys)))
+
+    hist("patch_size_distribution", 1, "Challenge item 1: contact patch size distribution", "patch_area_edges",
+         "patch_area_density", True, True, ("patch_area_m2", "m^2", "contact patch area, bin centre"),
+         ("density_per_m2", "1/m^2", "probability density of the patch area, normalised over patches"), "log-log",
+         ["n_patches", "mean_patch_area", "largest_patch_area"], "density normalised over patches")
+    hist("gap_distribution", 3, "Challenge item 3: gap distribution", "gap_hist_edges", "gap_hist_density", True, True,
+         ("gap_m", "m", "gap g, bin centre"), ("density_per_m", "1/m", "probability density of the gap, "
+                                                                           "contact points excluded"),
+         "log-log", ["mean_gap", "max_gap", "contact_fraction"], "contact points excluded")
+    hist("stress_distribution", 4, "Challenge item 4: interfacial stress distribution", "stress_hist_edges",
+         "stress_hist_density", False, True, ("stress_Pa", "Pa", "interfacial stress, compressive > 0, bin centre"),
+         ("density_per_Pa", "1/Pa", "probability density of the stress, p = 0 excluded"), "lin-log",
+         ["max_pressure", "contact_fraction_corrected"], "p = 0 excluded")
+
+    q, C = obs.get("stress_spectrum_q"), obs.get("stress_spectrum_C")
+    if q is not None and C is not None and len(q) == len(C) and len(q) > 1:
+        x, y, dropped = _clean(q, C, True, True)
+        samp = f"{len(q)} wavenumbers from result.h5 step_{int(st['index']):04d}/observables/stress_spectrum_q, _C"
+        if dropped:
+            samp += f"; {dropped} non-positive value(s) left out"
+        curves.append(dict(name="stress_spectrum", quantity="stress_spectrum", item=5,
+                           title=f"Challenge item 5: interfacial stress spectrum, cmc {run.nx}^2 (not converged)",
+                           columns=[("q_per_m", "1/m", "wavenumber q", x),
+                                    ("C_Pa2m2", "Pa^2 m^2", "isotropic stress spectrum, integral d^2q C = variance", y)],
+                           x="q_per_m", y="C_Pa2m2", representation="log-log",
+                           extra=prov + [("parameters", params), ("sampling", samp), ("generator", GENERATOR)],
+                           estimated_error=adhesive_error(run, hw, ["max_pressure", "contact_perimeter"])))
+
+    ys = obs.get("cross_section_y")
+    x0 = ((run.s.get("case") or {}).get("observables") or {}).get("cross_section_x")
+    where = f"x = {x0 * 1e6:.4g} um" if isinstance(x0, (int, float)) else "the cross section"
+    for q, key, col, keys in (("cross_section_gap", "cross_section_gap", ("gap_m", "m", "gap g along the line"),
+                               ["mean_gap", "contact_fraction"]),
+                              ("cross_section_pressure", "cross_section_pressure",
+                               ("pressure_Pa", "Pa", "interfacial stress along the line, compressive > 0"),
+                               ["max_pressure", "contact_fraction_corrected"])):
+        v = obs.get(key)
+        if ys is None or v is None or len(v) != len(ys):
+            continue
+        x, y, _ = _clean(ys, v, False, False)
+        what = "gap" if q.endswith("gap") else "stress"
+        curves.append(dict(name=q, quantity=q, item=9,
+                           title=f"Challenge item 9: {what} along {where}, cmc {run.nx}^2 (not converged)",
+                           columns=[("y_m", "m", f"position y along {where}") + (x,), col + (y,)],
+                           x="y_m", y=col[0], representation="lin-lin",
+                           extra=prov + [("parameters", params),
+                                         ("sampling", f"every grid point of the line ({len(x)}), from result.h5 "
+                                                      f"step_{int(st['index']):04d}/observables/cross_section_*"),
+                                         ("generator", GENERATOR)],
+                           estimated_error=adhesive_error(run, hw, keys)))
+    return curves, st
+
+
+def sweep_curves(runs, hw):
+    """Items 2 and 8 (adhesive load sweep) and 6 and 7 (adhesive Tabor sweep), when run."""
+    curves = []
+    sweeps = sorted((r for r in runs if r.is_load_sweep()), key=lambda r: -(r.nx or 0) * (r.ny or 0))
+    if sweeps:
+        r = sweeps[0]  # the finest grid
+        pts = sorted((s for s in r.steps if s["p"] and s["p"] > 0 and s["ar"] is not None and s["converged"]),
+                     key=lambda s: s["p"])
+        ps = np.array([s["p"] for s in pts])
+        if len(pts) >= 2 and np.all(np.diff(ps) > 0):
+            prov = provenance(r, pts)
+            samp = f"{len(pts)} converged load steps of {len(r.steps)}, loading order sorted by mean pressure"
+            for q, item, col, keys, rep in (
+                    ("contact_area_vs_pressure", 2, ("contact_fraction", "1", "relative contact area a_r",
+                                                     [s["ar"] for s in pts]),
+                     ["contact_fraction", "contact_fraction_corrected"], "log-log"),
+                    ("mean_gap_vs_pressure", 8, ("mean_gap_m", "m", "mean gap", [s["gap"] for s in pts]),
+                     ["mean_gap"], "log-lin")):
+                if any(v is None for v in col[3]):
+                    continue
+                curves.append(dict(name=q, quantity=q, item=item,
+                                   title=f"Challenge item {item}: {q.replace('_', ' ')}, cmc {r.nx}^2 (not converged)",
+                                   columns=[("pressure_Pa", "Pa", "mean pressure", ps), col], x="pressure_Pa",
+                                   y=col[0], representation=rep,
+                                   extra=prov + [("sampling", samp), ("generator", GENERATOR)],
+                                   estimated_error=adhesive_error(r, hw, keys)))
+    # Tabor sweep: one run per mu_T (at the reference load) on the finest grid that has >= 2.
+    by_grid = {}
+    for r in runs:
+        st = r.reference_step()
+        if r.run_tabor is not None and st is not None and not r.is_load_sweep():
+            by_grid.setdefault((r.nx, r.ny), {})[round(r.run_tabor, 9)] = (r, st)
+    grids = [g for g in sorted(by_grid, key=lambda g: -g[0] * g[1]) if len(by_grid[g]) >= 2]
+    if grids:
+        items = [by_grid[grids[0]][k] for k in sorted(by_grid[grids[0]])]
+        r0 = items[-1][0]
+        prov = provenance(r0, [items[-1][1]])
+        prov[1] = ("case_file", ", ".join(sorted({r.s.get("case_file") or "?" for r, _ in items})))
+        prov[5] = ("command", "scripts/tabor_sweep.sh (one run per mu_T: " +
+                   ", ".join(_rel(r.folder) for r, _ in items) + ")")
+        mus = [r.run_tabor for r, _ in items]
+        for q, item, col, keys in (("contact_area_vs_tabor", 6, ("contact_fraction", "1", "relative contact area a_r",
+                                                                  [st["ar"] for _, st in items]),
+                                    ["contact_fraction", "contact_fraction_corrected"]),
+                                   ("mean_gap_vs_tabor", 7, ("mean_gap_m", "m", "mean gap",
+                                                             [st["gap"] for _, st in items]), ["mean_gap"])):
+            if any(v is None for v in col[3]):
+                continue
+            curves.append(dict(name=q, quantity=q, item=item,
+                               title=f"Challenge item {item}: {q.replace('_', ' ')} at 250 kPa, cmc {r0.nx}^2 "
+                                     "(not converged)",
+                               columns=[("tabor", "1", "Tabor coefficient mu_T", mus), col], x="tabor", y=col[0],
+                               representation="log-lin",
+                               extra=prov + [("sampling", f"{len(items)} runs, the step nearest 250 kPa of each"),
+                                             ("generator", GENERATOR)],
+                               estimated_error=adhesive_error(r0, hw, keys)))
+    return curves
+
+
+# ------------------------------------------------------------------ README
+ALL = [("patch_size_distribution", 1), ("contact_area_vs_pressure", 2), ("gap_distribution", 3),
+       ("stress_distribution", 4), ("stress_spectrum", 5), ("contact_area_vs_tabor", 6), ("mean_gap_vs_tabor", 7),
+       ("mean_gap_vs_pressure", 8), ("cross_section_gap", 9), ("cross_section_pressure", 9)]
+MISSING_HOW = {2: "`build/cmc run cases/challenge/load-sweep.toml --out results/challenge-load-sweep`",
+               8: "`build/cmc run cases/challenge/load-sweep.toml --out results/challenge-load-sweep`",
+               6: "`scripts/tabor_sweep.sh` (results/challenge-tabor-sweep/mu_T_*/)",
+               7: "`scripts/tabor_sweep.sh` (results/challenge-tabor-sweep/mu_T_*/)"}
+
+
+def readme(curves, out_dir, hw, ref_run, ref_step):
+    have = {c["quantity"]: c for c in curves}
+    L = ["# Challenge reference curves", "",
+         "`cmc check PRED.csv --quantity Q` compares a prediction with `reference/challenge/Q.csv` by default. "
+         "These curves come from **cmc's own runs** (`source: cmc run`), not from the published solution of the "
+         "Contact Mechanics Challenge, and are **not converged**: see *Accuracy* below. The format is described in "
+         "[../README.md](../README.md); the provenance (cmc version, case file, grid, solver tolerance, date, "
+         "command) is in each file's header.", "",
+         "Generated by `/usr/bin/python3 scripts/challenge_reference.py` (deterministic given the runs; the "
+         "`date` is the run's summary.json modification time). Do not edit the CSV files by hand.", "",
+         "## Files", "",
+         "| file | item | columns (SI) | repr. | points | run | grid |", "|---|---|---|---|---|---|---|"]
+    for q, item in ALL:
+        c = have.get(q)
+        if c is None:
+            continue
+        grid = dict(c["extra"])["grid"].split(" (")[0]
+        run = dict(c["extra"])["command"].split("--out ")[-1]
+        L.append(f"| `{q}.csv` | {item} | `{c['columns'][0][0]}`, `{c['columns'][1][0]}` | {c['representation']} | "
+                 f"{len(c['columns'][0][3])} | `{run}` | {grid} |")
+    L.append("")
+    if ref_run is not None and ref_step is not None:
+        L += [f"Items 1, 3, 4, 5 and 9 are the step at p = {ref_step['p']:.6g} Pa (target 250 kPa) of "
+              f"`{_rel(ref_run.folder)}` (case `{ref_run.s.get('case_file')}`, {ref_run.name}: the challenge's "
+              f"problem, exponential adhesion with μ_T = {ref_run.run_tabor:.4g}); contact fraction "
+              f"{ref_step['ar']:.4g} (perimeter-corrected {ref_step['ar_corr'] or float('nan'):.4g}), mean gap "
+              f"{(ref_step['gap'] or float('nan')) * 1e9:.4g} nm, {int(ref_step['n_patches'] or 0)} patches. The numbers equal "
+              "`reports/challenge/data/*__challenge-reference_*.csv` (same extraction, "
+              "`reports/challenge_report.py`), except that empty bins are left out of log-scaled curves.", ""]
+    miss = [(q, item) for q, item in ALL if q not in have]
+    if miss:
+        L += ["## Not yet computed", "", "No file, because no adhesive run has the data yet:", ""]
+        for q, item in miss:
+            how = MISSING_HOW.get(item, "a run at the reference load with observables and fields "
+                                        "(`cases/challenge/reference-load.toml`)")
+            L.append(f"- `{q}` (item {item}): not yet computed, run {how}, then regenerate.")
+        L.append("")
+    L += ["## Accuracy", "",
+          "The adhesive runs use the challenge's grid 2048² (dx = 48.8 nm = λ_s/2.05 ≈ 24 ρ, ρ = 2.071 nm), far "
+          "coarser than the ≈ 0.75 ρ of the published solution (65536²). The adhesive neck is not resolved and "
+          "every grid point is bistable, so these curves are **not converged**, and their error is **not estimated "
+          "by a refinement study** yet (each file's `estimated_error` says so). No `tolerance` is stored, so "
+          "`cmc check` uses each quantity's default acceptance.", ""]
+    if hw:
+        n1, n2 = hw["grids"]
+        L += [f"For context only, the **hard-wall** problem at the same load (`{hw['folder']}`"
+              + (", `refinement.md`" if hw["table"] else "") + f") changes between {n1}² and {n2}² by:", "",
+              f"| observable | {n1}² | {n2}² | relative change |", "|---|---|---|---|"]
+        for k, (a, b, d) in hw["changes"].items():
+            L.append(f"| {HW_LABELS[k]} | {a:.6g} | {b:.6g} | {100 * d:+.2g} % |")
+        L += ["", f"(SI units; relative change = (value at {n2}² − value at {n1}²) / value at {n2}². The raw contact "
+              "fraction converges slowly, the perimeter-corrected one much faster.) The hard-wall curves at 2048² "
+              "(`reports/challenge/data/*__challenge-hardwall_2048.csv`) are not stored here: the hard wall is not "
+              "the challenge's problem.", ""]
+    L += ["## Regenerate", "",
+          "```",
+          "build/cmc run cases/challenge/reference-load.toml --out results/challenge-reference   # items 1, 3, 4, 5, 9",
+          "build/cmc run cases/challenge/load-sweep.toml --out results/challenge-load-sweep      # items 2, 8",
+          "scripts/tabor_sweep.sh                                                                 # items 6, 7",
+          "/usr/bin/python3 scripts/challenge_reference.py        # rewrites reference/challenge/*.csv and this README",
+          "build/cmc check reports/challenge/data/gap_distribution__challenge-reference_2048.csv --quantity gap_distribution",
+          "```", "",
+          "To refine, raise `grid.n` (e.g. `--set grid.n=4096`) in the runs above and regenerate; state the change "
+          "against the previous grid in `estimated_error` once two adhesive grids exist.", ""]
+    return "\n".join(L)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--results", default=os.path.join(ROOT, "results"))
+    ap.add_argument("--reference-run", default=None, help="default: RESULTS/challenge-reference")
+    ap.add_argument("--hardwall-refine", default=None, help="default: RESULTS/refine/reference-load-hardwall")
+    ap.add_argument("--out", default=os.path.join(ROOT, "reference", "challenge"))
+    a = ap.parse_args()
+    ref_dir = a.reference_run or os.path.join(a.results, "challenge-reference")
+    hw = hardwall_refinement(a.hardwall_refine or os.path.join(a.results, "refine", "reference-load-hardwall"))
+    notes = []
+    curves, ref_run, ref_step = [], None, None
+    summary = os.path.join(ref_dir, "summary.json")
+    s = load_json(summary, notes)
+    if isinstance(s, dict):
+        ref_run = Run(s, ref_dir)
+        if ref_run.status != "converged":
+            sys.exit(f"challenge_reference: {summary}: status {ref_run.status!r}, not converged")
+        c, ref_step = reference_load_curves(ref_run, hw, notes)
+        curves += c
+    else:
+        print(f"challenge_reference: no {summary} (is the run being rewritten? retry later)", file=sys.stderr)
+    # Adhesive sweeps (hard-wall runs are not the challenge's problem).
+    sweep_runs = []
+    for f in sorted(glob.glob(os.path.join(a.results, "challenge-load-sweep*", "summary.json")) +
+                    glob.glob(os.path.join(a.results, "challenge-tabor-sweep", "*", "summary.json"))):
+        s2 = load_json(f, notes)
+        kind = (((s2 or {}).get("case") or {}).get("interaction") or {}).get("kind", "")
+        if isinstance(s2, dict) and s2.get("status") == "converged" and kind not in ("", "hard_wall", "none"):
+            sweep_runs.append(Run(s2, os.path.dirname(f)))
+    curves += sweep_curves(sweep_runs, hw)
+    for n in notes:
+        print("challenge_reference: note: " + str(n), file=sys.stderr)
+    for c in curves:
+        path = os.path.join(a.out, c["quantity"] + ".csv")
+        text = format_curve(c)
+        write_atomically(path, text)
+        print(f"challenge_reference: {_rel(path)}: {len(c['columns'][0][3])} points, {len(text)} bytes")
+    write_atomically(os.path.join(a.out, "README.md"), readme(curves, a.out, hw, ref_run, ref_step))
+    print(f"challenge_reference: {_rel(os.path.join(a.out, 'README.md'))}")
+    if not curves:
+        sys.exit("challenge_reference: no curves: no adhesive challenge run with observables found")
+
+
+if __name__ == "__main__":
+    main()
