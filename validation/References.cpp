@@ -329,6 +329,24 @@ Curve curve_from_table(const Table& t) {
 Curve read_curve(const std::string& path) { return curve_from_table(read_csv(path, 2)); }
 
 // ============================================================================ cmc runs
+namespace {
+// The part every curve ends with: its columns, axes, representation, error statement
+// and tolerance.
+Curve with_axes(Curve c, std::vector<Column> columns, const std::string& x, const std::string& y,
+                const std::string& representation, const std::string& estimated_error, std::optional<double> tolerance,
+                const std::string& tolerance_metric) {
+  c.columns = std::move(columns);
+  c.x = x;
+  c.y = y;
+  c.representation = representation;
+  c.estimated_error = estimated_error;
+  c.tolerance = tolerance;
+  c.tolerance_metric = tolerance_metric;
+  return c;
+}
+
+}  // namespace
+
 Curve make_run_curve(const std::string& name, const std::string& quantity, const std::string& title,
                      const RunProvenance& how, std::vector<Column> columns, const std::string& x,
                      const std::string& y, const std::string& representation,
@@ -356,14 +374,8 @@ Curve make_run_curve(const std::string& name, const std::string& quantity, const
   c.extra = {{"cmc_version", version},    {"case_file", how.case_file}, {"grid", how.grid},
              {"solver_tolerance", how.solver_tolerance}, {"date", date}};
   if (!how.command.empty()) c.extra.emplace_back("command", how.command);
-  c.columns = std::move(columns);
-  c.x = x;
-  c.y = y;
-  c.representation = representation;
-  c.estimated_error = estimated_error;
-  c.tolerance = tolerance;
-  c.tolerance_metric = tolerance_metric;
-  return c;
+  return with_axes(std::move(c), std::move(columns), x, y, representation, estimated_error, tolerance,
+                   tolerance_metric);
 }
 
 // ============================================================================ analytic curves
@@ -399,14 +411,9 @@ Curve hertz_penetration_force() {
     d.values.push_back(h.penetration);
     a.values.push_back(h.radius);
   }
-  c.columns = {F, d, a};
-  c.x = F.name;
-  c.y = d.name;
-  c.representation = "log-log";
-  c.estimated_error = kRoundOff;
-  c.tolerance = 1e-3;  // the validation suite's penetration tolerance (cases/validation/hertz-*.toml)
-  c.tolerance_metric = "max_rel";
-  return c;
+  // the validation suite's penetration tolerance (cases/validation/hertz-*.toml)
+  return with_axes(std::move(c), {F, d, a}, F.name, d.name, "log-log",
+                   kRoundOff, 1e-3, "max_rel");
 }
 
 Curve hertz_pressure_profile() {
@@ -423,14 +430,9 @@ Curve hertz_pressure_profile() {
     r.values.push_back(x);
     p.values.push_back(an::hertz_pressure(1.0, 1.0, a, x * a) / p0);
   }
-  c.columns = {r, p};
-  c.x = r.name;
-  c.y = p.name;
-  c.representation = "lin-lin";
-  c.estimated_error = kRoundOff;
-  c.tolerance = 1e-2;  // the validation suite's pressure_profile tolerance (in units of p0)
-  c.tolerance_metric = "max_abs";
-  return c;
+  // the validation suite's pressure_profile tolerance (in units of p0)
+  return with_axes(std::move(c), {r, p}, r.name, p.name, "lin-lin",
+                   kRoundOff, 1e-2, "max_abs");
 }
 
 const char* kWestergaardSource =
@@ -450,14 +452,8 @@ Curve westergaard_mean_pressure() {
     a.values.push_back(x);
     p.values.push_back(an::westergaard_mean_pressure(1.0, 1.0, 1.0, x) / pstar);
   }
-  c.columns = {a, p};
-  c.x = a.name;
-  c.y = p.name;
-  c.representation = "lin-lin";
-  c.estimated_error = kRoundOff;
-  c.tolerance = 1e-3;
-  c.tolerance_metric = "max_abs";
-  return c;
+  return with_axes(std::move(c), {a, p}, a.name, p.name, "lin-lin",
+                   kRoundOff, 1e-3, "max_abs");
 }
 
 Curve westergaard_mean_gap() {
@@ -474,14 +470,8 @@ Curve westergaard_mean_gap() {
     p.values.push_back(x);
     g.values.push_back(an::westergaard_mean_gap(1.0, 1.0, 1.0, x * pstar));
   }
-  c.columns = {p, g};
-  c.x = p.name;
-  c.y = g.name;
-  c.representation = "log-lin";
-  c.estimated_error = kRoundOff;
-  c.tolerance = 1e-3;
-  c.tolerance_metric = "max_abs";
-  return c;
+  return with_axes(std::move(c), {p, g}, p.name, g.name, "log-lin",
+                   kRoundOff, 1e-3, "max_abs");
 }
 
 Curve westergaard_pressure_profile() {
@@ -502,15 +492,9 @@ Curve westergaard_pressure_profile() {
     cols.push_back(col);
   }
   for (int k = -100; k <= 100; ++k) x.values.push_back(k / 200.0);
-  c.columns = {x};
-  for (auto& col : cols) c.columns.push_back(col);
-  c.x = x.name;
-  c.y = c.columns[1].name;
-  c.representation = "lin-lin";
-  c.estimated_error = kRoundOff;
-  c.tolerance = 1e-2;  // the validation suite's pressure_profile tolerance (in units of p*)
-  c.tolerance_metric = "max_abs";
-  return c;
+  cols.insert(cols.begin(), x);
+  // the validation suite's pressure_profile tolerance (in units of p*)
+  return with_axes(std::move(c), cols, x.name, cols[1].name, "lin-lin", kRoundOff, 1e-2, "max_abs");
 }
 
 Curve jkr_force_penetration() {
@@ -542,14 +526,8 @@ Curve jkr_force_penetration() {
     P.values.push_back(an::jkr_force(Es, R, w, x * s.radius) / s.force);
     D.values.push_back(an::jkr_penetration(Es, R, w, x * s.radius) / s.penetration);
   }
-  c.columns = {A, P, D};
-  c.x = A.name;
-  c.y = P.name;
-  c.representation = "lin-lin";
-  c.estimated_error = kRoundOff;
-  c.tolerance = 1e-2;
-  c.tolerance_metric = "max_abs";
-  return c;
+  return with_axes(std::move(c), {A, P, D}, A.name, P.name, "lin-lin",
+                   kRoundOff, 1e-2, "max_abs");
 }
 
 Curve maugis_dugdale(double lambda, const std::string& tag) {
@@ -578,15 +556,9 @@ Curve maugis_dugdale(double lambda, const std::string& tag) {
     P.values.push_back(pt.Pbar);
     D.values.push_back(pt.Delta);
   }
-  c.columns = {A, P, D, m};
-  c.x = A.name;
-  c.y = P.name;
-  c.representation = "lin-lin";
-  c.estimated_error = "root of the Maugis equation for m to 1e-14 relative (GSL Brent), stored with 13 significant "
-                      "digits: < 1e-12 relative";
-  c.tolerance = 1e-2;
-  c.tolerance_metric = "max_abs";
-  return c;
+  return with_axes(std::move(c), {A, P, D, m}, A.name, P.name, "lin-lin",
+                   "root of the Maugis equation for m to 1e-14 relative (GSL Brent), stored with 13 significant "
+                      "digits: < 1e-12 relative", 1e-2, "max_abs");
 }
 
 Curve johnson_sinusoid(double alpha, const std::string& tag) {
@@ -615,14 +587,9 @@ Curve johnson_sinusoid(double alpha, const std::string& tag) {
     p.values.push_back(an::johnson_mean_pressure(Es, w, h, L, x * L) / pstar);
     g.values.push_back(an::johnson_mean_gap(Es, w, h, L, x * L) / h);
   }
-  c.columns = {a, p, g};
-  c.x = a.name;
-  c.y = p.name;
-  c.representation = "lin-lin";
-  c.estimated_error = kRoundOff;
-  c.tolerance = 1e-2;  // mean pressure within 1e-2 p* (the ContactMechanics test suite's bound)
-  c.tolerance_metric = "max_abs";
-  return c;
+  // mean pressure within 1e-2 p* (the ContactMechanics test suite's bound)
+  return with_axes(std::move(c), {a, p, g}, a.name, p.name, "lin-lin",
+                   kRoundOff, 1e-2, "max_abs");
 }
 
 struct Generator {
