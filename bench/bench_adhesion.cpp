@@ -13,9 +13,9 @@
 //    step, ms per iteration.
 // The warm state is prepared once per size (a cold solve, not timed).
 // Set CMC_THREADS to choose threads.
-#include "cmc/AdhesiveSolver.hpp"
-#include "cmc/SelfAffine.hpp"
-#include "cmc/SurfaceStats.hpp"
+#include "cmc/contact/AdhesiveSolver.hpp"
+#include "cmc/surface/SelfAffine.hpp"
+#include "cmc/surface/SurfaceStats.hpp"
 
 #include <benchmark/benchmark.h>
 

@@ -3,8 +3,8 @@
 // grid spacings, rms gradient 1, mean pressure 0.01 E*), at 512² … 4096².
 // The ratio that matters (iteration time / FFT-pair time) is read off the same run;
 // scripts/bench_solve.py prints it side by side. Set CMC_THREADS to choose threads.
-#include "cmc/PolonskyKeer.hpp"
-#include "cmc/SelfAffine.hpp"
+#include "cmc/contact/PolonskyKeer.hpp"
+#include "cmc/surface/SelfAffine.hpp"
 
 #include <benchmark/benchmark.h>
 

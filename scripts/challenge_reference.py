@@ -4,7 +4,7 @@ reference/challenge/README.md) from cmc's own challenge runs.
 
     /usr/bin/python3 scripts/challenge_reference.py [--results results] [--out reference/challenge]
 
-Inputs (read only, SI, layout of solver/cmc/Writer.cpp):
+Inputs (read only, SI, layout of solver/cmc/output/Writer.cpp):
   results/challenge-reference/        the challenge's problem (adhesion, mu_T = 3) at 250 kPa:
                                       summary.json + result.h5 step_*/observables
                                       -> items 1, 3, 4, 5, 9

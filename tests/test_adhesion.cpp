@@ -2,14 +2,14 @@
 // Johnson (1995), JKR and Maugis–Dugdale. Every tolerance below is next to the number it
 // was set from (a measured discretisation / finite-range error or a convergence study);
 // the measured values are printed (and recorded as test properties) on every run.
-#include "cmc/AdhesiveSolver.hpp"
-#include "cmc/Analytic.hpp"
-#include "cmc/Interaction.hpp"
-#include "cmc/LoadPath.hpp"
-#include "cmc/PolonskyKeer.hpp"
-#include "cmc/SelfAffine.hpp"
-#include "cmc/SurfaceStats.hpp"
-#include "cmc/Topography.hpp"
+#include "cmc/contact/AdhesiveSolver.hpp"
+#include "cmc/analytic/Analytic.hpp"
+#include "cmc/contact/Interaction.hpp"
+#include "cmc/contact/LoadPath.hpp"
+#include "cmc/contact/PolonskyKeer.hpp"
+#include "cmc/surface/SelfAffine.hpp"
+#include "cmc/surface/SurfaceStats.hpp"
+#include "cmc/surface/Topography.hpp"
 
 #include <gtest/gtest.h>
 

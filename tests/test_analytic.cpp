@@ -1,4 +1,4 @@
-// Unit tests of the analytic reference module (solver/cmc/Analytic.*): every check
+// Unit tests of the analytic reference module (solver/cmc/analytic/Analytic.*): every check
 // compares two different routes to the same number (closed form vs. quadrature, limit vs.
 // general model, closed form vs. root finding), so a wrong formula on either side fails.
 #include <gtest/gtest.h>
@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "cmc/Analytic.hpp"
+#include "cmc/analytic/Analytic.hpp"
 
 namespace {
 

@@ -1,6 +1,6 @@
 // The case-file parser: every class of bad input stops with a message that names the
 // file, the key and what was expected.
-#include "cmc/Case.hpp"
+#include "cmc/input/Case.hpp"
 
 #include <gtest/gtest.h>
 

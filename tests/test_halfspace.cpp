@@ -1,5 +1,5 @@
 // Green's functions of the elastic half-space.
-#include "cmc/HalfSpace.hpp"
+#include "cmc/elastic/HalfSpace.hpp"
 
 #include <gtest/gtest.h>
 

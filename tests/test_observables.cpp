@@ -1,7 +1,7 @@
 // Tests for cmc/Observables: patch labelling with periodic wrap, the Yastrebov area
 // correction, histogram normalisation, the radial spectrum (Parseval), the
 // cross-section interpolation and the contact stiffness.
-#include "cmc/Observables.hpp"
+#include "cmc/observe/Observables.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // Polonsky–Keer on problems with known answers.
-#include "cmc/Analytic.hpp"
-#include "cmc/PolonskyKeer.hpp"
-#include "cmc/Topography.hpp"
+#include "cmc/analytic/Analytic.hpp"
+#include "cmc/contact/PolonskyKeer.hpp"
+#include "cmc/surface/Topography.hpp"
 
 #include <gtest/gtest.h>
 

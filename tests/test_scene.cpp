@@ -1,6 +1,6 @@
 // Case -> Scene: unit conversion in one place, surfaces from generators and files.
-#include "cmc/Scene.hpp"
-#include "cmc/SurfaceIO.hpp"
+#include "cmc/scene/Scene.hpp"
+#include "cmc/surface/SurfaceIO.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // Tests of the challenge surface generator, surface readers/writers and statistics.
-#include "cmc/SelfAffine.hpp"
-#include "cmc/SurfaceIO.hpp"
-#include "cmc/Interaction.hpp"
-#include "cmc/SurfaceStats.hpp"
+#include "cmc/surface/SelfAffine.hpp"
+#include "cmc/surface/SurfaceIO.hpp"
+#include "cmc/contact/Interaction.hpp"
+#include "cmc/surface/SurfaceStats.hpp"
 
 #include <gtest/gtest.h>
 #include <hdf5.h>

@@ -1,5 +1,5 @@
 // Outputs: nothing presented as a result before a run finishes; interrupted runs resume.
-#include "cmc/Writer.hpp"
+#include "cmc/output/Writer.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // The prediction checker (see Check.hpp and reference/README.md).
 #include "Check.hpp"
 
-#include "cmc/Writer.hpp"
+#include "cmc/output/Writer.hpp"
 
 #include <algorithm>
 #include <cmath>

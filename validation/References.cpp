@@ -2,8 +2,8 @@
 // and reference/README.md).
 #include "References.hpp"
 
-#include "cmc/Analytic.hpp"
-#include "cmc/Writer.hpp"
+#include "cmc/analytic/Analytic.hpp"
+#include "cmc/output/Writer.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -389,7 +389,7 @@ Curve base(const std::string& name, const std::string& quantity, const std::stri
   c.quantity = quantity;
   c.title = title;
   c.source = "analytic: " + source;
-  c.extra.emplace_back("generator", "cmc reference " + name + " (validation/References.cpp, solver/cmc/Analytic.cpp)");
+  c.extra.emplace_back("generator", "cmc reference " + name + " (validation/References.cpp, solver/cmc/analytic/Analytic.cpp)");
   return c;
 }
 

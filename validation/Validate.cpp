@@ -1,6 +1,6 @@
 #include "Validate.hpp"
 
-#include "cmc/Analytic.hpp"
+#include "cmc/analytic/Analytic.hpp"
 
 #include <algorithm>
 #include <cmath>

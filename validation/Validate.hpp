@@ -7,7 +7,7 @@
 // validation/README.md and next to each function below.
 #pragma once
 
-#include "cmc/Driver.hpp"
+#include "cmc/run/Driver.hpp"
 
 #include <string>
 #include <vector>

@@ -2,7 +2,7 @@
 #include "commands.hpp"
 
 #include "Check.hpp"
-#include "cmc/Writer.hpp"
+#include "cmc/output/Writer.hpp"
 
 #include <spawn.h>
 #include <sys/wait.h>

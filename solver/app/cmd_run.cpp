@@ -1,8 +1,8 @@
 // cmc run: solve one case and write its results.
 #include "commands.hpp"
 
-#include "cmc/Driver.hpp"
-#include "cmc/Writer.hpp"
+#include "cmc/run/Driver.hpp"
+#include "cmc/output/Writer.hpp"
 
 #include <unistd.h>
 

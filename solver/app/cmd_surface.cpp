@@ -2,9 +2,9 @@
 // height map as a file (HDF5 dataset "surface" in metres, with lx/ly attributes).
 #include "commands.hpp"
 
-#include "cmc/Scene.hpp"
-#include "cmc/SurfaceIO.hpp"
-#include "cmc/SurfaceStats.hpp"
+#include "cmc/scene/Scene.hpp"
+#include "cmc/surface/SurfaceIO.hpp"
+#include "cmc/surface/SurfaceStats.hpp"
 
 #include <cstdio>
 

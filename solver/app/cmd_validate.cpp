@@ -2,7 +2,7 @@
 #include "commands.hpp"
 
 #include "Validate.hpp"
-#include "cmc/Writer.hpp"
+#include "cmc/output/Writer.hpp"
 
 #include <cstdio>
 #include <filesystem>

@@ -2,8 +2,8 @@
 // codes, and the command entry points (one file per command in solver/app/).
 #pragma once
 
-#include "cmc/Case.hpp"
-#include "cmc/Solver.hpp"
+#include "cmc/input/Case.hpp"
+#include "cmc/contact/Solver.hpp"
 
 #include <chrono>
 #include <string>

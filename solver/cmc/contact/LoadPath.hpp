@@ -1,0 +1,110 @@
+// Load paths: a sequence of load targets (loading, unloading, or both) solved one after
+// another, each step warm-started from the previous solution, with automatic step
+// halving where a step fails or "jumps".
+//
+// Any solver can be used: it is passed as a callable (Target, ContactState&) ->
+// SolveResult (e.g. a lambda around AdhesiveSolver::solve or PolonskyKeer::solve).
+//
+// Step control. Requested step k goes from the previous accepted target value v to v_k.
+// It is first tried in one solve. If that solve does not converge, or the state "jumps"
+// (below), the increment is halved and the step is walked in sub-steps of
+// (v_k − v)/2^level from the last accepted sub-step, up to level = max_halvings. At the
+// finest level a jump is accepted as real (an elastic instability: jump into contact,
+// snap-off, a patch popping in or out) and recorded; a solve that still fails is
+// recorded as failed and, with stop_on_failure, ends the path. The level is not raised
+// again within a step.
+//
+// Jump (between two consecutive solves, previous → new), with f = jump_fraction:
+//   |a_new − a_prev| > f · max(a_prev, contact_fraction_floor)             or
+//   |p_new − p_prev| > f · max(|p_prev|, p_floor)
+// a = contact fraction (fraction of points with gap <= contact_gap), p = mean pressure,
+// p_floor = pressure_floor, or when that is 0 the largest |p| accepted so far on the path
+// (a problem-independent default; give pressure_floor a physical scale, e.g. the
+// pull-off pressure, when the path starts out of contact, where the tail of a finite-range
+// interaction makes |p| tiny).
+//
+// What is recorded: one LoadStep per requested target, holding the state at exactly that
+// target (sub-steps are solved but not recorded), the branch (Loading when the target
+// value increases, i.e. pressing harder, Unloading when it decreases; the first step is
+// Loading unless the start state says otherwise), whether a jump happened in any solve
+// since the previous recorded step, the halving level reached, and the number of solves,
+// iterations and FFT pairs spent on it. The pull-off is the most negative mean pressure of
+// every converged solve of the path, sub-steps included (so that halving near the
+// instability sharpens it), optionally sharpened further by refine_pulloff.
+#pragma once
+
+#include "cmc/contact/Solver.hpp"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace cmc {
+
+enum class Branch { Loading, Unloading };
+const char* branch_name(Branch b);  // "loading" / "unloading"
+
+using StepSolver = std::function<SolveResult(const Target&, ContactState&)>;
+
+struct LoadPathOptions {
+  int max_halvings = 5;
+  double jump_fraction = 0.5;
+  double contact_fraction_floor = 1e-3;
+  double pressure_floor = 0.0;  // 0: the largest |mean pressure| accepted so far
+  double contact_gap = 0.0;     // a point is in contact when its gap is <= this
+  bool stop_on_failure = true;
+  // Pull-off refinement: when > 0 and the most negative mean pressure is at a sub-step with
+  // accepted neighbours on both sides, up to this many extra solves do a golden-section
+  // search for the minimum of the mean pressure between those neighbours, each warm-started
+  // from the state at the best solve so far (the branch is kept). 0: off.
+  int refine_pulloff = 0;
+};
+
+struct LoadStep {
+  Target target{Control::Penetration, 0.0};
+  Branch branch = Branch::Loading;
+  SolveResult result;  // the solve that reached the target (its own iterations, pairs, message)
+  double mean_pressure = 0.0;
+  double penetration = 0.0;
+  double contact_fraction = 0.0;
+  bool jump = false;   // a jump happened in a solve since the previous recorded step
+  int halvings = 0;    // halving level reached (0: reached in one solve)
+  int solves = 0;      // solves spent on this step (retries and sub-steps included)
+  int iterations = 0;  // their iterations, summed
+  double fft_pairs = 0.0;  // their FFT pairs, summed
+  double wall_s = 0.0;
+};
+
+struct LoadPathResult {
+  std::vector<LoadStep> steps;
+  bool completed = false;  // every requested step reached with a converged solve
+  std::string message;     // why not, when not
+  int failed_steps = 0;    // recorded steps whose final solve did not converge
+  int halved_steps = 0;    // recorded steps that needed halving
+  int jumps = 0;           // recorded steps with a jump
+  int max_halvings = 0;    // deepest level over the path
+  // Pull-off: the most negative mean pressure of every converged solve (NaN if none).
+  double pulloff_mean_pressure = 0.0;
+  Target pulloff_target{Control::Penetration, 0.0};
+  Branch pulloff_branch = Branch::Loading;
+  int pulloff_refinement_solves = 0;  // extra solves spent by refine_pulloff
+};
+
+using LoadStepCallback = std::function<void(const LoadStep&, const ContactState&)>;
+
+// Run `targets` in order from `state` (empty: the first target starts cold). On return
+// `state` holds the last accepted solution. All targets must share one Control.
+LoadPathResult run_load_path(const StepSolver& solve, const std::vector<Target>& targets, ContactState& state,
+                             const LoadPathOptions& options = {}, const LoadStepCallback& on_step = {});
+
+// Fraction of points with gap <= contact_gap (0 for an empty state).
+double contact_fraction(const ContactState& state, double contact_gap = 0.0);
+
+// ---- target sequences
+// n + 1 equally spaced values from `from` to `to` (both included); n >= 1.
+std::vector<Target> ramp(Control control, double from, double to, int n);
+// Loading from `start` to `peak` in n_load steps, then unloading to `end` in n_unload
+// steps (the peak appears once).
+std::vector<Target> load_unload(Control control, double start, double peak, double end, int n_load, int n_unload);
+
+}  // namespace cmc

@@ -1,0 +1,43 @@
+// Polonsky–Keer constrained conjugate gradients for non-adhesive (hard-wall)
+// contact: I. A. Polonsky and L. M. Keer, "A numerical method for solving rough
+// contact problems based on the multi-level multi-summation and conjugate gradient
+// techniques", Wear 231, 206–219 (1999), §3 (steps (a)–(h)); here with FFT
+// convolutions instead of multi-level summation, under mean-pressure (force) or
+// penetration (displacement) control.
+//
+// Cost: the Green's function is applied to the search direction once per iteration
+// (one FFT pair). The displacement of the new pressure is then updated
+// incrementally, u ← s (u − τ G t), which is exact whenever the step changed no
+// point's contact status; when it did (points clipped to zero pressure or points
+// added from overlap), or every `recompute_every` iterations, or before declaring
+// convergence, u = G p is recomputed exactly (one more FFT pair).
+//
+// Residual (what `tolerance` applies to): the rms gap over points carrying pressure
+// together with the rms overlap (negative gap) elsewhere, divided by the rms height
+// fluctuation of the indenter (or 1 for a flat one): a dimensionless measure of how
+// far the complementarity conditions g ≥ 0, p ≥ 0, p g = 0 are from holding.
+#pragma once
+
+#include "cmc/elastic/HalfSpace.hpp"
+#include "cmc/contact/Solver.hpp"
+
+namespace cmc {
+
+class PolonskyKeer {
+ public:
+  struct Options : SolverOptions {
+    int recompute_every = 32;
+  };
+
+  PolonskyKeer(HalfSpace& half_space, const Field& heights, Options options);
+  // Solve for `target`, starting from `state` when it holds a pressure field.
+  SolveResult solve(const Target& target, ContactState& state);
+
+ private:
+  HalfSpace& hs_;
+  const Field& h_;
+  Options opt_;
+  double h_scale_;
+};
+
+}  // namespace cmc

@@ -1,0 +1,56 @@
+// What every cmc solver takes and returns.
+//
+// A solver is handed a half-space, the indenter heights and a load target, and it
+// returns a SolveResult: whether it reached its tolerance, after how many
+// iterations, the residual it stopped at, the energy, the wall time and the number
+// of FFT pairs (the unit of cost cmc reports against). A solve that stops before its
+// tolerance says so (converged = false, and a message); it never throws for that.
+#pragma once
+
+#include "cmc/grid/Grid.hpp"
+
+#include <functional>
+#include <limits>
+#include <string>
+
+namespace cmc {
+
+struct SolveResult {
+  bool converged = false;
+  int iterations = 0;
+  double residual = std::numeric_limits<double>::quiet_NaN();
+  double energy = 0.0;  // elastic energy (+ interaction energy, where there is one), reduced
+  double wall_s = 0.0;
+  double fft_pairs = 0.0;  // (forward + inverse transforms) / 2
+  std::string message;  // why it stopped, when it did not converge
+};
+
+// The solved state of one load step (reduced units). Also the warm start of the next.
+struct ContactState {
+  Field pressure;      // p, compressive > 0
+  Field displacement;  // u, into the solid > 0
+  Field gap;           // g = h − δ + u, projected on the constraints (0 in contact, ≥ 0)
+  double penetration = 0.0;    // δ: rigid-body approach of the indenter
+  double mean_pressure = 0.0;  // mean of p over the grid
+  bool empty() const { return pressure.empty(); }
+};
+
+// Which scalar a load step fixes. Force and mean gap are converted to these two by
+// the scene (force = mean pressure x area; mean gap = <h> − δ on a periodic grid).
+enum class Control { MeanPressure, Penetration };
+struct Target {
+  Control control;
+  double value;
+};
+
+// Progress report hook (iteration, residual); the solver never prints.
+using Progress = std::function<void(int iteration, double residual)>;
+
+struct SolverOptions {
+  double tolerance = 1e-10;  // on the solver's residual (see each solver)
+  int max_iterations = 2000;
+  Progress progress;          // optional
+  int progress_every = 25;
+};
+
+}  // namespace cmc

@@ -1,0 +1,54 @@
+// Runs a scene's load steps with the case's solver, one after the other, each warm
+// started from the previous one. Knows algorithms, not files: the caller decides
+// what to do with each solved step (the Writer saves it).
+#pragma once
+
+#include "cmc/scene/Scene.hpp"
+#include "cmc/observe/StepObservables.hpp"
+
+#include <optional>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace cmc {
+
+// One load step in SI units, as written to summary.json.
+struct StepRecord {
+  int index = 0;
+  std::string branch = "loading";
+  double mean_pressure = 0.0;    // Pa
+  double force = 0.0;            // N (mean pressure x nominal area)
+  double penetration = 0.0;      // m, rigid-body approach δ
+  double mean_gap = 0.0;         // m
+  double contact_fraction = 0.0; // fraction of grid points carrying pressure
+  double energy = 0.0;           // J: elastic energy plus interaction energy (adhesion), if any
+  bool jump = false;             // an instability (jump in or out of contact) before this step
+  int halvings = 0;              // how often the step had to be halved to get here
+  SolveResult result;
+  std::optional<StepObservables> observables;  // when the case asks for them
+};
+
+struct RunSummary {
+  std::string status = "converged";  // converged | not_converged | failed
+  std::string message;
+  std::vector<StepRecord> steps;
+  double wall_s = 0.0;
+  double fft_pairs = 0.0;
+  // Load path (adhesive runs): pull-off = the most negative load of every converged
+  // solve, sub-steps included; steps that needed halving; steps after a jump.
+  bool load_path = false;
+  double pulloff_mean_pressure = 0.0, pulloff_force = 0.0;  // Pa, N
+  std::string pulloff_branch;
+  int halved_steps = 0, jumps = 0;
+};
+
+using StepCallback = std::function<void(const StepRecord&, const ContactState&)>;
+
+// `done`: steps already finished by an interrupted run (skipped, kept in the summary);
+// `warm`: the state to warm-start the next step from.
+RunSummary run_scene(const Case& c, Scene& s, const StepCallback& on_step, const Progress& progress = {},
+                     const std::vector<StepRecord>* done = nullptr, const ContactState* warm = nullptr);
+
+}  // namespace cmc
