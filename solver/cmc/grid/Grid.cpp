@@ -61,6 +61,23 @@ double Grid::min(std::span<const double> v) {
   return m;
 }
 
+double Grid::dot(std::span<const double> a, std::span<const double> b) {
+  double s = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) s += a[i] * b[i];
+  return s;
+}
+std::size_t Grid::count(std::span<const std::uint8_t> mask) {
+  std::size_t n = 0;
+  for (auto m : mask) n += m ? 1 : 0;
+  return n;
+}
+
+namespace detail {
+int omp_threads_for(std::size_t work) { return work < Grid::parallel_min ? 1 : thread_count(); }
+int omp_thread_id() { return omp_get_thread_num(); }
+int omp_thread_total() { return omp_get_num_threads(); }
+}  // namespace detail
+
 int thread_count() {
   if (const char* s = std::getenv("CMC_THREADS")) {
     const int n = std::atoi(s);

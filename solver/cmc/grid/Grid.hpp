@@ -12,6 +12,7 @@
 #pragma once
 
 #include <complex>
+#include <cstdint>
 #include <cstddef>
 #include <memory>
 #include <span>
@@ -56,12 +57,37 @@ struct Grid {
 
   Field field(double value = 0.0) const { return Field(size(), value); }
 
-  // Global reductions (the hook for a distributed backend).
+  // Global reductions over whole fields. Every sum, count, extremum and dot product of
+  // cmc goes through these or through parallel_reduce below: they are where a distributed
+  // backend (MPI slabs, a GPU) combines its partial results. Nothing outside grid/ loops
+  // over a field to reduce it (tests/test_grid_layer.cpp checks the sources).
   static double sum(std::span<const double> v);
   static double max(std::span<const double> v);
   static double min(std::span<const double> v);
   static double mean(std::span<const double> v) { return sum(v) / double(v.size()); }
-  // In-place global sum of a few partial sums computed by a fused loop.
+  static double dot(std::span<const double> a, std::span<const double> b);
+  // Number of set entries of a mask, and of entries for which pred(v) holds.
+  static std::size_t count(std::span<const std::uint8_t> mask);
+  template <class Pred>
+  static std::size_t count_if(std::span<const double> v, Pred pred);
+
+  // A fused per-point pass with partial results: body(begin, end, acc) handles the
+  // index range [begin, end) of [0, n) and accumulates into acc. The range is split into
+  // one contiguous chunk per thread (OpenMP, static: the split and the order in which
+  // the partials are merged depend only on the thread count, so a rerun gives the same
+  // bits), each chunk starts from a default-constructed Acc, and the partials are merged
+  // in chunk order with acc.merge(other). Passes over fewer than `parallel_min` indices
+  // of work run on one thread. Acc must be default-constructible with the identity of
+  // every reduction it holds (0 for sums, -inf for maxima).
+  template <class Acc, class Body>
+  static Acc parallel_reduce(std::size_t n, Body&& body, std::size_t work = 0);
+  // The same without partial results (a pure per-point pass).
+  template <class Body>
+  static void parallel_for(std::size_t n, Body&& body, std::size_t work = 0);
+  // Passes smaller than this many points of work run on one thread: OpenMP's fork/join
+  // costs more than it saves below it (measured on 2 cores, wave 1).
+  static constexpr std::size_t parallel_min = std::size_t(1) << 15;
+  // Old no-op hooks, being replaced by the reductions above (to be deleted).
   template <std::size_t K>
   static void allreduce_sum(double (&)[K]) {}
   static void allreduce_max(double&) {}
@@ -112,6 +138,58 @@ class Fourier {
 // Threads used by FFTW (and by elementwise loops, where parallel): $CMC_THREADS or
 // all hardware threads.
 int thread_count();
+
+// ---------------------------------------------------------------- pass templates
+
+namespace detail {
+int omp_threads_for(std::size_t work);  // 1 below Grid::parallel_min, else thread_count()
+int omp_thread_id();
+int omp_thread_total();
+}  // namespace detail
+
+template <class Acc, class Body>
+Acc Grid::parallel_reduce(std::size_t n, Body&& body, std::size_t work) {
+  const int nt = detail::omp_threads_for(work ? work : n);
+  if (nt <= 1) {
+    Acc acc{};
+    if (n) body(std::size_t(0), n, acc);
+    return acc;
+  }
+  std::vector<Acc> part(std::size_t(nt), Acc{});
+  int used = nt;
+#pragma omp parallel num_threads(nt)
+  {
+    const int t = detail::omp_thread_id(), m = detail::omp_thread_total();
+#pragma omp single
+    used = m;
+    const std::size_t b = n * std::size_t(t) / std::size_t(m), e = n * std::size_t(t + 1) / std::size_t(m);
+    if (e > b) body(b, e, part[std::size_t(t)]);
+  }
+  Acc acc{};
+  for (int t = 0; t < used; ++t) acc.merge(part[std::size_t(t)]);
+  return acc;
+}
+
+template <class Body>
+void Grid::parallel_for(std::size_t n, Body&& body, std::size_t work) {
+  struct None {
+    void merge(const None&) {}
+  };
+  parallel_reduce<None>(n, [&](std::size_t b, std::size_t e, None&) { body(b, e); }, work);
+}
+
+template <class Pred>
+std::size_t Grid::count_if(std::span<const double> v, Pred pred) {
+  struct Count {
+    std::size_t n = 0;
+    void merge(const Count& o) { n += o.n; }
+  };
+  return parallel_reduce<Count>(v.size(), [&](std::size_t b, std::size_t e, Count& c) {
+    std::size_t k = 0;
+    for (std::size_t i = b; i < e; ++i) k += pred(v[i]) ? 1 : 0;
+    c.n += k;
+  }).n;
+}
 // Write FFTW wisdom gathered so far (done automatically after planning).
 void save_fftw_wisdom();
 
