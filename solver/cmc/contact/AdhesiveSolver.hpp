@@ -52,8 +52,8 @@
 //  * PeriodicHalfSpace: K = E*|q|/2 on the grid's own FFT (Johnson 1985 §13.2), mean(u) = 0.
 //    Displacement control fixes δ, i.e. the mean gap ḡ = mean(h) − δ; the mean pressure is
 //    the Lagrange multiplier of that constraint, p̄ = −mean over the free set of (K u + φ').
-//  * FreeHalfSpace: the same Love/Boussinesq influence coefficients as FreeHalfSpace,
-//    circulant on the grid zero-padded to (2nx) x (2ny) (Hockney 1970; Pastewka & Robbins,
+//  * FreeHalfSpace: the operator's padded circulant of Love/Boussinesq influence
+//    coefficients on the grid zero-padded to (2nx) x (2ny) (Hockney 1970; Pastewka & Robbins,
 //    Appl. Phys. Lett. 108, 221601 (2016)). The unknowns are the displacements on the whole
 //    padded grid, with the interaction and the wall acting on the physical patch only, and
 //    K = C⁻¹ (C the padded circulant, inverted exactly in Fourier space). Minimising over
@@ -77,11 +77,21 @@
 // Illinois (modified regula falsi). It lands on the branch the warm start is on, and
 // reports not converged when no δ on that branch carries the target (beyond pull-off, or
 // a jump in between). Its tolerance on the mean pressure is 10 × tolerance × P.
+//
+// The parts (each a small named function, constants named and explained in the .cpp):
+//  * per-point passes (evaluation, direction, trial point): adhesive/Passes.hpp;
+//  * convergence measure (the KKT residual above): Iteration::digest;
+//  * search direction (Daniel's β with the sufficient-descent reset): Iteration::direction;
+//  * step rule (exact curvature step, trust step, energy-checked backtracking by
+//    safeguarded quadratic interpolation): Iteration::line_search;
+//  * load control (the outer secant/Illinois search on δ): adhesive/LoadControl.hpp;
+//  * path control (step halving, jump detection, pull-off): LoadPath.hpp.
+// The elastic response is the HalfSpace's (its stiffness K on the transform grid).
 #pragma once
 
-#include "cmc/elastic/HalfSpace.hpp"
 #include "cmc/contact/Interaction.hpp"
 #include "cmc/contact/Solver.hpp"
+#include "cmc/elastic/HalfSpace.hpp"
 
 #include <memory>
 
@@ -91,20 +101,13 @@ class AdhesiveSolver {
  public:
   struct Options : SolverOptions {
     Options() { tolerance = 1e-8; }
-    int recompute_every = 64;    // exact K u every this many iterations
+    // Exact K u every this many incremental steps: bounds the round-off drift of the
+    // incremental update K u += α K d, at one FFT pair each (1-2 % of the pairs at 64).
+    int recompute_every = 64;
     bool restart_on_active_set_change = false;
     double trust_step = 0.0;     // largest gap change of a negative-curvature step; 0: interaction range
     int max_backtracks = 30;     // per line search
     int max_load_iterations = 60;  // outer iterations of load control
-  };
-  // What the last solve() did, beyond SolveResult.
-  struct Diagnostics {
-    int restarts = 0;             // directions reset to steepest descent
-    int backtracks = 0;           // rejected trial steps (energy increase)
-    int negative_curvature = 0;   // trust steps taken along negative curvature
-    int clipped_steps = 0;        // steps where the projection g >= 0 acted
-    int exact_recomputes = 0;     // K u recomputed from scratch
-    int load_iterations = 0;      // inner solves of load control
   };
 
   AdhesiveSolver(HalfSpace& half_space, const Field& heights, Interaction interaction, Options options = {});
@@ -113,27 +116,25 @@ class AdhesiveSolver {
   AdhesiveSolver& operator=(const AdhesiveSolver&) = delete;
 
   // Solve for `target`, warm-starting from `state` when it holds a solution on this grid.
-  // Displacement control (Control::Penetration) is the primary mode.
+  // Displacement control (Control::Penetration) is the primary mode. What the solve did on
+  // the way (restarts, backtracks, ...) is in the result's diagnostics.
   SolveResult solve(const Target& target, ContactState& state);
 
   double pressure_scale() const { return pscale_; }
   const Interaction& interaction() const { return interaction_; }
   const Options& options() const { return opt_; }
   Options& options() { return opt_; }
-  const Diagnostics& diagnostics() const { return diag_; }
+
+  struct Work;  // the transform-grid fields of a solve (AdhesiveSolver.cpp)
 
  private:
-  struct Work;
-  template <class I>
-  SolveResult solve_displacement(const I& inter, double delta, ContactState& st);
-  SolveResult solve_load(double mean_pressure, ContactState& st);
+  SolveResult solve_displacement(double delta, ContactState& st);
 
   HalfSpace& hs_;
   const Field& h_;
   Interaction interaction_;
   Options opt_;
   double pscale_ = 1.0;
-  Diagnostics diag_;
   std::unique_ptr<Work> w_;
 };
 

@@ -2,36 +2,333 @@
 
 #include <chrono>
 #include <cmath>
+#include <numbers>
 #include <sstream>
-#include <tuple>
 #include <stdexcept>
 
 namespace cmc {
 
 namespace {
-constexpr std::size_t kParallelMin = 1 << 15;  // smaller grids: one thread (no fork/join cost)
+
+// The spectral state that makes an iteration cost one FFT pair: the transform p̂ of the
+// current pressure, t̂ of the search direction and ĥ/N of the heights (so that the
+// operator returns w = h + G p without a pass that reads h).
+class SpectralPressure {
+ public:
+  SpectralPressure(HalfSpace& hs, const Field& h) : hs_(hs) {
+    hs_.forward(h, h_hat_);
+    const double norm = 1.0 / double(hs_.transform_size());
+    for (auto& c : h_hat_) c *= norm;
+  }
+  // p̂ = s FFT(p) (one forward) and w = h + G p̂ (one inverse).
+  void set_pressure(const Field& p, double s, Field& w) {
+    hs_.forward(p, p_hat_);
+    step(s, 0.0, w);
+  }
+  // t̂ = FFT(t) (one forward); returns <t, G t>.
+  double set_direction(const Field& t) {
+    hs_.forward(t, t_hat_);
+    return hs_.quadratic_form(t_hat_, hs_.compliance());
+  }
+  // p̂ ← s (p̂ − τ t̂) and w = h + G p̂ (one inverse). The caller applies the same step to
+  // its real-space p.
+  void step(double s, double tau, Field& w) {
+    Complex* out = hs_.spectrum().data();
+    Complex* ph = p_hat_.data();
+    const Complex* th = tau != 0.0 ? t_hat_.data() : nullptr;
+    const Complex* off = h_hat_.data();
+    const double* ker = hs_.compliance().data();
+    Grid::parallel_for(p_hat_.size(), [&](std::size_t b, std::size_t e) {
+      for (std::size_t k = b; k < e; ++k) {
+        const Complex pk = s * (th ? ph[k] - tau * th[k] : ph[k]);
+        ph[k] = pk;
+        out[k] = pk * ker[k] + off[k];
+      }
+    });
+    hs_.inverse(w);
+  }
+
+ private:
+  HalfSpace& hs_;
+  Spectrum p_hat_, t_hat_, h_hat_;
+};
+
+// Sums of step (a) over the contact set Ic = {p > 0} and the overlap set, relative to c.
+struct GapSums {
+  double s1 = 0.0, s2 = 0.0, nc = 0.0;  // Σ_Ic (w − c), Σ_Ic (w − c)², |Ic|
+  double ol = 0.0, nol = 0.0;           // Σ overlap², number of overlapping points
+  double tsum = 0.0;                    // Σ_Ic t: keeps the next direction load-neutral
+  void merge(const GapSums& o) {
+    s1 += o.s1, s2 += o.s2, nc += o.nc, ol += o.ol, nol += o.nol, tsum += o.tsum;
+  }
+};
+
+// One solve: the iterate and the steps (a)–(h) of Polonsky & Keer §3 as named parts.
+class PkRun {
+ public:
+  PkRun(HalfSpace& hs, const Field& h, const PolonskyKeer::Options& o, double h_scale, const Target& target,
+        ContactState& st)
+      : hs_(hs), h_(h), opt_(o), h_scale_(h_scale), n_(h.size()), force_(target.control == Control::MeanPressure),
+        target_(force_ ? target.value : 0.0), p_(st.pressure), w_(st.displacement), t_(n_, 0.0),
+        delta_(force_ ? st.penetration : target.value), spectral_(hs, h) {}
+
+  void run(SolveResult& res);
+  std::string failure;
+  double delta() const { return delta_; }
+  double sigma() const { return sigma_; }
+
+ private:
+  // Stiffness of the longest wave, E* π / L: turns an overlap into a first pressure.
+  double overlap_stiffness() const { return hs_.contact_modulus() * std::numbers::pi / hs_.grid().lx; }
+  void initial_pressure();
+  GapSums gap_sums() const;
+  bool restart_from_overlap();
+  double direction(double beta, double tbar);
+  bool project(double tau);
+  void exact() {
+    spectral_.set_pressure(p_, sigma_, w_);
+    since_exact_ = 0;
+  }
+
+  HalfSpace& hs_;
+  const Field& h_;
+  const PolonskyKeer::Options& opt_;
+  double h_scale_;
+  std::size_t n_;
+  bool force_;
+  double target_;
+  Field &p_, &w_;  // pressure (times sigma_), and w = h + u (the gap plus δ)
+  Field t_;        // search direction
+  double delta_;
+  SpectralPressure spectral_;
+  double sigma_ = 1.0;  // the pressure is sigma_ p_: the last load scaling, applied lazily
+  int since_exact_ = 0;  // linear spectral steps since p̂ was last taken from p
+  bool conjugate_ = false;  // PK's δ flag: false restarts steepest descent
+};
+
+void PkRun::initial_pressure() {
+  // Warm start, or PK's uniform guess (force control), or a guess proportional to the
+  // geometric overlap (displacement control).
+  const bool warm = p_.size() == n_ && Grid::sum(p_) > 0.0;
+  if (!warm) {
+    p_.assign(n_, 0.0);
+    if (force_) {
+      std::fill(p_.begin(), p_.end(), target_);
+    } else {
+      const double k = overlap_stiffness();
+      for (std::size_t i = 0; i < n_; ++i) p_[i] = std::max(0.0, delta_ - h_[i]) * k;
+    }
+  }
+  if (force_) {
+    if (target_ == 0.0) {
+      std::fill(p_.begin(), p_.end(), 0.0);
+    } else {
+      const double s = target_ / Grid::mean(p_);
+      for (auto& x : p_) x *= s;
+    }
+  }
+  w_.resize(n_);
+  exact();  // w = h + G p, and p̂ kept
 }
+
+// (a) gap statistics over Ic = {p > 0} (σ > 0 does not change it), shifted by the
+// previous δ to avoid cancellation.
+GapSums PkRun::gap_sums() const {
+  const double c = delta_;
+  const double* w = w_.data();
+  const double* p = p_.data();
+  const double* t = t_.data();
+  return Grid::parallel_reduce<GapSums>(n_, [&](std::size_t b, std::size_t e, GapSums& acc) {
+    GapSums s;
+    for (std::size_t i = b; i < e; ++i) {
+      const double x = w[i] - c;
+      if (p[i] > 0.0) {
+        s.s1 += x;
+        s.s2 += x * x;
+        s.nc += 1.0;
+        s.tsum += t[i];
+      } else if (x < 0.0) {
+        s.ol += x * x;
+        s.nol += 1.0;
+      }
+    }
+    acc.merge(s);
+  });
+}
+
+// The iteration lost its contact set: start again from the geometric overlap.
+bool PkRun::restart_from_overlap() {
+  const double k = overlap_stiffness();
+  for (std::size_t i = 0; i < n_; ++i) p_[i] = std::max(0.0, delta_ - h_[i]) * k;
+  if (Grid::sum(p_) == 0.0) {
+    failure = "Polonsky-Keer lost its contact set";
+    return false;
+  }
+  sigma_ = 1.0;
+  exact();
+  conjugate_ = false;
+  return true;
+}
+
+// (c) conjugate direction on Ic: t = g + β (t − t̄). Under load control the old direction
+// is made load-neutral on the current Ic (Σ_Ic t = 0), so the step keeps Σ p and the exact
+// line search needs only <t, G t> (PK subtract the Ic-mean of G t instead, which costs a
+// second transform). Returns Σ g t.
+double PkRun::direction(double beta, double tbar) {
+  double* t = t_.data();
+  const double* w = w_.data();
+  const double* p = p_.data();
+  const double d = delta_;
+  return Grid::parallel_reduce<SumReduction>(n_, [&](std::size_t b, std::size_t e, SumReduction& acc) {
+           double sgt = 0.0;
+           for (std::size_t i = b; i < e; ++i) {
+             if (p[i] > 0.0) {
+               const double g = w[i] - d;
+               t[i] = g + beta * (t[i] - tbar);
+               sgt += g * t[i];
+             } else {
+               t[i] = 0.0;
+             }
+           }
+           acc.v += sgt;
+         }).v;
+}
+
+// (e)–(g) pressure step p ← σ p − τ t on Ic, projection onto p ≥ 0, overlapping points
+// join with p = −τ g. Then (h) the load scaling (applied lazily through σ) and the new
+// displacement. Returns false if the pressure vanished under load control.
+bool PkRun::project(double tau) {
+  struct Step {
+    double psum = 0.0;
+    bool changed = false;
+    void merge(const Step& o) { psum += o.psum, changed = changed || o.changed; }
+  };
+  double* p = p_.data();
+  const double* w = w_.data();
+  const double* t = t_.data();
+  const double sg = sigma_, d = delta_;
+  const Step st = Grid::parallel_reduce<Step>(n_, [&](std::size_t b, std::size_t e, Step& acc) {
+    Step s;
+    for (std::size_t i = b; i < e; ++i) {
+      double pn = sg * p[i];
+      if (pn > 0.0) {
+        pn -= tau * t[i];
+        if (pn < 0.0) pn = 0.0, s.changed = true;
+      }
+      if (pn == 0.0) {
+        const double g = w[i] - d;
+        if (g < 0.0) pn = -tau * g, s.changed = true;
+      }
+      p[i] = pn;
+      s.psum += pn;
+    }
+    acc.merge(s);
+  });
+  double scale = 1.0;
+  if (force_) {
+    const double mean_p = st.psum / double(n_);
+    if (!(mean_p > 0.0)) {
+      failure = "Polonsky-Keer: pressure vanished during the iteration";
+      return false;
+    }
+    scale = target_ / mean_p;
+  }
+  // A linear step is one inverse transform; a projected one needs the transform of the
+  // new p (one forward more).
+  if (st.changed || ++since_exact_ >= opt_.recompute_every) {
+    spectral_.set_pressure(p_, scale, w_);
+    since_exact_ = 0;
+  } else {
+    spectral_.step(scale, tau, w_);
+  }
+  sigma_ = scale;
+  conjugate_ = !st.changed;
+  return true;
+}
+
+void PkRun::run(SolveResult& res) {
+  initial_pressure();
+  double G_old = 1.0;
+  double last_tau = hs_.grid().lx / (std::numbers::pi * hs_.contact_modulus());  // compliance of the longest wave
+  for (int it = 0;; ++it) {
+    const double c = delta_;
+    const GapSums S = gap_sums();
+    if (S.nc == 0.0) {
+      // No point carries pressure: either no contact at all (a valid solution of a
+      // displacement-controlled step whose indenter does not reach the surface, or of
+      // zero load), or the iteration lost its contact set.
+      if ((!force_ && S.nol == 0.0) || (force_ && target_ == 0.0)) {
+        res.iterations = it;
+        res.residual = 0.0;
+        return;
+      }
+      if (!restart_from_overlap()) return;
+      ++res.diagnostics.restarts;
+      continue;
+    }
+    double G;
+    if (force_) {
+      const double shift = S.s1 / S.nc;  // mean gap over Ic relative to c
+      delta_ = c + shift;                // (b) the rigid-body position that zeroes it
+      G = std::max(0.0, S.s2 - S.nc * shift * shift);
+    } else {
+      G = S.s2;
+    }
+    // Overlap term measured with the previous δ; it is zero at convergence either way.
+    res.residual = std::sqrt((G + S.ol) / (S.nc + S.nol)) / h_scale_;
+    res.iterations = it;
+    if (opt_.progress && it % std::max(1, opt_.progress_every) == 0) opt_.progress(it, res.residual);
+    if (res.residual <= opt_.tolerance) {
+      if (since_exact_ == 0) return;
+      exact();  // confirm on u recomputed from the real-space p (removes spectral drift)
+      ++res.diagnostics.exact_recomputes;
+      continue;
+    }
+    if (it >= opt_.max_iterations) return;
+
+    const double beta = conjugate_ ? G / G_old : 0.0;
+    if (beta == 0.0) ++res.diagnostics.restarts;
+    G_old = G;
+    const double sgt = direction(beta, force_ ? S.tsum / S.nc : 0.0);
+    // (d) curvature along t from its transform alone (one forward transform)
+    const double denom = spectral_.set_direction(t_);
+    double tau;
+    if (denom > 0.0 && sgt > 0.0) {
+      tau = last_tau = sgt / denom;
+    } else if (S.nol > 0.0) {
+      tau = last_tau;  // nothing to gain on Ic: only overlapping points move
+      conjugate_ = false;
+    } else {
+      // No descent left and no overlap: round-off floor. Confirm on an exact u, then stop.
+      if (since_exact_ == 0) return;
+      exact();
+      ++res.diagnostics.exact_recomputes;
+      conjugate_ = false;
+      continue;
+    }
+    if (!project(tau)) return;
+    if (!conjugate_) ++res.diagnostics.clipped_steps;
+  }
+}
+
+}  // namespace
 
 PolonskyKeer::PolonskyKeer(HalfSpace& hs, const Field& heights, Options o) : hs_(hs), h_(heights), opt_(std::move(o)) {
   if (heights.size() != hs.grid().size()) throw std::invalid_argument("PolonskyKeer: heights do not match the grid");
   const double hm = Grid::mean(heights);
-  double s = 0.0;
-  for (double h : heights) s += (h - hm) * (h - hm);
-  double v[1] = {s};
-  Grid::allreduce_sum(v);
-  h_scale_ = std::sqrt(v[0] / double(hs.grid().size()));
+  const double var = Grid::parallel_reduce<SumReduction>(heights.size(), [&](std::size_t b, std::size_t e, SumReduction& acc) {
+                       double s = 0.0;
+                       for (std::size_t i = b; i < e; ++i) s += (heights[i] - hm) * (heights[i] - hm);
+                       acc.v += s;
+                     }).v;
+  h_scale_ = std::sqrt(var / double(hs.grid().size()));
   if (!(h_scale_ > 0.0)) h_scale_ = 1.0;
 }
 
 SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
   const auto t0 = std::chrono::steady_clock::now();
   const double pairs0 = hs_.fft_pairs();
-  const Grid& grid = hs_.grid();
-  const std::size_t n = grid.size();
-  const bool force_control = target.control == Control::MeanPressure;
-  const double* h = h_.data();
   SolveResult res;
-
   auto finish = [&](bool converged, std::string msg) {
     res.converged = converged;
     res.message = std::move(msg);
@@ -39,221 +336,30 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
     res.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return res;
   };
-
-  if (force_control && !(target.value >= 0.0))
+  if (target.control == Control::MeanPressure && !(target.value >= 0.0))
     return finish(false, "Polonsky-Keer needs a non-negative mean pressure (no adhesion in a hard-wall solve)");
 
-  Field& p = st.pressure;
-  Field& u = st.displacement;
-  double delta = force_control ? st.penetration : target.value;
-
-  // ---- initial pressure: warm start, or PK's uniform guess (force control) or
-  // a guess proportional to the geometric overlap (displacement control).
-  const bool warm = p.size() == n && Grid::sum(p) > 0.0;
-  if (!warm) {
-    p.assign(n, 0.0);
-    if (force_control) {
-      std::fill(p.begin(), p.end(), target.value);
-    } else {
-      const double stiffness = hs_.contact_modulus() * M_PI / grid.lx;
-      for (std::size_t i = 0; i < n; ++i) p[i] = std::max(0.0, delta - h[i]) * stiffness;
-    }
-  }
-  if (force_control) {
-    if (target.value == 0.0) {
-      std::fill(p.begin(), p.end(), 0.0);
-    } else {
-      const double s = target.value / Grid::mean(p);
-      for (auto& x : p) x *= s;
-    }
-  }
-  // The iteration works with w = h + u (the gap plus δ): the operator adds h in
-  // Fourier space, so no pass reads h. u = w − h at the end.
-  Field& w = u;
-  hs_.set_offset(h_);
-  struct ClearOffset {
-    HalfSpace& hs;
-    ~ClearOffset() { hs.clear_offset(); }
-  } clear_offset{hs_};
-  std::string failure;
-  hs_.set_pressure(p, 1.0, w);  // w = h + G p, and the operator keeps p̂
-
-  Field t(n, 0.0);
-  double G_old = 1.0;
-  double last_tau = grid.lx / (M_PI * hs_.contact_modulus());  // compliance of the longest wave
-  bool conjugate = false;     // PK's δ flag: false restarts steepest descent
-  int since_exact = 0;        // linear spectral steps since p̂ was last taken from p
-  double sigma = 1.0;         // the pressure is sigma * p: the last load scaling, applied lazily
-  const double mean_target = force_control ? target.value : 0.0;
-
-  for (int it = 0;; ++it) {
-    // ---- (a) gap statistics over the contact set Ic = {p > 0} (σ > 0 does not change
-    // it). Sums are shifted by the previous δ to avoid cancellation. Σ_Ic t is gathered
-    // to keep the next direction load-neutral.
-    const double c = delta;
-    double s1 = 0.0, s2 = 0.0, nc = 0.0, ol = 0.0, nol = 0.0, tsum = 0.0;
-#pragma omp parallel for schedule(static) if (n > kParallelMin) reduction(+ : s1, s2, nc, ol, nol, tsum)
-    for (std::size_t i = 0; i < n; ++i) {
-      const double x = w[i] - c;
-      if (p[i] > 0.0) {
-        s1 += x;
-        s2 += x * x;
-        nc += 1.0;
-        tsum += t[i];
-      } else if (x < 0.0) {
-        ol += x * x;
-        nol += 1.0;
-      }
-    }
-    double sums[6] = {s1, s2, nc, ol, nol, tsum};
-    Grid::allreduce_sum(sums);
-    std::tie(s1, s2, nc, ol, nol, tsum) = std::tuple(sums[0], sums[1], sums[2], sums[3], sums[4], sums[5]);
-
-    if (nc == 0.0) {
-      // No point carries pressure: either no contact at all (a valid solution of a
-      // displacement-controlled step whose indenter does not reach the surface, or of
-      // zero load), or the iteration lost its contact set.
-      if ((!force_control && nol == 0.0) || (force_control && mean_target == 0.0)) {
-        res.iterations = it;
-        res.residual = 0.0;
-        break;
-      }
-      // Restart from the geometric overlap.
-      for (std::size_t i = 0; i < n; ++i) p[i] = std::max(0.0, delta - h[i]) * hs_.contact_modulus() * M_PI / grid.lx;
-      if (Grid::sum(p) == 0.0) {
-        failure = "Polonsky-Keer lost its contact set";
-        break;
-      }
-      sigma = 1.0;
-      hs_.set_pressure(p, 1.0, w);
-      since_exact = 0;
-      conjugate = false;
-      continue;
-    }
-    double G;
-    if (force_control) {
-      const double shift = s1 / nc;  // mean gap over Ic relative to c
-      delta = c + shift;             // (b) the rigid-body position that zeroes it
-      G = std::max(0.0, s2 - nc * shift * shift);
-    } else {
-      G = s2;
-    }
-    // Overlap term measured with the previous δ; it is zero at convergence either way.
-    res.residual = std::sqrt((G + ol) / (nc + nol)) / h_scale_;
-    res.iterations = it;
-    if (opt_.progress && it % std::max(1, opt_.progress_every) == 0) opt_.progress(it, res.residual);
-
-    if (res.residual <= opt_.tolerance) {
-      if (since_exact == 0) break;
-      // Confirm on u recomputed from the real-space p (removes spectral round-off drift).
-      hs_.set_pressure(p, sigma, w);
-      since_exact = 0;
-      continue;
-    }
-    if (it >= opt_.max_iterations) break;
-
-    // ---- (c) conjugate direction on Ic. Under load control the old direction is
-    // made load-neutral on the current Ic (Σ_Ic t = 0), so the step keeps Σ p and the
-    // exact line search needs only <t, G t> (PK subtract the Ic-mean of G t instead,
-    // which costs a second transform).
-    const double beta = conjugate ? G / G_old : 0.0;
-    const double tbar = force_control ? tsum / nc : 0.0;
-    G_old = G;
-    double sgt = 0.0;
-#pragma omp parallel for schedule(static) if (n > kParallelMin) reduction(+ : sgt)
-    for (std::size_t i = 0; i < n; ++i) {
-      if (p[i] > 0.0) {
-        const double g = w[i] - delta;
-        t[i] = g + beta * (t[i] - tbar);
-        sgt += g * t[i];
-      } else {
-        t[i] = 0.0;
-      }
-    }
-    double red[1] = {sgt};
-    Grid::allreduce_sum(red);
-    sgt = red[0];
-    // ---- (d) curvature along t from its transform alone (one forward transform)
-    const double denom = hs_.set_direction(t);
-    double tau;
-    if (denom > 0.0 && sgt > 0.0) {
-      tau = last_tau = sgt / denom;
-    } else if (nol > 0.0) {
-      tau = last_tau;  // nothing to gain on Ic: only overlapping points move
-      conjugate = false;
-    } else {
-      // No descent left and no overlap: round-off floor. Confirm on an exact u, then stop.
-      if (since_exact > 0) {
-        hs_.set_pressure(p, sigma, w);
-        since_exact = 0;
-        conjugate = false;
-        continue;
-      }
-      break;
-    }
-
-    // ---- (e)–(g) pressure update, projection onto p ≥ 0, overlap points join
-    bool changed = false;
-    double psum = 0.0;
-#pragma omp parallel for schedule(static) if (n > kParallelMin) reduction(+ : psum) reduction(|| : changed)
-    for (std::size_t i = 0; i < n; ++i) {
-      double pn = sigma * p[i];
-      if (pn > 0.0) {
-        pn -= tau * t[i];
-        if (pn < 0.0) {
-          pn = 0.0;
-          changed = true;
-        }
-      }
-      if (pn == 0.0) {
-        const double g = w[i] - delta;
-        if (g < 0.0) {
-          pn = -tau * g;
-          changed = true;
-        }
-      }
-      p[i] = pn;
-      psum += pn;
-    }
-    double ps[1] = {psum};
-    Grid::allreduce_sum(ps);
-    conjugate = !changed;
-    // ---- (h) enforce the load
-    double scale = 1.0;
-    if (force_control) {
-      const double mean_p = ps[0] / double(n);
-      if (!(mean_p > 0.0)) {
-        failure = "Polonsky-Keer: pressure vanished during the iteration";
-        break;
-      }
-      scale = mean_target / mean_p;
-    }
-    // ---- new displacement: a linear step is one inverse transform; a projected one
-    // needs the transform of the new p (one forward more).
-    if (changed || ++since_exact >= opt_.recompute_every) {
-      hs_.set_pressure(p, scale, w);
-      since_exact = 0;
-    } else {
-      hs_.step_pressure(scale, tau, w);
-    }
-    sigma = scale;
-  }
-  if (sigma != 1.0)
-    for (auto& x : p) x *= sigma;
-
-  // ---- the solved state
-  st.penetration = delta;
+  PkRun run(hs_, h_, opt_, h_scale_, target, st);
+  run.run(res);
+  // ---- the solved state. The reported gap is the solution's: zero where pressure is
+  // carried, and the non-negative gap elsewhere; how far the iterate is from that is the
+  // residual. w = h + u becomes the displacement again.
+  Field &p = st.pressure, &u = st.displacement;
+  const double sigma = run.sigma(), delta = run.delta();
+  const std::size_t n = p.size();
   st.gap.resize(n);
-  // The reported gap is the solution's: zero where pressure is carried, and the
-  // non-negative gap elsewhere. How far the iterate is from that is the residual.
-  for (std::size_t i = 0; i < n; ++i) {
-    st.gap[i] = p[i] > 0.0 ? 0.0 : std::max(0.0, w[i] - delta);
-    u[i] = w[i] - h[i];  // w becomes the displacement again
-  }
+  Grid::parallel_for(n, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      if (sigma != 1.0) p[i] *= sigma;
+      st.gap[i] = p[i] > 0.0 ? 0.0 : std::max(0.0, u[i] - delta);
+      u[i] -= h_[i];
+    }
+  });
+  st.penetration = delta;
   st.mean_pressure = Grid::mean(p);
   res.energy = hs_.energy(p, u);
-  const bool ok = failure.empty() && res.residual <= opt_.tolerance;
-  std::string msg = failure;
+  const bool ok = run.failure.empty() && res.residual <= opt_.tolerance;
+  std::string msg = run.failure;
   if (!ok && msg.empty()) {
     std::ostringstream s;
     s << "Polonsky-Keer stopped after " << res.iterations << " iterations at residual " << res.residual

@@ -6,11 +6,13 @@
 // penetration (displacement) control.
 //
 // Cost: the Green's function is applied to the search direction once per iteration
-// (one FFT pair). The displacement of the new pressure is then updated
-// incrementally, u ← s (u − τ G t), which is exact whenever the step changed no
-// point's contact status; when it did (points clipped to zero pressure or points
-// added from overlap), or every `recompute_every` iterations, or before declaring
-// convergence, u = G p is recomputed exactly (one more FFT pair).
+// (one FFT pair). The solver keeps the transform p̂ of the current pressure and t̂ of
+// the direction, so the displacement of the new pressure is one inverse transform,
+// exact whenever the step changed no point's contact status; when it did (points
+// clipped to zero pressure or points added from overlap), or every `recompute_every`
+// iterations, or before declaring convergence, p̂ is taken afresh from p (one forward
+// transform more). It iterates on w = h + u, with h added in Fourier space, so no pass
+// reads h.
 //
 // Residual (what `tolerance` applies to): the rms gap over points carrying pressure
 // together with the rms overlap (negative gap) elsewhere, divided by the rms height
@@ -18,14 +20,16 @@
 // far the complementarity conditions g ≥ 0, p ≥ 0, p g = 0 are from holding.
 #pragma once
 
-#include "cmc/elastic/HalfSpace.hpp"
 #include "cmc/contact/Solver.hpp"
+#include "cmc/elastic/HalfSpace.hpp"
 
 namespace cmc {
 
 class PolonskyKeer {
  public:
   struct Options : SolverOptions {
+    // Exact displacement every this many linear steps: bounds the drift of the
+    // incremental spectral update (round-off), at one forward transform each.
     int recompute_every = 32;
   };
 

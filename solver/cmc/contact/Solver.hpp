@@ -15,6 +15,22 @@
 
 namespace cmc {
 
+// What a solve did on the way, beyond its iteration count (0 for events a solver does
+// not have).
+struct SolveDiagnostics {
+  int restarts = 0;            // directions reset to steepest descent
+  int backtracks = 0;          // rejected trial steps (energy increase)
+  int negative_curvature = 0;  // trust steps along negative curvature
+  int clipped_steps = 0;       // steps where the projection on the constraints acted
+  int exact_recomputes = 0;    // elastic response recomputed from scratch (one more FFT pair)
+  int outer_iterations = 0;    // inner solves of an outer load-control search
+  SolveDiagnostics& operator+=(const SolveDiagnostics& o) {
+    restarts += o.restarts, backtracks += o.backtracks, negative_curvature += o.negative_curvature;
+    clipped_steps += o.clipped_steps, exact_recomputes += o.exact_recomputes, outer_iterations += o.outer_iterations;
+    return *this;
+  }
+};
+
 struct SolveResult {
   bool converged = false;
   int iterations = 0;
@@ -23,6 +39,7 @@ struct SolveResult {
   double wall_s = 0.0;
   double fft_pairs = 0.0;  // (forward + inverse transforms) / 2
   std::string message;  // why it stopped, when it did not converge
+  SolveDiagnostics diagnostics;
 };
 
 // The solved state of one load step (reduced units). Also the warm start of the next.

@@ -7,121 +7,218 @@
 
 namespace cmc {
 
-HalfSpace::HalfSpace(const Grid& g, double estar) : grid_(g), estar_(estar) {
+namespace {
+// Weight of r2c mode column ix in a sum over the full (Hermitian) spectrum of a transform
+// nx points wide: interior columns stand for a ±q pair.
+double mode_weight(int ix, int nx) { return (ix == 0 || 2 * ix == nx) ? 1.0 : 2.0; }
+}  // namespace
+
+Grid HalfSpace::checked(const Grid& g, double estar, Boundary b) {
   if (!(estar > 0.0) || !std::isfinite(estar)) throw std::invalid_argument("HalfSpace: contact modulus must be positive");
   if (g.nx <= 0 || g.ny <= 0) throw std::invalid_argument("HalfSpace: grid must have a positive number of points");
+  if (b == Boundary::Free && g.ny < 2)
+    throw std::invalid_argument("FreeHalfSpace: a free boundary needs a two-dimensional grid");
+  return g;
 }
 
-double HalfSpace::energy(const Field& p, const Field& u) const {
-  double s = 0.0;
-  for (std::size_t i = 0; i < p.size(); ++i) s += p[i] * u[i];
-  double v[1] = {s};
-  Grid::allreduce_sum(v);
-  return 0.5 * v[0] * grid_.cell_area();
-}
-
-template <class F>
-void HalfSpace::for_each_mode(F&& f) const {
-  // r2c layout: rows of nx/2 + 1 modes; interior columns stand for a ±q pair.
-  const int nxt = fourier_->nx(), nqx = nxt / 2 + 1, ny = fourier_->ny();
-  for (int iy = 0; iy < ny; ++iy) {
-    const std::size_t row = std::size_t(iy) * nqx;
-    f(row, 1.0);
-    for (int ix = 1; ix < nqx; ++ix) f(row + ix, 2 * ix == nxt ? 1.0 : 2.0);
+HalfSpace::HalfSpace(const Grid& g, double estar, Boundary b)
+    : grid_(checked(g, estar, b)),
+      estar_(estar),
+      boundary_(b),
+      mx_(b == Boundary::Free ? 2 * g.nx : g.nx),
+      my_(b == Boundary::Free ? 2 * g.ny : g.ny),
+      fourier_(mx_, my_) {
+  if (periodic()) {
+    make_periodic_compliance();
+  } else {
+    padded_.assign(transform_size(), 0.0);
+    make_free_compliance();
   }
 }
 
-void HalfSpace::displacement(const Field& p, Field& u) {
-  fourier_->forward(to_transform_grid(p));
-  auto& s = fourier_->spectrum();
-  for (std::size_t k = 0; k < s.size(); ++k) s[k] *= kernel_[k];
-  u.resize(grid_.size());
-  from_transform_grid(u);
-}
-
-void HalfSpace::set_offset(const Field& h) {
-  offset_hat_.resize(fourier_->spectrum_size());
-  fourier_->forward(to_transform_grid(h), offset_hat_.data());
-  const double norm = fourier_->normalisation();
-  for (auto& c : offset_hat_) c *= norm;
-}
-
-void HalfSpace::set_pressure(const Field& p, double scale, Field& u) {
-  p_hat_.resize(fourier_->spectrum_size());
-  fourier_->forward(to_transform_grid(p), p_hat_.data());
-  step_pressure(scale, 0.0, u);
-}
-
-double HalfSpace::set_direction(const Field& t) {
-  t_hat_.resize(fourier_->spectrum_size());
-  fourier_->forward(to_transform_grid(t), t_hat_.data());
-  // Parseval with the unnormalised forward transform: Σ_i t_i (G t)_i =
-  // (1/N) Σ_q G(q) |t̂_q|², and kernel_ already holds G(q)/N.
-  double d = 0.0;
-  for_each_mode([&](std::size_t k, double w) { d += w * kernel_[k] * std::norm(t_hat_[k]); });
-  double v[1] = {d};
-  Grid::allreduce_sum(v);
-  return v[0];
-}
-
-void HalfSpace::step_pressure(double scale, double tau, Field& u) {
-  auto& s = fourier_->spectrum();
-  Complex* ph = p_hat_.data();
-  const Complex* th = tau != 0.0 ? t_hat_.data() : nullptr;
-  const Complex* off = offset_hat_.empty() ? nullptr : offset_hat_.data();
-  const double* ker = kernel_.data();
-  Complex* out = s.data();
-  const std::ptrdiff_t m = std::ptrdiff_t(s.size());
-#pragma omp parallel for schedule(static) if (m > (1 << 15))
-  for (std::ptrdiff_t k = 0; k < m; ++k) {
-    const Complex pk = scale * (th ? ph[k] - tau * th[k] : ph[k]);
-    ph[k] = pk;
-    out[k] = off ? pk * ker[k] + off[k] : pk * ker[k];
-  }
-  u.resize(grid_.size());
-  from_transform_grid(u);
-}
-
-// ---------------------------------------------------------------- periodic
-
-PeriodicHalfSpace::PeriodicHalfSpace(const Grid& g, double estar) : HalfSpace(g, estar) {
-  fourier_ = std::make_unique<Fourier>(g.nx, g.ny);
-  kernel_.assign(g.spectrum_size(), 0.0);
-  const double norm = fourier_->normalisation();
+void HalfSpace::make_periodic_compliance() {
+  const Grid& g = grid_;
+  compliance_.assign(g.spectrum_size(), 0.0);
+  const double norm = fourier_.normalisation();
   for (int iy = 0; iy < g.ny; ++iy)
     for (int ix = 0; ix < g.nqx(); ++ix) {
       const double q = std::hypot(g.qx(ix), g.qy(iy));
-      kernel_[std::size_t(iy) * g.nqx() + ix] = q > 0.0 ? 2.0 / (estar * q) * norm : 0.0;
+      compliance_[std::size_t(iy) * g.nqx() + ix] = q > 0.0 ? 2.0 / (estar_ * q) * norm : 0.0;
     }
 }
 
-void PeriodicHalfSpace::from_transform_grid(Field& out) { fourier_->inverse(out); }
-
-void PeriodicHalfSpace::pressure(const Field& u, Field& p, double) {
-  fourier_->forward(u);
-  auto& s = fourier_->spectrum();
-  const double norm = fourier_->normalisation();
-  for (std::size_t k = 0; k < s.size(); ++k)
-    s[k] = kernel_[k] > 0.0 ? s[k] * (norm * norm / kernel_[k]) : Complex(0.0);
-  p.resize(grid_.size());
-  fourier_->inverse(p);
+void HalfSpace::make_free_compliance() {
+  // The influence coefficients wrapped onto the padded grid: offsets 0..nx to the right,
+  // −(nx−1)..−1 to the left (the patch is nx wide, so no offset aliases another).
+  const Grid& g = grid_;
+  Field k(transform_size());
+  for (int j = 0; j < my_; ++j)
+    for (int i = 0; i < mx_; ++i) {
+      const int ii = i <= g.nx ? i : i - mx_, jj = j <= g.ny ? j : j - my_;
+      k[std::size_t(j) * mx_ + i] = influence(ii * g.dx(), jj * g.dy(), g.dx(), g.dy(), estar_);
+    }
+  fourier_.forward(k);
+  const auto& s = fourier_.spectrum();
+  compliance_.resize(s.size());
+  stiffness_.resize(s.size());
+  const double norm = fourier_.normalisation();
+  // The kernel is even in x and y, so its transform is real: its values are the
+  // eigenvalues of the padded circulant, all positive (it is an integral of 1/r over
+  // cells, a positive-definite kernel), and K is their inverse.
+  for (std::size_t q = 0; q < s.size(); ++q) {
+    const double lambda = s[q].real();
+    if (!(lambda > 0.0) || !std::isfinite(lambda))
+      throw std::runtime_error("HalfSpace: the padded free-boundary operator is not positive definite");
+    compliance_[q] = lambda * norm;
+    stiffness_[q] = norm / lambda;
+  }
 }
 
-double PeriodicHalfSpace::energy_from_displacement(const Field& u) {
-  fourier_->forward(u);
-  const auto& s = fourier_->spectrum();
-  const double norm = fourier_->normalisation();
+const Field& HalfSpace::stiffness() {
+  if (!stiffness_.empty()) return stiffness_;  // free: made with the compliance
+  // Periodic: K = E*|q|/2 (the inverse of 2/(E*|q|)); 0 at q = 0.
+  const double norm = fourier_.normalisation();
+  const int nq = mx_ / 2 + 1;
+  stiffness_.assign(compliance_.size(), 0.0);
+  for (int iy = 0; iy < my_; ++iy)
+    for (int ix = 0; ix < nq; ++ix)
+      stiffness_[std::size_t(iy) * nq + ix] = 0.5 * estar_ * std::hypot(grid_.qx(ix), grid_.qy(iy)) * norm;
+  return stiffness_;
+}
+
+// ---------------------------------------------------------------- transform grid
+
+double HalfSpace::apply(const double* in, double* out, const Field& mul) {
+  fourier_.forward(in);
+  Complex* s = fourier_.spectrum().data();
+  const double* m = mul.data();
+  const int nq = mx_ / 2 + 1, mx = mx_;
+  // Rows of modes in parallel; each row's partial sum is formed first (fewer round-off
+  // steps in the long sum).
+  const SumReduction acc = Grid::parallel_reduce<SumReduction>(
+      std::size_t(my_),
+      [&](std::size_t r0, std::size_t r1, SumReduction& a) {
+        for (std::size_t iy = r0; iy < r1; ++iy) {
+          const std::size_t row = iy * std::size_t(nq);
+          double rs = 0.0;
+          for (int ix = 0; ix < nq; ++ix) {
+            const std::size_t k = row + ix;
+            rs += mode_weight(ix, mx) * m[k] * std::norm(s[k]);
+            s[k] *= m[k];
+          }
+          a.v += rs;
+        }
+      },
+      transform_size());
+  fourier_.inverse(out);
+  return acc.v;
+}
+
+double HalfSpace::quadratic_form(const Spectrum& s, const Field& mul) const {
+  const int nq = mx_ / 2 + 1;
+  double d = 0.0;
+  for (int iy = 0; iy < my_; ++iy) {
+    const std::size_t row = std::size_t(iy) * nq;
+    for (int ix = 0; ix < nq; ++ix) d += mode_weight(ix, mx_) * mul[row + ix] * std::norm(s[row + ix]);
+  }
+  return d;
+}
+
+const double* HalfSpace::to_transform_grid(const Field& p) {
+  if (periodic()) return p.data();
+  const int nx = grid_.nx, ny = grid_.ny;
+  for (int j = 0; j < ny; ++j) {
+    double* row = &padded_[std::size_t(j) * mx_];
+    std::copy_n(&p[std::size_t(j) * nx], nx, row);
+    std::fill(row + nx, row + mx_, 0.0);
+  }
+  std::fill(padded_.begin() + std::size_t(ny) * mx_, padded_.end(), 0.0);
+  return padded_.data();
+}
+
+void HalfSpace::forward(const Field& f, Spectrum& out) {
+  out.resize(fourier_.spectrum_size());
+  fourier_.forward(to_transform_grid(f), out.data());
+}
+
+void HalfSpace::inverse(Field& out) {
+  out.resize(grid_.size());
+  if (periodic()) {
+    fourier_.inverse(out);
+    return;
+  }
+  fourier_.inverse(padded_);
+  const int nx = grid_.nx;
+  for (int j = 0; j < grid_.ny; ++j) std::copy_n(&padded_[std::size_t(j) * mx_], nx, &out[std::size_t(j) * nx]);
+}
+
+// ---------------------------------------------------------------- contact grid
+
+void HalfSpace::displacement(const Field& p, Field& u) {
+  fourier_.forward(to_transform_grid(p));
+  auto& s = fourier_.spectrum();
+  for (std::size_t k = 0; k < s.size(); ++k) s[k] *= compliance_[k];
+  inverse(u);
+}
+
+void HalfSpace::pressure(const Field& u, Field& p, double tol) {
+  if (periodic()) {
+    fourier_.forward(u);
+    auto& s = fourier_.spectrum();
+    const double norm = fourier_.normalisation();
+    for (std::size_t k = 0; k < s.size(); ++k)
+      s[k] = compliance_[k] > 0.0 ? s[k] * (norm * norm / compliance_[k]) : Complex(0.0);
+    inverse(p);
+    return;
+  }
+  // G is symmetric positive definite on the patch: plain conjugate gradients.
+  const std::size_t n = grid_.size();
+  p.assign(n, 0.0);
+  Field r(u.begin(), u.end()), d(r), Gd(n);
+  double rr = Grid::dot(r, r);
+  const double stop = tol * tol * rr;
+  for (int it = 0; it < 10000 && rr > stop && rr > 0.0; ++it) {
+    displacement(d, Gd);
+    const double a = rr / Grid::dot(d, Gd);
+    const double rr_new = Grid::parallel_reduce<SumReduction>(n, [&](std::size_t b, std::size_t e, SumReduction& acc) {
+                            double s = 0.0;
+                            for (std::size_t i = b; i < e; ++i) {
+                              p[i] += a * d[i];
+                              r[i] -= a * Gd[i];
+                              s += r[i] * r[i];
+                            }
+                            acc.v += s;
+                          }).v;
+    const double beta = rr_new / rr;
+    Grid::parallel_for(n, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i) d[i] = r[i] + beta * d[i];
+    });
+    rr = rr_new;
+  }
+}
+
+double HalfSpace::energy(const Field& p, const Field& u) const { return 0.5 * Grid::dot(p, u) * grid_.cell_area(); }
+
+double HalfSpace::energy_from_displacement(const Field& u) {
+  if (!periodic()) {
+    Field p;
+    pressure(u, p);
+    return energy(p, u);
+  }
+  fourier_.forward(u);
+  const auto& s = fourier_.spectrum();
+  const double norm = fourier_.normalisation();
+  const int nq = grid_.nqx();
   double sum = 0.0;
-  for_each_mode([&](std::size_t k, double w) {
-    const double q = std::hypot(grid_.qx(int(k % grid_.nqx())), grid_.qy(int(k / grid_.nqx())));
-    sum += w * q * std::norm(s[k] * norm);
-  });
+  for (int iy = 0; iy < grid_.ny; ++iy)
+    for (int ix = 0; ix < nq; ++ix) {
+      const double q = std::hypot(grid_.qx(ix), grid_.qy(iy));
+      sum += mode_weight(ix, grid_.nx) * q * std::norm(s[std::size_t(iy) * nq + ix] * norm);
+    }
   return grid_.area() * 0.25 * estar_ * sum;
 }
 
-// ---------------------------------------------------------------- free boundary
-
-double FreeHalfSpace::influence(double x, double y, double dx, double dy, double estar) {
+double HalfSpace::influence(double x, double y, double dx, double dy, double estar) {
   // ∫∫ dx'dy' / sqrt(X² + Y²) over the cell, via the antiderivative
   // F(X, Y) = X ln(Y + r) + Y ln(X + r), r = sqrt(X² + Y²) (∂²F/∂X∂Y = 1/r).
   // ln(Y + r) for Y < 0 is rewritten as ln(X² / (r − Y)) to avoid cancellation.
@@ -140,73 +237,6 @@ double FreeHalfSpace::influence(double x, double y, double dx, double dy, double
   const double y1 = -0.5 * dy - y, y2 = 0.5 * dy - y;
   const double integral = F(x2, y2) - F(x1, y2) - F(x2, y1) + F(x1, y1);
   return integral / (std::numbers::pi * estar);  // Boussinesq: u = 1/(π E*) ∫ p / s dA
-}
-
-FreeHalfSpace::FreeHalfSpace(const Grid& g, double estar) : HalfSpace(g, estar) {
-  if (g.ny < 2) throw std::invalid_argument("FreeHalfSpace: a free boundary needs a two-dimensional grid");
-  const int mx = 2 * g.nx, my = 2 * g.ny;
-  fourier_ = std::make_unique<Fourier>(mx, my);
-  padded_.assign(std::size_t(mx) * my, 0.0);
-  Field k(padded_.size());
-  for (int j = 0; j < my; ++j)
-    for (int i = 0; i < mx; ++i) {
-      const int ii = i <= g.nx ? i : i - mx, jj = j <= g.ny ? j : j - my;
-      k[std::size_t(j) * mx + i] = influence(ii * g.dx(), jj * g.dy(), g.dx(), g.dy(), estar);
-    }
-  fourier_->forward(k);
-  const auto& s = fourier_->spectrum();
-  kernel_.resize(s.size());
-  // The kernel is even in x and y, so its transform is real.
-  for (std::size_t q = 0; q < s.size(); ++q) kernel_[q] = s[q].real() * fourier_->normalisation();
-}
-
-const double* FreeHalfSpace::to_transform_grid(const Field& p) {
-  const int nx = grid_.nx, ny = grid_.ny, mx = 2 * nx;
-  for (int j = 0; j < ny; ++j) {
-    double* row = &padded_[std::size_t(j) * mx];
-    std::copy_n(&p[std::size_t(j) * nx], nx, row);
-    std::fill(row + nx, row + mx, 0.0);
-  }
-  // Rows ny..2ny-1 stay zero: nothing else ever writes them before a forward transform.
-  std::fill(padded_.begin() + std::size_t(ny) * mx, padded_.end(), 0.0);
-  return padded_.data();
-}
-
-void FreeHalfSpace::from_transform_grid(Field& u) {
-  const int nx = grid_.nx, ny = grid_.ny, mx = 2 * nx;
-  fourier_->inverse(padded_);
-  for (int j = 0; j < ny; ++j) std::copy_n(&padded_[std::size_t(j) * mx], nx, &u[std::size_t(j) * nx]);
-}
-
-void FreeHalfSpace::pressure(const Field& u, Field& p, double tol) {
-  // G is symmetric positive definite on the patch: plain conjugate gradients.
-  const std::size_t n = grid_.size();
-  p.assign(n, 0.0);
-  Field r(u.begin(), u.end()), d(r), Gd(n);
-  double rr = 0.0;
-  for (double v : r) rr += v * v;
-  const double stop = tol * tol * rr;
-  for (int it = 0; it < 10000 && rr > stop && rr > 0.0; ++it) {
-    displacement(d, Gd);
-    double dGd = 0.0;
-    for (std::size_t i = 0; i < n; ++i) dGd += d[i] * Gd[i];
-    const double a = rr / dGd;
-    double rr_new = 0.0;
-    for (std::size_t i = 0; i < n; ++i) {
-      p[i] += a * d[i];
-      r[i] -= a * Gd[i];
-      rr_new += r[i] * r[i];
-    }
-    const double b = rr_new / rr;
-    for (std::size_t i = 0; i < n; ++i) d[i] = r[i] + b * d[i];
-    rr = rr_new;
-  }
-}
-
-double FreeHalfSpace::energy_from_displacement(const Field& u) {
-  Field p;
-  pressure(u, p);
-  return energy(p, u);
 }
 
 std::unique_ptr<HalfSpace> make_half_space(const Grid& g, double estar, bool periodic) {

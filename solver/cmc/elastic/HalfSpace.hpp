@@ -1,20 +1,32 @@
-// Linear-elastic half-space under normal surface pressure, small-slope approximation.
+// The linear-elastic half-space under normal surface pressure, small-slope approximation:
+// cmc's one elastic operator. Every solver, observable and test that needs the elastic
+// response uses this class; no solver builds Green's-function kernels of its own.
 //
 // Convention: compressive pressure p > 0 pushes the surface into the solid; the
-// displacement u > 0 points into the solid. Two Green's functions:
-//  * PeriodicHalfSpace: u~(q) = 2 p~(q) / (E* |q|) for q != 0 (Johnson, Contact
-//    Mechanics (1985), §13.2; Johnson, Greenwood & Higginson, Int. J. Mech. Sci. 27,
-//    383 (1985), App. A.2). The mean displacement is not defined by a periodic load;
-//    cmc fixes it to zero, so penetrations are measured from the mean plane of the
-//    deformed elastic surface.
-//  * FreeHalfSpace: an isolated (non-periodic) surface patch. Pressure is uniform on
-//    each cell and the displacement is collocated at cell centres, with Love's
-//    closed-form influence coefficient of a uniformly loaded rectangle (Love 1929;
-//    Johnson 1985 eq. 3.25). The convolution is done by FFT on a grid zero-padded to
-//    twice the size per side (Hockney 1970; Liu, Wang & Liu, Wear 243, 101 (2000),
-//    "DC-FFT"), so no periodic image reaches the patch.
+// displacement u > 0 points into the solid. Two boundaries:
+//  * periodic: u~(q) = 2 p~(q) / (E* |q|) for q != 0 (Johnson, Contact Mechanics (1985),
+//    §13.2; Johnson, Greenwood & Higginson, Int. J. Mech. Sci. 27, 383 (1985), App. A.2).
+//    The mean displacement is not defined by a periodic load; cmc fixes it to zero, so
+//    penetrations are measured from the mean plane of the deformed elastic surface.
+//  * free: an isolated (non-periodic) surface patch. Pressure is uniform on each cell and
+//    the displacement is collocated at cell centres, with Love's closed-form influence
+//    coefficient of a uniformly loaded rectangle (Love 1929; Johnson 1985 eq. 3.25). The
+//    convolution is done by FFT on a grid zero-padded to twice the size per side (Hockney
+//    1970; Liu, Wang & Liu, Wear 243, 101 (2000), "DC-FFT"), so no periodic image reaches
+//    the patch.
 //
-// Each apply of the Green's function costs one FFT pair on the operator's grid.
+// The operator works on two grids: the contact grid (the case's grid, where pressures,
+// gaps and displacements live) and the transform grid (the contact grid itself when
+// periodic, the zero-padded 2nx x 2ny grid when free). It offers
+//  * contact-grid operations: u = G p, p = G⁻¹ u, the elastic energy;
+//  * transform-grid operations for solvers that iterate on whole transform-grid fields
+//    (the adhesive solver keeps the padding displacements as unknowns): out = M in for a
+//    Fourier multiplier M (the compliance G or the stiffness K = G⁻¹), with in·M in from
+//    Parseval in the same pass;
+//  * spectral primitives for solvers that keep a field's transform between iterations
+//    (Polonsky–Keer): forward() into a caller's spectrum, inverse() from the scratch
+//    spectrum back onto the contact grid, and quadratic_form().
+// It counts its transforms: fft_pairs() is the unit of cost cmc reports.
 #pragma once
 
 #include "cmc/grid/Grid.hpp"
@@ -25,93 +37,83 @@ namespace cmc {
 
 class HalfSpace {
  public:
+  enum class Boundary { Periodic, Free };
+  HalfSpace(const Grid& g, double estar, Boundary boundary);
   virtual ~HalfSpace() = default;
+  HalfSpace(const HalfSpace&) = delete;
+  HalfSpace& operator=(const HalfSpace&) = delete;
+
   const Grid& grid() const { return grid_; }
   double contact_modulus() const { return estar_; }
-  virtual bool periodic() const = 0;
+  bool periodic() const { return boundary_ == Boundary::Periodic; }
 
+  // ---- contact grid
   // u = G p. One FFT pair. `u` may not alias `p`.
   void displacement(const Field& p, Field& u);
-  // p = G^{-1} u. Periodic: exact, one FFT pair, and the returned pressure has zero
-  // mean (a periodic displacement field carries no information on the mean load:
-  // add it yourself). Free: solved by conjugate gradients to `tol` relative.
-  virtual void pressure(const Field& u, Field& p, double tol = 1e-12) = 0;
+  // p = G⁻¹ u. Periodic: exact, one FFT pair, and the returned pressure has zero mean (a
+  // periodic displacement field carries no information on the mean load: add it
+  // yourself). Free: solved by conjugate gradients to `tol` relative.
+  void pressure(const Field& u, Field& p, double tol = 1e-12);
   // Elastic energy stored by the pair (p, u = G p): (1/2) ∫ p u dA.
   double energy(const Field& p, const Field& u) const;
-  // Elastic energy computed in Fourier space from u alone (periodic only):
-  // U = A (E*/4) Σ_q |q| |ũ_q|², ũ_q the Fourier-series coefficients of u.
-  virtual double energy_from_displacement(const Field& u) = 0;
+  // Elastic energy from u alone. Periodic: U = A (E*/4) Σ_q |q| |ũ_q|² (ũ_q the
+  // Fourier-series coefficients of u); free: (1/2) ∫ p u with p = G⁻¹ u.
+  double energy_from_displacement(const Field& u);
 
-  // ---- Spectral pressure state, for solvers that need one FFT pair per iteration:
-  // the operator keeps the transform p̂ of the current pressure and of one search
-  // direction t̂, so that u = G p after a linear step p ← s (p − τ t) costs one
-  // inverse transform only.
-  // Transform p (one forward), keep s p̂, and set u = G (s p) (one inverse).
-  void set_pressure(const Field& p, double s, Field& u);
-  // Transform t (one forward), keep t̂, and return <t, G t> = Σ_i t_i (G t)_i.
-  double set_direction(const Field& t);
-  // p̂ ← s (p̂ − τ t̂) and u = G p (one inverse). The caller applies the same step to
-  // its real-space p.
-  void step_pressure(double s, double tau, Field& u);
-  // From now on set_pressure and step_pressure return h + G p instead of G p (the
-  // offset is added in Fourier space, so it costs no pass over the grid): solvers that
-  // only ever need h + u save reading h. One forward transform.
-  void set_offset(const Field& h);
-  void clear_offset() { offset_hat_.clear(); }
+  // ---- transform grid
+  int transform_nx() const { return mx_; }
+  int transform_ny() const { return my_; }
+  std::size_t transform_size() const { return std::size_t(mx_) * std::size_t(my_); }
+  std::size_t spectrum_size() const { return fourier_.spectrum_size(); }
+  // Fourier multipliers on the transform grid (r2c layout) with the normalisation 1/M of
+  // the unnormalised inverse transform folded in. compliance: G (0 at q = 0 when
+  // periodic). stiffness: K = G⁻¹ (periodic: E*|q|/2, 0 at q = 0; free: the inverse of
+  // the padded circulant, which is positive definite), made on first use.
+  const Field& compliance() const { return compliance_; }
+  const Field& stiffness();
+  // out = M in on the transform grid (both of transform_size()); returns in·(M in)
+  // = Σ_i in_i (M in)_i, from Parseval inside the multiply. One FFT pair.
+  double apply(const double* in, double* out, const Field& multiplier);
 
-  // FFT pairs done so far by this operator (forward + inverse transforms, halved):
-  // the unit of cost cmc reports.
-  double fft_pairs() const {
-    return fourier_ ? 0.5 * double(fourier_->forward_count() + fourier_->inverse_count()) : 0.0;
-  }
-  // Size of the transform behind one apply (for cost reports).
-  std::size_t transform_size() const { return fourier_ ? fourier_->real_size() : 0; }
+  // ---- spectral primitives (contact-grid fields, zero-padded when free)
+  // out = FFT(f) on the transform grid (unnormalised). One forward transform.
+  void forward(const Field& f, Spectrum& out);
+  // The scratch spectrum that inverse() consumes.
+  Spectrum& spectrum() { return fourier_.spectrum(); }
+  // out = inverse FFT of spectrum() restricted to the contact grid (unnormalised; the
+  // scratch spectrum is destroyed). One inverse transform.
+  void inverse(Field& out);
+  // Σ_i f_i (M f)_i for f with transform s (= (1/M) Σ_q M(q) |s_q|², the 1/M being in M).
+  double quadratic_form(const Spectrum& s, const Field& multiplier) const;
 
- protected:
-  HalfSpace(const Grid& g, double estar);
-  // Fill the transform grid from a field on the contact grid (zero padding where the
-  // transform grid is larger) and return it; and the way back.
-  virtual const double* to_transform_grid(const Field& f) = 0;
-  virtual void from_transform_grid(Field& out) = 0;  // inverse transform of spectrum() into out
-  // Calls f(k, w) for every r2c mode k with its weight w in a sum over the full
-  // (Hermitian) spectrum.
-  template <class F>
-  void for_each_mode(F&& f) const;
+  // FFT pairs done so far by this operator ((forward + inverse transforms) / 2).
+  double fft_pairs() const { return 0.5 * double(fourier_.forward_count() + fourier_.inverse_count()); }
 
-  Grid grid_;
-  double estar_;
-  std::unique_ptr<Fourier> fourier_;
-  Field kernel_;  // real Fourier multiplier of G on the transform grid, times 1/N
-  Spectrum p_hat_, t_hat_, offset_hat_;  // offset_hat_ = FFT(h)/N, or empty
-};
-
-class PeriodicHalfSpace final : public HalfSpace {
- public:
-  PeriodicHalfSpace(const Grid& g, double estar);
-  bool periodic() const override { return true; }
-  void pressure(const Field& u, Field& p, double tol = 1e-12) override;
-  double energy_from_displacement(const Field& u) override;
-  // Multiplier 2/(E*|q|) times the FFT normalisation, r2c layout (0 at q = 0).
-  const Field& kernel() const { return kernel_; }
-
- private:
-  const double* to_transform_grid(const Field& f) override { return f.data(); }
-  void from_transform_grid(Field& out) override;
-};
-
-class FreeHalfSpace final : public HalfSpace {
- public:
-  FreeHalfSpace(const Grid& g, double estar);
-  bool periodic() const override { return false; }
-  void pressure(const Field& u, Field& p, double tol = 1e-12) override;
-  double energy_from_displacement(const Field& u) override;
-  // Displacement at (x, y) from unit pressure on one cell centred at the origin.
+  // Displacement at (x, y) from unit pressure on one cell of size dx x dy centred at the
+  // origin (Love 1929): the free boundary's influence coefficient.
   static double influence(double x, double y, double dx, double dy, double estar);
 
  private:
-  const double* to_transform_grid(const Field& f) override;
-  void from_transform_grid(Field& out) override;
-  Field padded_;  // (2nx) x (2ny) work array
+  static Grid checked(const Grid& g, double estar, Boundary b);  // throws on bad input
+  const double* to_transform_grid(const Field& f);  // zero-padded copy when free
+  void make_periodic_compliance();
+  void make_free_compliance();
+
+  Grid grid_;
+  double estar_;
+  Boundary boundary_;
+  int mx_, my_;
+  Fourier fourier_;
+  Field compliance_, stiffness_;
+  Field padded_;  // free only: transform-grid work array
+};
+
+// The two boundaries by name (constructors only; the operator is the same class).
+struct PeriodicHalfSpace final : HalfSpace {
+  PeriodicHalfSpace(const Grid& g, double estar) : HalfSpace(g, estar, Boundary::Periodic) {}
+};
+struct FreeHalfSpace final : HalfSpace {
+  FreeHalfSpace(const Grid& g, double estar) : HalfSpace(g, estar, Boundary::Free) {}
 };
 
 std::unique_ptr<HalfSpace> make_half_space(const Grid& g, double estar, bool periodic);

@@ -138,30 +138,29 @@ Fourier::Fourier(int nx, int ny) : nx_(nx), ny_(ny), spec_(std::size_t(nx / 2 + 
     fftw_plan_with_nthreads(real_size() < (std::size_t(1) << 16) ? 1 : thread_count());
     auto* c = reinterpret_cast<fftw_complex*>(spec_.data());
     if (ny == 1) {
-      plan_forward_ = fftw_plan_dft_r2c_1d(nx, scratch.data(), c, flags);
-      plan_inverse_ = fftw_plan_dft_c2r_1d(nx, c, scratch.data(), flags);
+      plan_forward_.reset(fftw_plan_dft_r2c_1d(nx, scratch.data(), c, flags));
+      plan_inverse_.reset(fftw_plan_dft_c2r_1d(nx, c, scratch.data(), flags));
     } else {
-      plan_forward_ = fftw_plan_dft_r2c_2d(ny, nx, scratch.data(), c, flags);
-      plan_inverse_ = fftw_plan_dft_c2r_2d(ny, nx, c, scratch.data(), flags);
+      plan_forward_.reset(fftw_plan_dft_r2c_2d(ny, nx, scratch.data(), c, flags));
+      plan_inverse_.reset(fftw_plan_dft_c2r_2d(ny, nx, c, scratch.data(), flags));
     }
     if (!plan_forward_ || !plan_inverse_) throw std::runtime_error("FFTW could not plan a transform");
   }
   save_fftw_wisdom();
 }
 
-Fourier::~Fourier() {
+void FftwPlanDeleter::operator()(void* plan) const noexcept {
   std::lock_guard lock(planner_mutex);
-  if (plan_forward_) fftw_destroy_plan(static_cast<fftw_plan>(plan_forward_));
-  if (plan_inverse_) fftw_destroy_plan(static_cast<fftw_plan>(plan_inverse_));
+  fftw_destroy_plan(static_cast<fftw_plan>(plan));
 }
 
 void Fourier::forward(const double* in, Complex* out) {
-  fftw_execute_dft_r2c(static_cast<fftw_plan>(plan_forward_), const_cast<double*>(in),
+  fftw_execute_dft_r2c(static_cast<fftw_plan>(plan_forward_.get()), const_cast<double*>(in),
                        reinterpret_cast<fftw_complex*>(out));
   ++n_forward_;
 }
 void Fourier::inverse(Complex* in, double* out) {
-  fftw_execute_dft_c2r(static_cast<fftw_plan>(plan_inverse_), reinterpret_cast<fftw_complex*>(in), out);
+  fftw_execute_dft_c2r(static_cast<fftw_plan>(plan_inverse_.get()), reinterpret_cast<fftw_complex*>(in), out);
   ++n_inverse_;
 }
 void Fourier::forward(const double* in) { forward(in, spec_.data()); }

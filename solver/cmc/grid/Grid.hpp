@@ -98,10 +98,16 @@ struct Grid {
 // $CMC_FFTW_WISDOM (default ~/.cache/cmc/fftw-wisdom), and reused for every call.
 // forward() is unnormalised; inverse() is unnormalised too: callers fold 1/N into
 // their Fourier-space multiply so that no extra pass over the data is needed.
+// Owner of one FFTW plan (destroyed under the planner lock, FFTW's planner is not thread
+// safe): a plan cannot leak, even when a constructor throws half-way.
+struct FftwPlanDeleter {
+  void operator()(void* plan) const noexcept;
+};
+using FftwPlan = std::unique_ptr<void, FftwPlanDeleter>;
+
 class Fourier {
  public:
   Fourier(int nx, int ny);
-  ~Fourier();
   Fourier(const Fourier&) = delete;
   Fourier& operator=(const Fourier&) = delete;
 
@@ -130,8 +136,7 @@ class Fourier {
  private:
   int nx_, ny_;
   Spectrum spec_;
-  void* plan_forward_ = nullptr;
-  void* plan_inverse_ = nullptr;
+  FftwPlan plan_forward_, plan_inverse_;
   long n_forward_ = 0, n_inverse_ = 0;
 };
 
@@ -140,6 +145,12 @@ class Fourier {
 int thread_count();
 
 // ---------------------------------------------------------------- pass templates
+
+// The partial result of a pass that only sums (for Grid::parallel_reduce).
+struct SumReduction {
+  double v = 0.0;
+  void merge(const SumReduction& o) { v += o.v; }
+};
 
 namespace detail {
 int omp_threads_for(std::size_t work);  // 1 below Grid::parallel_min, else thread_count()
