@@ -114,14 +114,23 @@ double HalfSpace::apply(const double* in, double* out, const Field& mul) {
   return acc.v;
 }
 
-double HalfSpace::quadratic_form(const Spectrum& s, const Field& mul) const {
+// Σ_q w_q M_q |s_q|² over the r2c rows [r0, r1), in mode order.
+double HalfSpace::spectral_sum(const Complex* s, const double* mul, std::size_t r0, std::size_t r1) const {
   const int nq = mx_ / 2 + 1;
   double d = 0.0;
-  for (int iy = 0; iy < my_; ++iy) {
-    const std::size_t row = std::size_t(iy) * nq;
+  for (std::size_t iy = r0; iy < r1; ++iy) {
+    const std::size_t row = iy * nq;
     for (int ix = 0; ix < nq; ++ix) d += mode_weight(ix, mx_) * mul[row + ix] * std::norm(s[row + ix]);
   }
   return d;
+}
+
+double HalfSpace::quadratic_form(const Spectrum& s, const Field& mul) const {
+  return Grid::parallel_reduce<SumReduction>(
+             std::size_t(my_),
+             [&](std::size_t r0, std::size_t r1, SumReduction& acc) { acc.v += spectral_sum(s.data(), mul.data(), r0, r1); },
+             transform_size())
+      .v;
 }
 
 const double* HalfSpace::to_transform_grid(const Field& p) {
@@ -205,17 +214,16 @@ double HalfSpace::energy_from_displacement(const Field& u) {
     pressure(u, p);
     return energy(p, u);
   }
+  // Σ_q |q| |ũ_q|² with ũ = FFT(u)/N: the multiplier |q| N^-2 (the free case returned above).
+  if (abs_q_.empty()) {
+    const int nq = grid_.nqx();
+    const double n2 = fourier_.normalisation() * fourier_.normalisation();
+    abs_q_.resize(compliance_.size());
+    for (int iy = 0; iy < grid_.ny; ++iy)
+      for (int ix = 0; ix < nq; ++ix) abs_q_[std::size_t(iy) * nq + ix] = std::hypot(grid_.qx(ix), grid_.qy(iy)) * n2;
+  }
   fourier_.forward(u);
-  const auto& s = fourier_.spectrum();
-  const double norm = fourier_.normalisation();
-  const int nq = grid_.nqx();
-  double sum = 0.0;
-  for (int iy = 0; iy < grid_.ny; ++iy)
-    for (int ix = 0; ix < nq; ++ix) {
-      const double q = std::hypot(grid_.qx(ix), grid_.qy(iy));
-      sum += mode_weight(ix, grid_.nx) * q * std::norm(s[std::size_t(iy) * nq + ix] * norm);
-    }
-  return grid_.area() * 0.25 * estar_ * sum;
+  return grid_.area() * 0.25 * estar_ * quadratic_form(fourier_.spectrum(), abs_q_);
 }
 
 double HalfSpace::influence(double x, double y, double dx, double dy, double estar) {

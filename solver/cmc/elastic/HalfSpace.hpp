@@ -98,6 +98,7 @@ class HalfSpace {
   const double* to_transform_grid(const Field& f);  // zero-padded copy when free
   void make_periodic_compliance();
   void make_free_compliance();
+  double spectral_sum(const Complex* s, const double* mul, std::size_t r0, std::size_t r1) const;
 
   Grid grid_;
   double estar_;
@@ -105,6 +106,7 @@ class HalfSpace {
   int mx_, my_;
   Fourier fourier_;
   Field compliance_, stiffness_;
+  Field abs_q_;   // periodic: |q| / N², made by the first energy_from_displacement
   Field padded_;  // free only: transform-grid work array
 };
 

@@ -166,18 +166,17 @@ Acc Grid::parallel_reduce(std::size_t n, Body&& body, std::size_t work) {
     if (n) body(std::size_t(0), n, acc);
     return acc;
   }
+  // One partial per requested thread; a thread the runtime did not start leaves the
+  // identity, which merges exactly.
   std::vector<Acc> part(std::size_t(nt), Acc{});
-  int used = nt;
 #pragma omp parallel num_threads(nt)
   {
     const int t = detail::omp_thread_id(), m = detail::omp_thread_total();
-#pragma omp single
-    used = m;
     const std::size_t b = n * std::size_t(t) / std::size_t(m), e = n * std::size_t(t + 1) / std::size_t(m);
     if (e > b) body(b, e, part[std::size_t(t)]);
   }
   Acc acc{};
-  for (int t = 0; t < used; ++t) acc.merge(part[std::size_t(t)]);
+  for (const Acc& p : part) acc.merge(p);
   return acc;
 }
 

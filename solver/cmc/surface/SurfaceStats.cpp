@@ -46,23 +46,27 @@ SurfaceStatistics surface_statistics(const Grid& g, const Field& h, Fourier& fft
   const Spectrum& c = fft.spectrum();
   const double n2 = fft.normalisation() * fft.normalisation();
   const int nqx = g.nqx();
-  long double sx2 = 0, sy2 = 0, sx4 = 0, sy4 = 0, sl4 = 0;  // long double: 1e-12 at 4096^2
-  for (int iqy = 0; iqy < g.ny; ++iqy) {
-    const double qy = g.qy(iqy), qy2 = qy * qy;
-    double rx2 = 0, ry2 = 0, rx4 = 0, ry4 = 0, rl4 = 0;
-    for (int iqx = 0; iqx < nqx; ++iqx) {
-      const double qx = g.qx(iqx), qx2 = qx * qx;
-      const double p = column_weight(g, iqx) * std::norm(c[std::size_t(iqy) * nqx + iqx]);
-      rx2 += qx2 * p;
-      ry2 += qy2 * p;
-      rx4 += qx2 * qx2 * p;
-      ry4 += qy2 * qy2 * p;
-      rl4 += (qx2 + qy2) * (qx2 + qy2) * p;
+  struct Moments {  // long double: 1e-12 at 4096^2
+    long double x2 = 0, y2 = 0, x4 = 0, y4 = 0, l4 = 0;
+    void merge(const Moments& o) { x2 += o.x2, y2 += o.y2, x4 += o.x4, y4 += o.y4, l4 += o.l4; }
+  };
+  const Moments m = Grid::parallel_reduce<Moments>(std::size_t(g.ny), [&](std::size_t r0, std::size_t r1, Moments& acc) {
+    for (int iqy = int(r0); iqy < int(r1); ++iqy) {
+      const double qy = g.qy(iqy), qy2 = qy * qy;
+      double rx2 = 0, ry2 = 0, rx4 = 0, ry4 = 0, rl4 = 0;
+      for (int iqx = 0; iqx < nqx; ++iqx) {
+        const double qx = g.qx(iqx), qx2 = qx * qx;
+        const double p = column_weight(g, iqx) * std::norm(c[std::size_t(iqy) * nqx + iqx]);
+        rx2 += qx2 * p;
+        ry2 += qy2 * p;
+        rx4 += qx2 * qx2 * p;
+        ry4 += qy2 * qy2 * p;
+        rl4 += (qx2 + qy2) * (qx2 + qy2) * p;
+      }
+      acc.x2 += rx2, acc.y2 += ry2, acc.x4 += rx4, acc.y4 += ry4, acc.l4 += rl4;
     }
-    sx2 += rx2, sy2 += ry2, sx4 += rx4, sy4 += ry4, sl4 += rl4;
-  }
-  double sums[5] = {double(sx2 * n2), double(sy2 * n2), double(sx4 * n2), double(sy4 * n2), double(sl4 * n2)};
-  Grid::allreduce_sum(sums);
+  });
+  const double sums[5] = {double(m.x2 * n2), double(m.y2 * n2), double(m.x4 * n2), double(m.y4 * n2), double(m.l4 * n2)};
   s.rms_slope_x = std::sqrt(sums[0]);
   s.rms_slope_y = std::sqrt(sums[1]);
   s.rms_gradient = std::sqrt(sums[0] + sums[1]);
