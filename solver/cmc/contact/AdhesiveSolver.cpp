@@ -534,16 +534,9 @@ SolveResult AdhesiveSolver::solve(const Target& target, ContactState& st) {
 }
 
 SolveResult AdhesiveSolver::solve_displacement(double delta, ContactState& st) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const double pairs0 = hs_.fft_pairs();
+  const SolveClock clock(hs_);
   SolveResult res;
-  auto finish = [&](bool converged, std::string msg) {
-    res.converged = converged;
-    res.message = std::move(msg);
-    res.fft_pairs = hs_.fft_pairs() - pairs0;
-    res.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return res;
-  };
+  auto finish = [&](bool converged, std::string msg) { return clock.finish(res, converged, std::move(msg)); };
   if (w_->periodic && w_->hmean - delta < 0.0) {
     std::ostringstream s;
     s << "AdhesiveSolver: penetration " << delta << " exceeds the mean height " << w_->hmean

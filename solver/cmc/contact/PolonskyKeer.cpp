@@ -326,16 +326,9 @@ PolonskyKeer::PolonskyKeer(HalfSpace& hs, const Field& heights, Options o) : hs_
 }
 
 SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const double pairs0 = hs_.fft_pairs();
+  const SolveClock clock(hs_);
   SolveResult res;
-  auto finish = [&](bool converged, std::string msg) {
-    res.converged = converged;
-    res.message = std::move(msg);
-    res.fft_pairs = hs_.fft_pairs() - pairs0;
-    res.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return res;
-  };
+  auto finish = [&](bool converged, std::string msg) { return clock.finish(res, converged, std::move(msg)); };
   if (target.control == Control::MeanPressure && !(target.value >= 0.0))
     return finish(false, "Polonsky-Keer needs a non-negative mean pressure (no adhesion in a hard-wall solve)");
 

@@ -9,6 +9,7 @@
 
 #include "cmc/grid/Grid.hpp"
 
+#include <chrono>
 #include <functional>
 #include <limits>
 #include <string>
@@ -40,6 +41,26 @@ struct SolveResult {
   double fft_pairs = 0.0;  // (forward + inverse transforms) / 2
   std::string message;  // why it stopped, when it did not converge
   SolveDiagnostics diagnostics;
+};
+
+// The cost of one solve, measured from construction: wall time, and the FFT pairs of an
+// operator (anything with fft_pairs(), e.g. the HalfSpace). finish() stamps a result.
+template <class Operator>
+class SolveClock {
+ public:
+  explicit SolveClock(const Operator& op) : op_(op), pairs0_(op.fft_pairs()), t0_(std::chrono::steady_clock::now()) {}
+  SolveResult finish(SolveResult& r, bool converged, std::string message) const {
+    r.converged = converged;
+    r.message = std::move(message);
+    r.fft_pairs = op_.fft_pairs() - pairs0_;
+    r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+    return r;
+  }
+
+ private:
+  const Operator& op_;
+  double pairs0_;
+  std::chrono::steady_clock::time_point t0_;
 };
 
 // The solved state of one load step (reduced units). Also the warm start of the next.
