@@ -1,6 +1,7 @@
 // The harness's pieces that the reports and `cmc refine` rely on: the order fit and
 // the profile tables.
 #include "Profiles.hpp"
+#include "Refine.hpp"
 #include "Validate.hpp"
 
 #include "cmc/analytic/Analytic.hpp"
@@ -52,4 +53,46 @@ TEST(Profiles, OnlyFieldWiseReferences) {
   EXPECT_TRUE(has_profiles("westergaard"));
   EXPECT_FALSE(has_profiles("jkr"));
   EXPECT_THROW(profiles_csv("johnson", Scene{}, {}), std::invalid_argument);
+}
+
+// The refinement table: a value converging as v(n) = 1 + 8/n^2 shows successive
+// relative changes |v_fine - v_coarse| / |v_fine| and an observed order of 2; an
+// observable's own entry in "observables" takes precedence over the step's.
+TEST(Refinement, ChangesAndOrder) {
+  std::vector<RefinementGrid> grids;
+  for (int n : {16, 32, 64, 128}) {
+    RefinementGrid g;
+    g.n = n, g.status = "converged";
+    const double v = 1 + 8.0 / (double(n) * n);
+    g.last_step = toml::table{{"penetration", v}, {"mean_gap", 5.0}, {"iterations", n},
+                              {"observables", toml::table{{"mean_gap", v}}}};
+    grids.push_back(g);
+  }
+  const auto rows = refinement_rows(grids);
+  ASSERT_GE(rows.size(), 3u);
+  EXPECT_EQ(rows[0].observable, "mean_gap");  // observables first
+  for (const auto& r : rows) {
+    if (r.observable != "penetration" && r.observable != "mean_gap") continue;
+    ASSERT_EQ(r.changes.size(), 3u);
+    const double v64 = 1 + 8.0 / 4096, v128 = 1 + 8.0 / 16384;
+    EXPECT_NEAR(*r.changes[2], (v64 - v128) / v128, 1e-15);
+    ASSERT_TRUE(r.order.has_value());
+    EXPECT_NEAR(*r.order, 2.0, 1e-9);
+  }
+  const std::string md = refinement_markdown("x.toml", grids, rows);
+  EXPECT_NE(md.find("| n = 16 | n = 32 | n = 64 | n = 128 | change 16→32 |"), std::string::npos);
+  EXPECT_THROW(refinement_rows({grids[1], grids[0]}), std::invalid_argument);
+}
+
+// Two grids give changes but no order; a missing value gives no change.
+TEST(Refinement, TwoGridsNoOrder) {
+  RefinementGrid a, b;
+  a.n = 32, b.n = 64;
+  a.last_step = toml::table{{"penetration", 2.0}};
+  b.last_step = toml::table{{"penetration", 1.0}, {"mean_gap", 3.0}};
+  for (const auto& r : refinement_rows({a, b})) {
+    if (r.observable == "penetration") EXPECT_DOUBLE_EQ(*r.changes[0], 1.0);
+    if (r.observable == "mean_gap") EXPECT_FALSE(r.changes[0].has_value());
+    EXPECT_FALSE(r.order.has_value());
+  }
 }

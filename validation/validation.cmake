@@ -26,3 +26,16 @@ set_tests_properties(reports.selftest PROPERTIES LABELS quick)
 # cmc surface prints the challenge surface's statistics (a 256² low-passed preview).
 add_test(NAME cli.surface COMMAND cmc surface ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load.toml --set grid.n=256)
 set_tests_properties(cli.surface PROPERTIES LABELS quick PASS_REGULAR_EXPRESSION "R_c +[0-9.e+-]+ m")
+
+# cmc refine: a three-grid study of the hard-wall challenge case on 64², 128², 256²
+# (about a second). It must write the table with an observed order in the penetration
+# row, and a second call must reuse all three finished grids instead of rerunning them.
+set(CMC_REFINE_OUT ${CMAKE_BINARY_DIR}/cli-refine)
+set(CMC_REFINE_CMD "$<TARGET_FILE:cmc> refine ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load-hardwall.toml --grids 64 128 256 --out ${CMC_REFINE_OUT}")
+add_test(NAME cli.refine
+         COMMAND sh -c "rm -rf ${CMC_REFINE_OUT} && ${CMC_REFINE_CMD} --quiet >/dev/null && grep -Eq '^[|] penetration [|].*[|] [0-9]+[.][0-9]+ [|]$' ${CMC_REFINE_OUT}/refinement.md && test \"$(${CMC_REFINE_CMD} 2>&1 >/dev/null | grep -c 'finished earlier')\" -eq 3")
+set_tests_properties(cli.refine PROPERTIES LABELS quick)
+# Grids out of order are bad input (exit code 2), and nothing is run.
+add_test(NAME cli.refine_bad_grids
+         COMMAND sh -c "$<TARGET_FILE:cmc> refine ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load-hardwall.toml --grids 256 128 --out ${CMAKE_BINARY_DIR}/cli-refine-bad; test $? -eq 2 && test ! -e ${CMAKE_BINARY_DIR}/cli-refine-bad")
+set_tests_properties(cli.refine_bad_grids PROPERTIES LABELS quick)
