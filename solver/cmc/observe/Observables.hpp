@@ -51,8 +51,16 @@ long long contact_edges(const Grid& grid, const Mask& mask);
 // by an amount proportional to the contact-line length. The correction subtracts
 //     alpha * N_edges * dx * dy,   alpha = (pi - 1 + ln 2) / 24 ~= 0.1181,
 // with N_edges the number of contact/non-contact faces counted on the grid.
-// The coefficient is quoted from that paper from memory (its full text was not
-// reachable here); see Observables.cpp for the independent check made here.
+// Source status (searched 2026-11 with the project's reference search): the paper
+// was found (ar5iv.labs.arxiv.org/html/1701.02727 and arcxiv.org/abs/1701.02727).
+// Verified there: title, authors, and the abstract's statement that the correction
+// is geometric and needs only the length of the contact/non-contact interfaces (as
+// implemented here). NOT verified: the value of alpha and the number of the equation
+// that gives it; the search returned only the abstract and the opening of the
+// introduction, and no other accessible text or code quotes the coefficient. So the
+// value above is unverified against the paper; Observables.cpp records the check made
+// here instead (Hertz on 1024^2: 0.056-0.14 dx^2 per edge, mean ~0.095, the size of
+// alpha).
 // Returns a fraction of the nominal area. For ny == 1 the 2-D correction does not
 // apply and the raw fraction is returned.
 inline constexpr double kYastrebovAlpha = (std::numbers::pi - 1.0 + std::numbers::ln2) / 24.0;
