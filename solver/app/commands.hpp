@@ -43,6 +43,8 @@ int cmd_run(int argc, char** argv);
 int cmd_refine(int argc, char** argv);     // cmd_refine.cpp
 int cmd_validate(int argc, char** argv);
 int cmd_reference(int argc, char** argv);  // cmd_reference.cpp
+// cmc reference --run-curve SPEC.toml --out FILE: a curve from a run's numbers (run_curve.cpp).
+int write_run_curve(const std::string& spec_file, const std::string& out);
 int cmd_check(int argc, char** argv);      // cmd_check.cpp
 int cmd_surface(int argc, char** argv);    // cmd_surface.cpp
 
