@@ -73,6 +73,15 @@ def _refinement_plot(case, entry, summary, out_dir):
     return path
 
 
+def _label(ax, xlabel, ylabel, title, zero_line=False):
+    if zero_line:
+        ax.axhline(0, color="black", lw=0.8)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title, fontsize=10)
+    ax.legend(fontsize=7)
+
+
 def _profiles_table(folder, notes):
     """{column: array} of <folder>/profiles.csv (written by `cmc validate --out`), or None."""
     path = os.path.join(folder, "profiles.csv")
@@ -116,20 +125,10 @@ def _hertz_profiles(case, summary, folder, ref_dir, out_dir, notes):
     if ref is not None:
         _, names, data = ref
         a1.plot(data[:, 0], data[:, 1], "-", color="black", lw=1.2, label="Hertz (reference/hertz_pressure_profile.csv)")
-    a3.axhline(0, color="black", lw=0.8)
-    a3.set_xlabel("r / a")
-    a3.set_ylabel("(p − p_Hertz) / p0")
-    a3.set_title(f"{case}: pressure error", fontsize=10)
-    a3.legend(fontsize=7)
-    a1.set_xlabel("r / a")
-    a1.set_ylabel("p / p0")
-    a1.set_title(f"{case}: pressure profile", fontsize=10)
-    a1.legend(fontsize=7)
-    a2.set_xlabel("r / a")
-    a2.set_ylabel("gap / δ  (δ = a²/R)")
-    a2.set_title(f"{case}: gap profile" + (" (periodic cell: image terms not in the curve)"
-                                           if get(summary, "grid", "boundary") == "periodic" else ""), fontsize=9)
-    a2.legend(fontsize=7)
+    _label(a3, "r / a", "(p − p_Hertz) / p0", f"{case}: pressure error", zero_line=True)
+    _label(a1, "r / a", "p / p0", f"{case}: pressure profile")
+    _label(a2, "r / a", "gap / δ  (δ = a²/R)", f"{case}: gap profile" + (
+        " (periodic cell: image terms not in the curve)" if get(summary, "grid", "boundary") == "periodic" else ""))
     path = os.path.join(out_dir, f"profiles_{case}.png")
     savefig(fig, path)
     return path
@@ -155,25 +154,15 @@ def _westergaard_profiles(case, summary, folder, ref_dir, out_dir, notes):
         a1.plot(x[o], cols["p_westergaard_over_pstar"][m][o], "--", color="black", lw=0.8, zorder=5)
         a3.plot(x[o], cols["p_error_over_pstar"][m][o], ".", ms=2, color=c, label=f"pbar/p* = {t:.2f}")
     a1.plot([], [], "--", color="black", lw=0.8, label="Westergaard (from cmc, analytic module)")
-    a3.axhline(0, color="black", lw=0.8)
-    a3.set_xlabel("x / λ")
-    a3.set_ylabel("(p − p_Westergaard) / p*")
-    a3.set_title(f"{case}: pressure error", fontsize=10)
-    a3.legend(fontsize=7)
-    a1.set_xlabel("x / λ (from the contact centre)")
-    a1.set_ylabel("p / p*   (p* = π E* h / λ)")
-    a1.set_title(f"{case}: pressure profiles", fontsize=10)
-    a1.legend(fontsize=7)
+    _label(a3, "x / λ", "(p − p_Westergaard) / p*", f"{case}: pressure error", zero_line=True)
+    _label(a1, "x / λ (from the contact centre)", "p / p*   (p* = π E* h / λ)", f"{case}: pressure profiles")
     if gapref is not None:
         _, names, data = gapref
         a2.semilogx(data[:, 0], data[:, 1], "-", color="black", lw=1.2,
                     label="Westergaard (reference/westergaard_mean_gap.csv)")
     if pts:
         a2.semilogx([q[0] for q in pts], [q[1] for q in pts], "o", color="tab:red", mfc="none", label="cmc")
-    a2.set_xlabel("pbar / p*")
-    a2.set_ylabel("mean gap / h")
-    a2.set_title(f"{case}: mean gap vs mean pressure", fontsize=10)
-    a2.legend(fontsize=7)
+    _label(a2, "pbar / p*", "mean gap / h", f"{case}: mean gap vs mean pressure")
     path = os.path.join(out_dir, f"profiles_{case}.png")
     savefig(fig, path)
     return path

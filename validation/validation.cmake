@@ -45,15 +45,16 @@ set_tests_properties(cli.surface PROPERTIES LABELS quick
 # cmc refine: a three-grid study of the hard-wall challenge case on 64², 128², 256²
 # (about a second). It must write the table with an observed order in the penetration
 # row, and a second call must reuse all three finished grids instead of rerunning them.
+# A command-line check: a shell command line that must exit 0 (label quick).
+function(cmc_cli_test name command)
+  add_test(NAME ${name} COMMAND sh -c "${command}")
+  set_tests_properties(${name} PROPERTIES LABELS quick)
+endfunction()
 set(CMC_REFINE_OUT ${CMAKE_BINARY_DIR}/cli-refine)
 set(CMC_REFINE_CMD "$<TARGET_FILE:cmc> refine ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load-hardwall.toml --grids 64 128 256 --out ${CMC_REFINE_OUT}")
-add_test(NAME cli.refine
-         COMMAND sh -c "rm -rf ${CMC_REFINE_OUT} && ${CMC_REFINE_CMD} --quiet >/dev/null && grep -Eq '^[|] penetration [|].*[|] [0-9]+[.][0-9]+ [|]$' ${CMC_REFINE_OUT}/refinement.md && test \"$(${CMC_REFINE_CMD} 2>&1 >/dev/null | grep -c 'finished earlier')\" -eq 3")
-set_tests_properties(cli.refine PROPERTIES LABELS quick)
+cmc_cli_test(cli.refine "rm -rf ${CMC_REFINE_OUT} && ${CMC_REFINE_CMD} --quiet >/dev/null && grep -Eq '^[|] penetration [|].*[|] [0-9]+[.][0-9]+ [|]$' ${CMC_REFINE_OUT}/refinement.md && test \"$(${CMC_REFINE_CMD} 2>&1 >/dev/null | grep -c 'finished earlier')\" -eq 3")
 # Grids out of order are bad input (exit code 2), and nothing is run.
-add_test(NAME cli.refine_bad_grids
-         COMMAND sh -c "$<TARGET_FILE:cmc> refine ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load-hardwall.toml --grids 256 128 --out ${CMAKE_BINARY_DIR}/cli-refine-bad; test $? -eq 2 && test ! -e ${CMAKE_BINARY_DIR}/cli-refine-bad")
-set_tests_properties(cli.refine_bad_grids PROPERTIES LABELS quick)
+cmc_cli_test(cli.refine_bad_grids "$<TARGET_FILE:cmc> refine ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load-hardwall.toml --grids 256 128 --out ${CMAKE_BINARY_DIR}/cli-refine-bad; test $? -eq 2 && test ! -e ${CMAKE_BINARY_DIR}/cli-refine-bad")
 
 # The challenge itself, at 256² (about 1 s each; checks in validation/challenge_smoke.cmake):
 # hard wall (converged, kappa = a_r E* g / p in [1.7, 2.3]) and with the challenge's
@@ -78,9 +79,5 @@ set_tests_properties(challenge.adhesive_256 PROPERTIES FIXTURES_REQUIRED challen
 # written as 0), the extra keys after the provenance. A spec with a key missing is bad
 # input: exit 2, no file.
 set(CMC_RUN_CURVE_OUT ${CMAKE_BINARY_DIR}/cli-run-curve.csv)
-add_test(NAME cli.reference_run_curve
-         COMMAND sh -c "rm -f ${CMC_RUN_CURVE_OUT} && $<TARGET_FILE:cmc> reference --run-curve ${CMAKE_SOURCE_DIR}/tests/data/run_curve_spec.toml --out ${CMC_RUN_CURVE_OUT} && grep -q '^# source: cmc run$' ${CMC_RUN_CURVE_OUT} && grep -A1 '^# cmc_version: 0.1.0$' ${CMC_RUN_CURVE_OUT} | grep -q '^# case_file: ' && grep -q '^# sampling: two points$' ${CMC_RUN_CURVE_OUT} && grep -q '^2.500000000000e-09,0.000000000000e+00$' ${CMC_RUN_CURVE_OUT}")
-set_tests_properties(cli.reference_run_curve PROPERTIES LABELS quick)
-add_test(NAME cli.reference_run_curve_bad_spec
-         COMMAND sh -c "printf 'name = \"x\"\\n' > ${CMAKE_BINARY_DIR}/bad-spec.toml; $<TARGET_FILE:cmc> reference --run-curve ${CMAKE_BINARY_DIR}/bad-spec.toml --out ${CMAKE_BINARY_DIR}/bad-curve.csv; test $? -eq 2 && test ! -e ${CMAKE_BINARY_DIR}/bad-curve.csv")
-set_tests_properties(cli.reference_run_curve_bad_spec PROPERTIES LABELS quick)
+cmc_cli_test(cli.reference_run_curve "rm -f ${CMC_RUN_CURVE_OUT} && $<TARGET_FILE:cmc> reference --run-curve ${CMAKE_SOURCE_DIR}/tests/data/run_curve_spec.toml --out ${CMC_RUN_CURVE_OUT} && grep -q '^# source: cmc run$' ${CMC_RUN_CURVE_OUT} && grep -A1 '^# cmc_version: 0.1.0$' ${CMC_RUN_CURVE_OUT} | grep -q '^# case_file: ' && grep -q '^# sampling: two points$' ${CMC_RUN_CURVE_OUT} && grep -q '^2.500000000000e-09,0.000000000000e+00$' ${CMC_RUN_CURVE_OUT}")
+cmc_cli_test(cli.reference_run_curve_bad_spec "printf 'name = \"x\"\\n' > ${CMAKE_BINARY_DIR}/bad-spec.toml; $<TARGET_FILE:cmc> reference --run-curve ${CMAKE_BINARY_DIR}/bad-spec.toml --out ${CMAKE_BINARY_DIR}/bad-curve.csv; test $? -eq 2 && test ! -e ${CMAKE_BINARY_DIR}/bad-curve.csv")
