@@ -418,6 +418,7 @@ def readme(curves, out_dir, hw, ref_run, ref_step):
           "build/cmc run cases/challenge/reference-load.toml --out results/challenge-reference   # items 1, 3, 4, 5, 9",
           "build/cmc run cases/challenge/load-sweep.toml --out results/challenge-load-sweep      # items 2, 8",
           "scripts/tabor_sweep.sh                                                                 # items 6, 7",
+          "build/cmc refine cases/challenge/reference-load-hardwall.toml --grids 2048 4096     # hard-wall context",
           "/usr/bin/python3 scripts/challenge_reference.py        # rewrites reference/challenge/*.csv and this README",
           "build/cmc check reports/challenge/data/gap_distribution__challenge-reference_2048.csv --quantity gap_distribution",
           "```", "",
