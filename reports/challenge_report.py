@@ -15,7 +15,6 @@ Also writes, next to each figure, the numbers as CSV in the column convention of
 `cmc check` (data/*.csv), so a run can be checked against a reference directly.
 """
 import glob
-import math
 import os
 import re
 
@@ -94,9 +93,9 @@ class Run:
         best = None
         for st in self.steps:
             if st["p"] and st["p"] > 0:
-                d = abs(math.log(st["p"] / P0))
-                if d < math.log(1.05) and (best is None or d < best[0]):
-                    best = (d, st)
+                ratio = max(st["p"] / P0, P0 / st["p"])  # >= 1; a selection rule, not physics
+                if ratio < 1.05 and (best is None or ratio < best[0]):
+                    best = (ratio, st)
         return best[1] if best else None
 
 
@@ -349,11 +348,7 @@ def _hist_figure(dists, key_edges, key_density, xscale, yscale, xunit, yunit, xl
                   f"cmc challenge {csv_stem}: {r.name}, grid {r.nx}x{r.ny}, step at p = {st['p']:.6g} Pa\n"
                   "bin centres (geometric for log bins) and probability densities, SI")
         csvs.append(csv)
-        w = np.diff(e)
-        mass = float(np.sum(d * w))
-        mean = float(np.sum(c * d * w) / mass) if mass > 0 else float("nan")
-        rows.append([r.label, fmt(st["p"] / 1e3, 4), len(d), f"{fmt(e[0] * xunit, 3)} – {fmt(e[-1] * xunit, 3)}",
-                     fmt(mass, 4), fmt(mean * xunit, 4)])
+        rows.append([r.label, fmt(st["p"] / 1e3, 4), len(d), f"{fmt(e[0] * xunit, 3)} – {fmt(e[-1] * xunit, 3)}"])
     if not rows:
         plt.close(fig)
         return None
@@ -384,11 +379,8 @@ def _spectrum(dists, out_dir, data_dir):
                   f"cmc challenge stress spectrum: {r.name}, grid {r.nx}x{r.ny}, step at p = {st['p']:.6g} Pa\n"
                   "isotropic spectral density of the interfacial stress, integral d^2q C(q) = variance")
         csvs.append(csv)
-        qq, CC = q[m], C[m]
-        # The stress variance from the spectrum (2-D: integral 2 pi q C dq).
-        var = float(np.trapz(2 * np.pi * qq * CC, qq)) if len(qq) > 1 else float("nan")
-        rows.append([r.label, fmt(st["p"] / 1e3, 4), len(qq), f"{fmt(qq.min(), 3)} – {fmt(qq.max(), 3)}",
-                     fmt(math.sqrt(var) / 1e6 if var > 0 else None, 4)])
+        qq = q[m]
+        rows.append([r.label, fmt(st["p"] / 1e3, 4), len(qq), f"{fmt(qq.min(), 3)} – {fmt(qq.max(), 3)}"])
     if not rows:
         plt.close(fig)
         return None
@@ -450,13 +442,7 @@ def _cross_section(dists, out_dir, data_dir):
                              f"step at p = {st['p']:.6g} Pa\n"
                              "checkable with: cmc check FILE --quantity cross_section_gap | cross_section_pressure")
         csvs.append(csv)
-        contact = float(np.mean(g <= 0)) if g is not None and len(g) else None
-        rows.append([r.label, fmt(x0 * 1e6 if finite(x0) else None, 4), len(y),
-                     fmt(float(np.min(g)) * 1e9 if g is not None and len(g) else None, 4),
-                     fmt(float(np.max(g)) * 1e6 if g is not None and len(g) else None, 4),
-                     fmt(float(np.max(p)) / 1e6 if p is not None and len(p) else None, 4),
-                     fmt(float(np.min(p)) / 1e6 if p is not None and len(p) else None, 4), fmt(contact, 4),
-                     fmt(yc * 1e6, 4)])
+        rows.append([r.label, fmt(x0 * 1e6 if finite(x0) else None, 4), len(y), fmt(yc * 1e6, 4)])
     if not rows:
         plt.close(fig)
         return None
@@ -484,14 +470,16 @@ def _no_rows(content):
 
 
 def _grid_table(runs):
+    """dx/λ_s and dx/ρ as cmc computed them (summary.json surface_facts)."""
     rows = []
     for r in runs:
         dx = r.dx
         rows.append([r.name, f"`{r.folder}`", f"{r.nx}×{r.ny}", fmt(dx * 1e9 if dx else None, 4),
-                     fmt(CHALLENGE["lambda_s"] / dx if dx else None, 4), fmt(dx / CHALLENGE["rho"] if dx else None, 4),
+                     fmt(get(r.s, "surface_facts", "dx_over_cutoff_wavelength"), 4),
+                     fmt(get(r.s, "surface_facts", "dx_over_range"), 4),
                      len(r.steps), r.status, fmt(r.wall_s, 4),
                      fmt(r.run_tabor, 3) if r.run_tabor is not None else "–"])
-    return md_table(["case", "folder", "grid", "dx (nm)", "λ_s/dx", "dx/ρ", "steps", "status", "wall (s)", "μ_T"], rows)
+    return md_table(["case", "folder", "grid", "dx (nm)", "dx/λ_s", "dx/ρ", "steps", "status", "wall (s)", "μ_T"], rows)
 
 
 def build(results_dir, case_dir, out_dir, notes):
@@ -543,13 +531,12 @@ def build(results_dir, case_dir, out_dir, notes):
             lines.append("Data: " + ", ".join(f"[{os.path.basename(c)}]({rel(c, out_dir)})" for c in csvs))
             lines.append("")
 
-    dist_cols = ["run", "p (kPa)", "bins", "range", "binned fraction", "mean"]
     patch = _hist_figure(dists, "patch_area_edges", "patch_area_density", "log", "log", 1e12, 1e-12,
                          "contact patch area A (µm²)", "probability density of A (1/µm²)",
                          "1. contact patch size distribution", os.path.join(out_dir, "patch_size_distribution.png"),
                          data_dir, ("patch_area_m2", "density_per_m2"), "patch_size_distribution")
     section(1, "Distribution of contact patch size (log-log)", patch,
-            ["run", "p (kPa)", "bins", "area range (µm²)", "fraction of patches binned", "mean area (µm²)"])
+            ["run", "p (kPa)", "bins", "area range (µm²)"])
 
     def area_rows(content):
         if isinstance(content, str):
@@ -568,16 +555,16 @@ def build(results_dir, case_dir, out_dir, notes):
                        os.path.join(out_dir, "gap_distribution.png"), data_dir, ("gap_m", "density_per_m"),
                        "gap_distribution")
     section(3, "Gap distribution function (log-log)", gap,
-            ["run", "p (kPa)", "bins", "gap range (µm)", "binned fraction", "mean gap of the non-contact part (µm)"])
+            ["run", "p (kPa)", "bins", "gap range (µm)"])
     stress = _hist_figure(dists, "stress_hist_edges", "stress_hist_density", "linear", "log", 1e-6, 1e6,
                           "interfacial stress p (MPa, compressive > 0)", "probability density P(p) (1/MPa)",
                           "4. interfacial stress distribution", os.path.join(out_dir, "stress_distribution.png"),
                           data_dir, ("stress_Pa", "density_per_Pa"), "stress_distribution",
                           extra=lambda ax: ax.axvline(0, color="gray", lw=0.8))
     section(4, "Interfacial stress distribution (stress linear, probability logarithmic)", stress,
-            ["run", "p (kPa)", "bins", "stress range (MPa)", "binned fraction", "mean stress of the binned part (MPa)"])
+            ["run", "p (kPa)", "bins", "stress range (MPa)"])
     section(5, "Interfacial stress spectrum (log-log)", _spectrum(dists, out_dir, data_dir),
-            ["run", "p (kPa)", "q points", "q range (1/m)", "rms stress from the spectrum (MPa)"])
+            ["run", "p (kPa)", "q points", "q range (1/m)"])
     tabor_cols = ["μ_T", "run", "grid", "p (kPa)", "a_r", "repulsive fraction", "mean gap (nm)"]
     section(6, "Contact area as a function of the Tabor coefficient (log μ_T)", tabor["area"], tabor_cols)
     section(7, "Mean gap as a function of the Tabor coefficient (log μ_T)", _no_rows(tabor["gap"]), tabor_cols,
@@ -585,6 +572,5 @@ def build(results_dir, case_dir, out_dir, notes):
     section(8, "Mean gap as a function of pressure (log pressure)", _no_rows(area_rows(sweep["gap"])), sweep_cols,
             ["Numbers: the table of item 2.", ""])
     section(9, "Gap and stress along the cross section x = 50 µm", _cross_section(dists, out_dir, data_dir),
-            ["run", "x (µm)", "points", "min gap (nm)", "max gap (µm)", "max p (MPa)", "min p (MPa)",
-             "contact fraction on the line", "zoom centre y (µm)"])
+            ["run", "x (µm)", "points", "zoom centre y (µm)"])
     return "\n".join(lines) + "\n"

@@ -58,6 +58,7 @@ def make_inputs(root, np, h5py):
     folder = os.path.join(res, "challenge-reference-test")
     write_json(os.path.join(folder, "summary.json"),
                {"case": challenge_case("challenge-reference-test"), "grid": grid(256), "status": "converged",
+                "surface_facts": {"dx_over_cutoff_wavelength": 3.906, "dx_over_range": 188.6},
                 "timing": {"wall_s": 3.0, "fft_pairs": 300},
                 "steps": [{"index": 0, "mean_pressure": 250e3, "contact_fraction": 0.03, "mean_gap": 1.1e-6,
                            "converged": True,
@@ -133,7 +134,22 @@ def make_inputs(root, np, h5py):
                                 "error": 1e-4, "tolerance": 1e-3, "pass": True},
                                {"reference": "none", "quantity": "order(penetration)", "grids": [64, 128, 256],
                                 "errors": [4e-4, 1e-4, 2.5e-5], "observed_order": 2.0, "min_order": 1.2,
-                                "pass": True}]})
+                                "fitted_errors": [4e-4, 1e-4, 2.5e-5],
+                                "required_order_errors": [2.3e-4, 1e-4, 4.4e-5], "pass": True}]})
+    # A Hertz case with the profiles.csv that `cmc validate --out` writes (columns of
+    # validation/Profiles.cpp); the numbers are synthetic, the report only draws them.
+    write_json(os.path.join(v, "synthetic-hertz", "summary.json"),
+               {"case": {"case": {"name": "synthetic-hertz"}, "validation": {"reference": "hertz"}},
+                "grid": {"nx": 16, "ny": 16, "boundary": "free"}, "status": "converged",
+                "steps": [{"index": 0, "force": 1e-3}],
+                "validation": [{"reference": "hertz", "quantity": "penetration", "definition": "d",
+                                "error": 1e-4, "tolerance": 1e-3, "pass": True}]})
+    with open(os.path.join(v, "synthetic-hertz", "profiles.csv"), "w") as f:
+        f.write("# synthetic\nstep,a_over_dx,r_over_a,p_over_p0,p_hertz_over_p0,p_error_over_p0,gap_over_delta,"
+                "gap_hertz_over_delta\n")
+        for r in np.linspace(0, 2.9, 30):
+            p = max(1 - r * r, 0)  # a synthetic dome, not Hertz
+            f.write(f"0,8,{r},{p},{p},0,{max(r - 1, 0)},{max(r - 1, 0)}\n")
     write_json(os.path.join(v, "synthetic-fail", "summary.json"),
                {"case": {"case": {"name": "synthetic-fail"}}, "grid": {"nx": 64, "ny": 64}, "status": "converged",
                 "validation": [{"reference": "none", "quantity": "mean_gap", "definition": "d", "error": 0.5,
@@ -166,7 +182,7 @@ def main(argv):
         if r.returncode != 0:
             failures.append(f"make_reports.py exited {r.returncode}:\n{r.stdout}\n{r.stderr}")
         expect = {
-            "validation": ["index.md", "refinement_synthetic-pass.png"],
+            "validation": ["index.md", "refinement_synthetic-pass.png", "profiles_synthetic-hertz.png"],
             "performance": ["index.md", "iteration_vs_fft.png", "speed_vs_error_contact_fraction.png",
                             "speed_vs_error_mean_gap.png"],
             "challenge": ["index.md", "patch_size_distribution.png", "contact_area_vs_pressure.png",
@@ -184,11 +200,17 @@ def main(argv):
             failures.append("challenge/index.md says 'not computed yet' although every input exists")
         if "hertz-free" in idx:
             failures.append("challenge/index.md lists a run whose case name does not start with 'challenge'")
-        if "λ_s/dx" not in idx:
-            failures.append("challenge/index.md lacks the grid-spacing table")
+        # dx/λ_s and dx/ρ are cmc's (surface_facts), not recomputed by the report.
+        if "| dx/λ_s | dx/ρ |" not in idx or "| 3.906 | 188.6 |" not in idx:
+            failures.append("challenge/index.md lacks the grid-spacing table with cmc's surface_facts")
         vidx = open(os.path.join(out, "validation", "index.md")).read()
-        if "**1 checks pass" not in vidx.replace("**2 checks pass", "**1 checks pass") or "**FAIL**" not in vidx:
-            failures.append("validation/index.md does not show the failing check")
+        # The synthetic inputs hold four checks: synthetic-pass has two that pass (penetration
+        # and its refinement study), synthetic-hertz one that passes, synthetic-fail one that
+        # fails (mean_gap).
+        if "**3 checks pass, 1 fail**" not in vidx:
+            failures.append("validation/index.md does not count 3 passing and 1 failing check")
+        if "| synthetic-fail | mean_gap | d | 0.5 | 0.001 | **FAIL** |" not in vidx:
+            failures.append("validation/index.md does not show the failing check's row")
         # The challenge CSVs are readable by `cmc check` conventions (header row + numbers).
         data = os.path.join(out, "challenge", "data")
         if not os.path.isdir(data) or not any(f.startswith("load_sweep__") for f in os.listdir(data)):

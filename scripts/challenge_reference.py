@@ -2,7 +2,7 @@
 """Regenerate the challenge reference curves reference/challenge/<quantity>.csv (and
 reference/challenge/README.md) from cmc's own challenge runs.
 
-    /usr/bin/python3 scripts/challenge_reference.py [--results results] [--out reference/challenge]
+    /usr/bin/python3 scripts/challenge_reference.py [--results results] [--out reference/challenge] [--cmc build/cmc]
 
 Inputs (read only, SI, layout of solver/cmc/output/Writer.cpp):
   results/challenge-reference/        the challenge's problem (adhesion, mu_T = 3) at 250 kPa:
@@ -10,26 +10,30 @@ Inputs (read only, SI, layout of solver/cmc/output/Writer.cpp):
                                       -> items 1, 3, 4, 5, 9
   results/challenge-load-sweep/       adhesive load sweep, if present -> items 2, 8
   results/challenge-tabor-sweep/*/    adhesive Tabor sweep, if present -> items 6, 7
-  results/refine/reference-load-hardwall/n*/summary.json
-                                      hard-wall refinement study, quoted in estimated_error
-                                      for context only (the adhesive curves have no study yet)
+  results/refine/reference-load-hardwall/refinement.json
+                                      hard-wall refinement study (`cmc refine`), quoted in
+                                      estimated_error for context only (the adhesive curves have
+                                      no study yet)
 
 The curves are the same numbers as reports/challenge/data/*.csv: the extraction
 (run discovery, the step at the reference load, the observables subgroup, bin centres)
 is imported from reports/challenge_report.py. Bins with zero density are left out of
-log-scaled curves (the checker would drop them anyway). The files are written in the
-exact text of validation/References.cpp format_curve (make_run_curve provenance keys in
-its order), so tests/test_references.cpp re-formats them to themselves. Output is a
-function of the inputs only: the `date` is the run's summary.json modification time (UTC).
-Each file is written atomically. Nothing is deleted: a quantity without data keeps no
-file only if none was there before (remove stale files by hand).
+log-scaled curves (the checker would drop them anyway). This script computes no number
+of its own: grid spacings relative to rho and lambda_s come from summary.json
+surface_facts, the refinement changes from cmc refine, and cmc formats and writes each
+file (`build/cmc reference --run-curve SPEC --out FILE`, validation/References.cpp
+make_run_curve and write_curve), so tests/test_references.cpp re-formats them to
+themselves. Output is a function of the inputs only: the `date` is the run's
+summary.json modification time (UTC). Each file is written atomically. Nothing is
+deleted: a quantity without data keeps no file only if none was there before (remove
+stale files by hand).
 """
 import argparse
 import datetime
 import glob
 import json
-import math
 import os
+import subprocess
 import sys
 import tempfile
 
@@ -45,36 +49,42 @@ RHO, LAMBDA_S, P0 = CHALLENGE["rho"], CHALLENGE["lambda_s"], CHALLENGE["p0"]
 GENERATOR = "scripts/challenge_reference.py (extraction: reports/challenge_report.py)"
 
 
-# ------------------------------------------------------------------ the format (References.cpp)
-def _num(v):
-    v = float(v)
-    if not math.isfinite(v):
-        raise ValueError(f"non-finite value {v}")
-    return "%.12e" % (0.0 if v == 0 else v)
+# ------------------------------------------------------------------ the format: cmc writes it
+def _toml_str(v):
+    return json.dumps(str(v), ensure_ascii=False)  # a JSON string is a valid TOML basic string
 
 
-def format_curve(c):
-    """The text validation/References.cpp format_curve writes for this curve (byte for byte)."""
-    cols = c["columns"]
-    n = len(cols[0][3])
-    assert n >= 2 and all(len(col[3]) == n for col in cols), c["name"]
-    names = ",".join(col[0] for col in cols)
-    meta = [("cmc-reference-csv", "1"), ("name", c["name"]), ("quantity", c["quantity"])]
-    if c.get("title"):
-        meta.append(("title", c["title"]))
-    meta.append(("source", "cmc run"))
-    meta += c["extra"]
-    meta += [("unit." + name, unit + (f" ({meaning})" if meaning else "")) for name, unit, meaning, _ in cols]
-    meta += [("columns", names), ("x", c["x"]), ("y", c["y"]), ("representation", c["representation"]),
-             ("estimated_error", c["estimated_error"])]
-    out = []
-    for k, v in meta:
-        assert "\n" not in v and "\r" not in v, k
-        out.append(f"# {k}: {v}\n")
-    out.append(names + "\n")
-    for i in range(n):
-        out.append(",".join(_num(col[3][i]) for col in cols) + "\n")
-    return "".join(out)
+def curve_spec(c):
+    """The TOML spec `cmc reference --run-curve` reads (solver/app/run_curve.cpp)."""
+    lines = [f"{k} = {_toml_str(c[k])}" for k in ("name", "quantity", "title", "x", "y", "representation",
+                                                   "estimated_error")]
+    prov_keys = ("cmc_version", "case_file", "grid", "solver_tolerance", "date", "command")
+    more = [(k, v) for k, v in c["extra"] if k not in prov_keys]
+    lines.append("extra = [" + ", ".join(f"[{_toml_str(k)}, {_toml_str(v)}]" for k, v in more) + "]")
+    lines.append("[provenance]")
+    lines += [f"{k} = {_toml_str(v)}" for k, v in c["extra"] if k in prov_keys]
+    for name, unit, meaning, values in c["columns"]:
+        lines += ["[[columns]]", f"name = {_toml_str(name)}", f"unit = {_toml_str(unit)}",
+                  f"meaning = {_toml_str(meaning)}",
+                  "values = [" + ", ".join(repr(float(v)) for v in values) + "]"]
+    return "\n".join(lines) + "\n"
+
+
+def write_curve(cmc, c, path):
+    """Has cmc format and write the curve (validation/References.cpp make_run_curve, write_curve)."""
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with tempfile.NamedTemporaryFile("w", suffix=".toml", encoding="utf-8", delete=False) as f:
+        f.write(curve_spec(c))
+        spec = f.name
+    try:
+        r = subprocess.run([cmc, "reference", "--run-curve", spec, "--out", path], capture_output=True, text=True)
+    finally:
+        os.remove(spec)
+    if r.returncode != 0:
+        sys.exit(f"challenge_reference: cmc reference --run-curve failed for {c['name']} "
+                 f"(exit {r.returncode}): {r.stderr.strip()}")
+    with open(path, encoding="utf-8") as f:
+        return f.read()
 
 
 def write_atomically(path, text):
@@ -102,8 +112,10 @@ def _mtime_utc(path):
 
 
 def _grid_text(run):
-    dx = run.dx
-    return (f"{run.nx}x{run.ny}, dx = {dx * 1e9:.4g} nm = {dx / RHO:.3g} rho = lambda_s/{LAMBDA_S / dx:.3g} "
+    """The grid, with dx/rho and dx/lambda_s as cmc computed them (summary.json surface_facts)."""
+    facts = run.s.get("surface_facts") or {}
+    return (f"{run.nx}x{run.ny}, dx = {run.dx * 1e9:.4g} nm = {facts.get('dx_over_range', float('nan')):.3g} rho "
+            f"= {facts.get('dx_over_cutoff_wavelength', float('nan')):.3g} lambda_s "
             f"(L = {run.size * 1e6:.4g} um; rho = {RHO * 1e9:.4g} nm)")
 
 
@@ -137,35 +149,30 @@ HW_LABELS = {"contact_fraction": "contact fraction (raw)", "contact_fraction_cor
 
 
 def hardwall_refinement(folder):
-    """{observable: (coarse, fine, relative change)} between the two finest converged grids of
-    the hard-wall study, and (n_coarse, n_fine); None without two grids."""
-    runs = {}
-    for f in glob.glob(os.path.join(folder, "n*", "summary.json")):
-        s = load_json(f)
-        if isinstance(s, dict) and s.get("status") == "converged" and s.get("steps"):
-            runs[int((s.get("grid") or {}).get("nx", 0))] = s
-    if len(runs) < 2:
+    """{observable: (coarse, fine, relative change)} between the two finest grids of the
+    hard-wall study, as `cmc refine` wrote them (folder/refinement.json: values per grid and
+    |fine - coarse| / |fine| between successive grids), and (n_coarse, n_fine); None without
+    the file or without two converged grids."""
+    t = load_json(os.path.join(folder, "refinement.json"))
+    if not isinstance(t, dict) or len(t.get("grids") or []) < 2:
         return None
-    n1, n2 = sorted(runs)[-2:]
-
-    def obs(s):
-        st = s["steps"][-1]
-        return {**{k: st.get(k) for k in ("contact_fraction", "mean_gap")}, **(st.get("observables") or {})}
-
-    a, b = obs(runs[n1]), obs(runs[n2])
+    if any(r.get("status") != "converged" for r in (t.get("runs") or [])[-2:]):
+        return None
+    n1, n2 = t["grids"][-2:]
     out = {}
-    for k in HW_LABELS:
-        if isinstance(a.get(k), (int, float)) and isinstance(b.get(k), (int, float)) and b[k]:
-            out[k] = (a[k], b[k], (b[k] - a[k]) / b[k])
-    return {"grids": (n1, n2), "changes": out, "folder": _rel(folder),
-            "table": os.path.isfile(os.path.join(folder, "refinement.json"))}
+    for row in t.get("rows") or []:
+        k, vals, changes = row.get("observable"), row.get("values") or [], row.get("relative_changes") or []
+        if k in HW_LABELS and len(vals) >= 2 and changes and all(isinstance(x, (int, float)) for x in
+                                                                  (vals[-2], vals[-1], changes[-1])):
+            out[k] = (vals[-2], vals[-1], changes[-1])
+    return {"grids": (n1, n2), "changes": out, "folder": _rel(folder), "table": True}
 
 
 def hw_context(hw, keys):
     if not hw:
         return "no hard-wall refinement study found either"
     n1, n2 = hw["grids"]
-    parts = [f"{HW_LABELS[k]} {100 * hw['changes'][k][2]:+.2g} %" for k in keys if k in hw["changes"]]
+    parts = [f"{HW_LABELS[k]} {100 * hw['changes'][k][2]:.2g} %" for k in keys if k in hw["changes"]]
     return (f"for context only, the hard-wall problem at the same load changes between {n1}^2 and {n2}^2 "
             f"({hw['folder']}): " + ", ".join(parts))
 
@@ -179,7 +186,9 @@ def _bistable(run):
 
 def adhesive_error(run, hw, keys):
     return (f"NOT CONVERGED, not estimated by a refinement study: one adhesive run on one grid "
-            f"({run.nx}^2, dx = {run.dx * 1e9:.3g} nm = {run.dx / RHO:.3g} rho, far coarser than the ~0.75 rho of the "
+            f"({run.nx}^2, dx = {run.dx * 1e9:.3g} nm = "
+            f"{(run.s.get('surface_facts') or {}).get('dx_over_range', float('nan')):.3g} rho, far coarser than the "
+            "~0.75 rho of the "
             f"published solution), so the adhesive neck (range rho) is unresolved{_bistable(run)}; "
             f"the error is unknown and may be large (tens of per cent or more), above all in the tensile part, near contact lines and in patch statistics; "
             + hw_context(hw, keys) + " (between a curve and this one, compare shapes, not digits)")
@@ -398,8 +407,9 @@ def readme(curves, out_dir, hw, ref_run, ref_step):
               + (", `refinement.md`" if hw["table"] else "") + f") changes between {n1}² and {n2}² by:", "",
               f"| observable | {n1}² | {n2}² | relative change |", "|---|---|---|---|"]
         for k, (a, b, d) in hw["changes"].items():
-            L.append(f"| {HW_LABELS[k]} | {a:.6g} | {b:.6g} | {100 * d:+.2g} % |")
-        L += ["", f"(SI units; relative change = (value at {n2}² − value at {n1}²) / value at {n2}². The raw contact "
+            L.append(f"| {HW_LABELS[k]} | {a:.6g} | {b:.6g} | {100 * d:.2g} % |")
+        L += ["", f"(SI units; relative change = |value at {n2}² − value at {n1}²| / |value at {n2}²|, from "
+              "`cmc refine`'s refinement.json. The raw contact "
               "fraction converges slowly, the perimeter-corrected one much faster.) The hard-wall curves at 2048² "
               "(`reports/challenge/data/*__challenge-hardwall_2048.csv`) are not stored here: the hard wall is not "
               "the challenge's problem.", ""]
@@ -408,6 +418,7 @@ def readme(curves, out_dir, hw, ref_run, ref_step):
           "build/cmc run cases/challenge/reference-load.toml --out results/challenge-reference   # items 1, 3, 4, 5, 9",
           "build/cmc run cases/challenge/load-sweep.toml --out results/challenge-load-sweep      # items 2, 8",
           "scripts/tabor_sweep.sh                                                                 # items 6, 7",
+          "build/cmc refine cases/challenge/reference-load-hardwall.toml --grids 2048 4096     # hard-wall context",
           "/usr/bin/python3 scripts/challenge_reference.py        # rewrites reference/challenge/*.csv and this README",
           "build/cmc check reports/challenge/data/gap_distribution__challenge-reference_2048.csv --quantity gap_distribution",
           "```", "",
@@ -422,6 +433,7 @@ def main():
     ap.add_argument("--reference-run", default=None, help="default: RESULTS/challenge-reference")
     ap.add_argument("--hardwall-refine", default=None, help="default: RESULTS/refine/reference-load-hardwall")
     ap.add_argument("--out", default=os.path.join(ROOT, "reference", "challenge"))
+    ap.add_argument("--cmc", default=os.path.join(ROOT, "build", "cmc"), help="the cmc that formats the curves")
     a = ap.parse_args()
     ref_dir = a.reference_run or os.path.join(a.results, "challenge-reference")
     hw = hardwall_refinement(a.hardwall_refine or os.path.join(a.results, "refine", "reference-load-hardwall"))
@@ -450,8 +462,7 @@ def main():
         print("challenge_reference: note: " + str(n), file=sys.stderr)
     for c in curves:
         path = os.path.join(a.out, c["quantity"] + ".csv")
-        text = format_curve(c)
-        write_atomically(path, text)
+        text = write_curve(a.cmc, c, path)
         print(f"challenge_reference: {_rel(path)}: {len(c['columns'][0][3])} points, {len(text)} bytes")
     write_atomically(os.path.join(a.out, "README.md"), readme(curves, a.out, hw, ref_run, ref_step))
     print(f"challenge_reference: {_rel(os.path.join(a.out, 'README.md'))}")

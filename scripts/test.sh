@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The test command (README, second command; CI runs exactly this through .ci/run):
 # install what is missing, build, and run every ctest test that is not labelled
-# 'slow' (labels: quick = unit tests, validation = analytic checks, challenge).
+# 'slow' (labels: quick = unit tests and CLI checks, validation = analytic checks,
+# challenge = the challenge cases at 256², hard wall and adhesive; validation/validation.cmake).
 # Extra arguments go to ctest, e.g. scripts/test.sh -L validation
 set -euo pipefail
 cd "$(dirname "$0")/.."

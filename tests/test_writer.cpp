@@ -2,6 +2,7 @@
 #include "cmc/output/Writer.hpp"
 
 #include <gtest/gtest.h>
+#include <hdf5.h>
 
 #include <filesystem>
 #include <fstream>
@@ -108,4 +109,37 @@ TEST(Writer, ResumesAnInterruptedRun) {
   EXPECT_THROW(Writer(dir, other, s3, true), CaseError);
   fs::remove_all(dir);
   fs::remove_all(full_dir);
+}
+
+// RAII for HDF5 handles (surface/H5Handle.hpp): a write that fails half-way through a
+// step (here an observables array whose name HDF5 rejects, after the step's group and
+// its observables group were opened) throws, and leaves no HDF5 object open: only the
+// result file itself, which the Writer closes when it goes out of scope.
+TEST(Writer, FailedWriteLeaksNoHdf5Handle) {
+  const Case c = small_case();
+  Scene s = build_scene(c);
+  const auto dir = fresh_dir("leak");
+  const unsigned objects = H5F_OBJ_GROUP | H5F_OBJ_DATASET | H5F_OBJ_DATATYPE | H5F_OBJ_ATTR;
+  const ssize_t files_before = H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_FILE);
+  ASSERT_EQ(H5Fget_obj_count(H5F_OBJ_ALL, objects), 0);
+  {
+    Writer w(dir, c, s);
+    bool threw = false;
+    run_scene(c, s, [&](const StepRecord& r, const ContactState& st) {
+      if (r.index != 0) return;
+      StepRecord bad = r;
+      bad.observables = StepObservables{};
+      bad.observables->arrays["no/such/group"] = {{1.0, 2.0}, "m"};
+      try {
+        w.add_step(bad, st);
+      } catch (const std::runtime_error&) {
+        threw = true;
+      }
+    });
+    EXPECT_TRUE(threw);
+    EXPECT_EQ(H5Fget_obj_count(H5F_OBJ_ALL, objects), 0) << "a group or dataset was left open";
+    EXPECT_EQ(H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_FILE), files_before + 1);  // the Writer's own file
+  }
+  EXPECT_EQ(H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_FILE), files_before);
+  fs::remove_all(dir);
 }

@@ -234,6 +234,25 @@ std::vector<CheckResult> evaluate_checks(const Case& c, const Scene& s, const st
   return out;
 }
 
+OrderFit fit_order(const std::vector<int>& grids, const std::vector<double>& values) {
+  if (grids.size() != values.size() || grids.size() < 2)
+    throw std::invalid_argument("fit_order: needs as many values as grids, and at least two");
+  // Least-squares slope of log(value) against log(n): value ~ n^-order.
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  const double m = double(grids.size());
+  for (std::size_t k = 0; k < grids.size(); ++k) {
+    const double x = std::log(double(grids[k])), y = std::log(std::max(values[k], 1e-300));
+    sx += x, sy += y, sxx += x * x, sxy += x * y;
+  }
+  if (!(m * sxx - sx * sx > 0)) throw std::invalid_argument("fit_order: the grids must not all be equal");
+  OrderFit f;
+  f.order = -(m * sxy - sx * sy) / (m * sxx - sx * sx);
+  f.mean_log_n = sx / m, f.mean_log_v = sy / m;
+  return f;
+}
+
+double OrderFit::line(double n, double p) const { return std::exp(mean_log_v - p * (std::log(n) - mean_log_n)); }
+
 RefinementResult run_refinement(const Case& c) {
   const auto& spec = *c.validation->refinement;
   RefinementResult rr;
@@ -253,14 +272,9 @@ RefinementResult run_refinement(const Case& c) {
     rr.grids.push_back(n);
     rr.errors.push_back(validation_error(c.validation->reference, spec.quantity, sc.scene, sc.states, sc.run));
   }
-  // Least-squares slope of log(error) against log(n): error ~ n^-order.
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  const double m = double(rr.grids.size());
-  for (std::size_t k = 0; k < rr.grids.size(); ++k) {
-    const double x = std::log(double(rr.grids[k])), y = std::log(std::max(rr.errors[k], 1e-300));
-    sx += x, sy += y, sxx += x * x, sxy += x * y;
-  }
-  rr.order = -(m * sxy - sx * sy) / (m * sxx - sx * sx);
+  const OrderFit fit = fit_order(rr.grids, rr.errors);
+  rr.order = fit.order;
+  for (int n : rr.grids) rr.fitted.push_back(fit.at(n)), rr.required.push_back(fit.line(n, rr.min_order));
   rr.pass = rr.order >= rr.min_order;
   return rr;
 }

@@ -1,10 +1,12 @@
 // The validation harness: compares a solved case with its analytic reference.
 //
 // A case's [validation] section names the reference (hertz, hertz_periodic,
-// westergaard), the quantities to compare and their tolerances, and optionally a
-// refinement study (the same case on several grids, with a required observed order
-// of convergence). Error definitions, one per quantity, are documented in
-// validation/README.md and next to each function below.
+// westergaard, jkr, maugis_dugdale, johnson), the quantities to compare with their
+// tolerances ([[validation.check]]), and optionally a refinement study (the same case
+// on several grids, with a required observed order of convergence). The error
+// definition of each reference and quantity is next to its function in Validate.cpp;
+// `validation_error` also returns it in words, and `cmc validate` writes it into
+// summary.json ("validation" entries) and prints it in its table.
 #pragma once
 
 #include "cmc/run/Driver.hpp"
@@ -22,8 +24,12 @@ struct CheckResult {
   bool pass = false;
 };
 
-// The error of `quantity` over all steps of a solved case (the largest over steps).
-// `run` supplies the pull-off of adhesive load paths (quantity "pulloff").
+// The error of `quantity` for a solved case. For hertz, hertz_periodic and westergaard
+// it is the largest over all steps; for jkr/maugis_dugdale "force" the largest over the
+// steps in contact (out-of-contact steps lie off the reference curve); for johnson
+// "mean_pressure" the largest over the steps with a closed gap. "pulloff" (adhesive
+// references) is one number for the whole path, from `run`. Throws
+// std::invalid_argument for an unknown reference or quantity.
 double validation_error(const std::string& reference, const std::string& quantity, const Scene& s,
                         const std::vector<ContactState>& states, const RunSummary& run,
                         std::string* definition = nullptr);
@@ -31,16 +37,36 @@ double validation_error(const std::string& reference, const std::string& quantit
 std::vector<CheckResult> evaluate_checks(const Case& c, const Scene& s, const std::vector<ContactState>& states,
                                          const RunSummary& run);
 
+// The observed order of convergence of values v_k on grids n_k: the least-squares
+// straight line log v = log_c - order * log n (v ~ n^-order). The line passes through
+// the centroid (mean log n, mean log v) of the points. Values at or below 1e-300 count
+// as 1e-300 (a zero error would give log 0). Needs two or more distinct grids.
+struct OrderFit {
+  double order = 0.0;
+  double mean_log_n = 0.0, mean_log_v = 0.0;  // the centroid
+  // The fitted line at grid n, and a line of slope -p through the same centroid (the
+  // guide for a required order in the reports).
+  double at(double n) const { return line(n, order); }
+  double line(double n, double p) const;
+};
+OrderFit fit_order(const std::vector<int>& grids, const std::vector<double>& values);
+
 struct RefinementResult {
   std::vector<int> grids;
   std::vector<double> errors;
-  double order = 0.0;  // least-squares slope of −log(error) against log(n)
+  double order = 0.0;  // fit_order(grids, errors).order
   double min_order = 0.0;
   bool pass = false;
+  // For the report's figure: the fitted line, and the line of the required order
+  // through the same centroid, at each grid.
+  std::vector<double> fitted, required;
 };
 
 // Runs `c` once per grid of its refinement study (through the same Case → Scene →
-// solver path as `cmc run`) and fits the observed order.
+// solver path as `cmc run`, via solve_case, setting grid.n, or grid.nx (and ny when it
+// is above 1) for a case given by nx/ny),
+// takes the error of the study's quantity on each, and fits the observed order. Throws
+// std::runtime_error if a run does not converge.
 RefinementResult run_refinement(const Case& c);
 
 // Solve a case and keep every step's fields (validation grids are small).

@@ -23,6 +23,61 @@ set_tests_properties(validate.can_fail PROPERTIES LABELS validation)
 add_test(NAME reports.selftest COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/reports/selftest.py)
 set_tests_properties(reports.selftest PROPERTIES LABELS quick)
 
-# cmc surface prints the challenge surface's statistics (a 256² low-passed preview).
+# cmc surface prints R_c = 1/(rms line-scan curvature) (SurfaceStats.hpp). Two checks
+# against values derived from the surface's definition, not from an earlier run:
+# - a known case, the 1-D wavy surface h(x) = h0 (1 - cos 2 pi x/lambda) of
+#   westergaard.toml (h0 = 1 um, lambda = 1 mm): <h_xx^2> = h0^2 k^4 / 2 and h_yy = 0,
+#   so kappa_rms = sqrt(<h_xx^2>/2) = h0 k^2 / 2 and R_c = lambda^2 / (2 pi^2 h0)
+#   = 0.0506606 m (spectral derivatives: exact to the 6 printed digits).
+add_test(NAME cli.surface_wavy COMMAND cmc surface ${CMAKE_SOURCE_DIR}/cases/validation/westergaard.toml)
+set_tests_properties(cli.surface_wavy PROPERTIES LABELS quick PASS_REGULAR_EXPRESSION "R_c +0\\.0506606 m")
+# - the challenge surface's 256² preview keeps the modes |kx|, |ky| < 128 of the band
+#   (SelfAffine.hpp). Summing (kx^4 + ky^4)/2 S(k) over the kept and over all modes of
+#   the problem definition's spectrum S(k) (eq. 1: flat below |k| = 5, |k|^-3.6 up to
+#   |k| = 1000) gives R_c(256)/R_c(full) = 10.52, and R_c(full) = 60.1 nm (problem
+#   definition), so R_c(256) = 632 nm. The complex-Gaussian mode amplitudes scatter
+#   this ratio by 0.4 % (1 sigma, Monte Carlo over 100 draws of the amplitudes); the
+#   band is +-2 % (5 sigma): 619-645 nm. Measured: 627.8 nm.
 add_test(NAME cli.surface COMMAND cmc surface ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load.toml --set grid.n=256)
-set_tests_properties(cli.surface PROPERTIES LABELS quick PASS_REGULAR_EXPRESSION "R_c +[0-9.e+-]+ m")
+set_tests_properties(cli.surface PROPERTIES LABELS quick
+                     PASS_REGULAR_EXPRESSION "R_c +6\\.(19|2[0-9]|3[0-9]|4[0-4])[0-9]*e-07 m")
+
+# cmc refine: a three-grid study of the hard-wall challenge case on 64², 128², 256²
+# (about a second). It must write the table with an observed order in the penetration
+# row, and a second call must reuse all three finished grids instead of rerunning them.
+# A command-line check: a shell command line that must exit 0 (label quick).
+function(cmc_cli_test name command)
+  add_test(NAME ${name} COMMAND sh -c "${command}")
+  set_tests_properties(${name} PROPERTIES LABELS quick)
+endfunction()
+set(CMC_REFINE_OUT ${CMAKE_BINARY_DIR}/cli-refine)
+set(CMC_REFINE_CMD "$<TARGET_FILE:cmc> refine ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load-hardwall.toml --grids 64 128 256 --out ${CMC_REFINE_OUT}")
+cmc_cli_test(cli.refine "rm -rf ${CMC_REFINE_OUT} && ${CMC_REFINE_CMD} --quiet >/dev/null && grep -Eq '^[|] penetration [|].*[|] [0-9]+[.][0-9]+ [|]$' ${CMC_REFINE_OUT}/refinement.md && test \"$(${CMC_REFINE_CMD} 2>&1 >/dev/null | grep -c 'finished earlier')\" -eq 3")
+# Grids out of order are bad input (exit code 2), and nothing is run.
+cmc_cli_test(cli.refine_bad_grids "$<TARGET_FILE:cmc> refine ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load-hardwall.toml --grids 256 128 --out ${CMAKE_BINARY_DIR}/cli-refine-bad; test $? -eq 2 && test ! -e ${CMAKE_BINARY_DIR}/cli-refine-bad")
+
+# The challenge itself, at 256² (about 1 s each; checks in validation/challenge_smoke.cmake):
+# hard wall (converged, kappa = a_r E* g / p in [1.7, 2.3]) and with the challenge's
+# adhesion (converged, tension present and bounded by w/rho, more contact than the hard wall).
+foreach(kind hardwall adhesive)
+  if(kind STREQUAL "hardwall")
+    set(case_file ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load-hardwall.toml)
+  else()
+    set(case_file ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load.toml)
+  endif()
+  add_test(NAME challenge.${kind}_256
+           COMMAND ${CMAKE_COMMAND} -DCMC=$<TARGET_FILE:cmc> -DCASE=${case_file} -DKIND=${kind}
+                   -DOUT=${CMAKE_BINARY_DIR}/challenge/${kind}_256 -DHARDWALL=${CMAKE_BINARY_DIR}/challenge/hardwall_256
+                   -P ${CMAKE_SOURCE_DIR}/validation/challenge_smoke.cmake)
+  set_tests_properties(challenge.${kind}_256 PROPERTIES LABELS challenge TIMEOUT 120)
+endforeach()
+set_tests_properties(challenge.hardwall_256 PROPERTIES FIXTURES_SETUP challenge_hardwall_256)
+set_tests_properties(challenge.adhesive_256 PROPERTIES FIXTURES_REQUIRED challenge_hardwall_256)
+
+# cmc reference --run-curve (scripts/challenge_reference.py's formatter): a spec becomes a
+# curve in the reference format, metadata in make_run_curve's order, numbers "%.12e" (-0
+# written as 0), the extra keys after the provenance. A spec with a key missing is bad
+# input: exit 2, no file.
+set(CMC_RUN_CURVE_OUT ${CMAKE_BINARY_DIR}/cli-run-curve.csv)
+cmc_cli_test(cli.reference_run_curve "rm -f ${CMC_RUN_CURVE_OUT} && $<TARGET_FILE:cmc> reference --run-curve ${CMAKE_SOURCE_DIR}/tests/data/run_curve_spec.toml --out ${CMC_RUN_CURVE_OUT} && grep -q '^# source: cmc run$' ${CMC_RUN_CURVE_OUT} && grep -A1 '^# cmc_version: 0.1.0$' ${CMC_RUN_CURVE_OUT} | grep -q '^# case_file: ' && grep -q '^# sampling: two points$' ${CMC_RUN_CURVE_OUT} && grep -q '^2.500000000000e-09,0.000000000000e+00$' ${CMC_RUN_CURVE_OUT}")
+cmc_cli_test(cli.reference_run_curve_bad_spec "printf 'name = \"x\"\\n' > ${CMAKE_BINARY_DIR}/bad-spec.toml; $<TARGET_FILE:cmc> reference --run-curve ${CMAKE_BINARY_DIR}/bad-spec.toml --out ${CMAKE_BINARY_DIR}/bad-curve.csv; test $? -eq 2 && test ! -e ${CMAKE_BINARY_DIR}/bad-curve.csv")

@@ -14,6 +14,7 @@ namespace cmc::app {
 
 namespace {
 const char* kReferenceHelp = R"(usage: cmc reference [NAME ...] [--out DIR] [--list] [--check]
+       cmc reference --run-curve SPEC.toml --out FILE.csv
 
 Writes the analytic reference curves (all of them, or the NAMEs given) as
 DIR/NAME.csv in cmc's reference CSV format (see reference/README.md).
@@ -26,6 +27,13 @@ from (or $CMC_REFERENCE_DIR).
 
 Analytic curves carry no date and no version, so regenerating them reproduces
 the stored files byte for byte.
+
+  --run-curve SPEC.toml   write one curve made of a cmc run's numbers (challenge
+            references) to FILE.csv in the same format. SPEC: name, quantity, title,
+            x, y, representation, estimated_error (strings); [provenance] cmc_version,
+            case_file, grid, solver_tolerance, date, command; [[columns]] name, unit,
+            meaning, values = [numbers]; optional extra = [["key", "value"], ...],
+            written after the provenance (scripts/challenge_reference.py writes it).
 )";
 
 std::string slurp(const std::filesystem::path& p) {
@@ -46,8 +54,9 @@ int cmd_reference(int argc, char** argv) {
     else if (i >= 2 && s == "--check") check = true;
     else rest.push_back(argv[i]);
   }
-  const Args a = parse_args(int(rest.size()), rest.data(), 2);
+  const Args a = parse_args(int(rest.size()), rest.data(), 2, {"--run-curve"});
   if (a.help) return std::fputs(kReferenceHelp, stdout), kOk;
+  if (const std::string spec = a.option("--run-curve"); !spec.empty()) return write_run_curve(spec, a.out);
   if (!a.overrides.empty()) throw CaseError("cmc reference takes no --set (see cmc reference --help)");
 
   const auto all = reference::analytic_curve_names();

@@ -1,11 +1,6 @@
 // cmc run: solve one case and write its results.
 #include "commands.hpp"
 
-#include "cmc/run/Driver.hpp"
-#include "cmc/output/Writer.hpp"
-
-#include <unistd.h>
-
 #include <cstdio>
 
 namespace cmc::app {
@@ -36,36 +31,7 @@ int cmd_run(int argc, char** argv) {
   if (a.out.empty()) throw CaseError("cmc run needs --out DIR (see cmc run --help)");
   const Case c = load_case(a.positional[0], a.overrides);
   Scene scene = build_scene(c);
-  Writer writer(a.out, c, scene, a.resume);
-  const ResumePoint& rp = writer.resume_point();
-  if (!rp.done.empty() && !a.quiet)
-    std::fprintf(stderr, "resuming %s after step %d of %zu\n", c.name.c_str(), rp.done.back().index, scene.targets.size());
-  int step = 0;
-  const auto t0 = std::chrono::steady_clock::now();
-  const bool tty = !a.quiet && isatty(STDERR_FILENO);
-  RunSummary run;
-  try {
-    run = run_scene(
-        c, scene,
-        [&](const StepRecord& r, const ContactState& st) {
-          writer.add_step(r, st);
-          if (tty) std::fputc('\n', stderr);
-          if (!a.quiet)
-            std::fprintf(stderr, "step %d: %s after %d iterations (residual %.2e, %.2f s): p = %.6g Pa, "
-                                 "contact %.4f\n",
-                         r.index, r.result.converged ? "converged" : "NOT CONVERGED", r.result.iterations,
-                         r.result.residual, r.result.wall_s, r.mean_pressure, r.contact_fraction);
-          step = r.index + 1;
-        },
-        make_progress(a.quiet, &step, t0, int(scene.targets.size())), &rp.done, rp.done.empty() ? nullptr : &rp.state);
-    writer.finish(run);
-  } catch (const std::exception& e) {
-    writer.fail(e.what());
-    throw;
-  }
-  if (!a.quiet)
-    std::fprintf(stderr, "%s: %zu steps, %s, %.2f s, %.0f FFT pairs -> %s/summary.json\n", c.name.c_str(),
-                 run.steps.size(), run.status.c_str(), run.wall_s, run.fft_pairs, a.out.c_str());
+  const RunSummary run = run_case_to(c, scene, a.out, a.resume, a.quiet);
   if (run.status != "converged") {
     std::fprintf(stderr, "cmc run: %s\n", run.message.c_str());
     return kNotConverged;

@@ -1,6 +1,7 @@
 // cmc validate: solve cases and compare them with their analytic references.
 #include "commands.hpp"
 
+#include "Profiles.hpp"
 #include "Validate.hpp"
 #include "cmc/output/Writer.hpp"
 
@@ -16,7 +17,10 @@ Solves each case and compares it with the analytic reference named in its
 [validation] section: each [[validation.check]] gives a quantity and a tolerance, and
 an optional [validation.refinement] runs the case on several grids and requires an
 observed order of convergence. Prints one table row per check; with --out, writes
-DIR/<case name>/summary.json (with a "validation" entry) and the fields.
+DIR/<case name>/summary.json (with a "validation" entry: every check's error, and a
+refinement study's errors, observed order and fitted line), the fields, and, for
+hertz, hertz_periodic and westergaard, DIR/<case name>/profiles.csv: the solved
+pressure and gap beside the analytic ones at every grid point near the contact.
 Exit code 5 when any check fails.
 )";
 
@@ -53,7 +57,7 @@ int cmd_validate(int argc, char** argv) {
       const RefinementResult rr = run_refinement(c);
       seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
       std::string grids, errors;
-      toml::array g, e;
+      toml::array g, e, fitted, required;
       for (std::size_t k = 0; k < rr.grids.size(); ++k) {
         grids += (k ? "," : "") + std::to_string(rr.grids[k]);
         char buf[32];
@@ -61,6 +65,8 @@ int cmd_validate(int argc, char** argv) {
         errors += buf;
         g.push_back(rr.grids[k]);
         e.push_back(rr.errors[k]);
+        fitted.push_back(rr.fitted[k]);
+        required.push_back(rr.required[k]);
       }
       const std::string q = "order(" + c.validation->refinement->quantity + ")";
       std::printf("%-28s %-18s %12.4f %12.4f %6s %8.2f   grids %s errors %s\n", c.name.c_str(), q.c_str(), rr.order,
@@ -68,12 +74,16 @@ int cmd_validate(int argc, char** argv) {
       all_pass &= rr.pass;
       json_checks.push_back(toml::table{{"reference", c.validation->reference}, {"quantity", q},
                                         {"grids", g}, {"errors", e}, {"observed_order", rr.order},
-                                        {"min_order", rr.min_order}, {"pass", rr.pass}});
+                                        {"min_order", rr.min_order}, {"fitted_errors", fitted},
+                                        {"required_order_errors", required}, {"pass", rr.pass}});
     }
     if (!a.out.empty()) {
       Writer w(std::filesystem::path(a.out) / c.name, c, sc.scene);
       for (std::size_t k = 0; k < sc.states.size(); ++k) w.add_step(sc.run.steps[k], sc.states[k]);
       w.finish(sc.run, toml::table{{"validation", json_checks}});
+      if (has_profiles(c.validation->reference))
+        write_atomically(std::filesystem::path(a.out) / c.name / "profiles.csv",
+                         profiles_csv(c.validation->reference, sc.scene, sc.states));
     }
   }
   return all_pass ? kOk : kValidationFailed;

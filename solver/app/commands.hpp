@@ -4,6 +4,7 @@
 
 #include "cmc/input/Case.hpp"
 #include "cmc/contact/Solver.hpp"
+#include "cmc/run/Driver.hpp"
 
 #include <chrono>
 #include <string>
@@ -33,9 +34,17 @@ Args parse_args(int argc, char** argv, int first, const std::vector<std::string>
 // (elapsed per finished step x steps left).
 Progress make_progress(bool quiet, int* step, std::chrono::steady_clock::time_point t0, int total_steps = 0);
 
+// Solve `c` on `scene` into the folder `out` (summary.json, result.h5, result.xdmf),
+// continuing a partial run there when `resume` is set (run_case.cpp; `cmc run` and
+// `cmc refine` both use it). Progress and per-step lines on stderr unless `quiet`.
+RunSummary run_case_to(const Case& c, Scene& scene, const std::string& out, bool resume, bool quiet);
+
 int cmd_run(int argc, char** argv);
+int cmd_refine(int argc, char** argv);     // cmd_refine.cpp
 int cmd_validate(int argc, char** argv);
 int cmd_reference(int argc, char** argv);  // cmd_reference.cpp
+// cmc reference --run-curve SPEC.toml --out FILE: a curve from a run's numbers (run_curve.cpp).
+int write_run_curve(const std::string& spec_file, const std::string& out);
 int cmd_check(int argc, char** argv);      // cmd_check.cpp
 int cmd_surface(int argc, char** argv);    // cmd_surface.cpp
 

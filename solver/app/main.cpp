@@ -20,7 +20,9 @@ commands:
   validate CASE.toml [CASE.toml ...] [--out DIR] [--set ...] [--quiet]
         solve each case and compare it with the reference its [validation]
         section names; prints a table; exits non-zero if a check fails
-
+  refine CASE.toml --grids N1 N2 [N3 ...] [--out DIR] [--set ...] [--quiet]
+        grid-refinement study: the case on each grid (resumable), the change of
+        every observable between grids and its observed order
   surface CASE.toml [--write FILE.h5]
         the case's surface: statistics (rms height, gradient, R_c, Tabor) and the map
   reference [NAME ...] [--out DIR] [--list]
@@ -50,6 +52,7 @@ int main(int argc, char** argv) {
   try {
     if (cmd == "run") return cmd_run(argc, argv);
     if (cmd == "validate") return cmd_validate(argc, argv);
+    if (cmd == "refine") return cmd_refine(argc, argv);
     if (cmd == "reference") return cmd_reference(argc, argv);
     if (cmd == "check") return cmd_check(argc, argv);
     if (cmd == "surface") return cmd_surface(argc, argv);

@@ -215,6 +215,13 @@ double hertz_stiffness(double Estar, double a) {
   return 2 * Estar * a;
 }
 
+double hertz_gap(double R, double a, double r) {
+  require(positive(R) && positive(a) && nonnegative(r), "hertz_gap", "need R > 0, a > 0, r >= 0");
+  if (r <= a) return 0.0;
+  const double s = r / a;
+  return a * a / R * ((s * s / 2 - 1) + ((2 - s * s) * std::asin(1 / s) + std::sqrt(s * s - 1)) / std::numbers::pi);
+}
+
 // ============================================================================ periodic images
 // Shift of the penetration of a sphere in a periodic square cell (formula and sign from
 // the project notes, reference-solutions.md): delta_per = delta_Hertz - c F/(E* L), with

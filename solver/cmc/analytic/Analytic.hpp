@@ -50,6 +50,11 @@ HertzContact hertz_from_radius(double Estar, double R, double a);
 double hertz_pressure(double Estar, double R, double a, double r);
 // dF/d delta = 2 Estar a.
 double hertz_stiffness(double Estar, double a);
+// Gap between the sphere and the deformed half-space at radius r (0 for r <= a), for
+// contact radius a (Johnson 1985 eq. 3.42b), with s = r/a and delta = a^2/R:
+// g = delta [(s^2/2 - 1) + ((2 - s^2) asin(1/s) + sqrt(s^2 - 1)) / pi]. Independent
+// of Estar.
+double hertz_gap(double R, double a, double r);
 
 // ---------------------------------------------------------------- periodic images
 // c = -Z(1/2)/pi ~ 1.2415, Z the square-lattice Epstein zeta (computed, not tabulated).

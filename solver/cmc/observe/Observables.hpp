@@ -51,8 +51,22 @@ long long contact_edges(const Grid& grid, const Mask& mask);
 // by an amount proportional to the contact-line length. The correction subtracts
 //     alpha * N_edges * dx * dy,   alpha = (pi - 1 + ln 2) / 24 ~= 0.1181,
 // with N_edges the number of contact/non-contact faces counted on the grid.
-// The coefficient is quoted from that paper from memory (its full text was not
-// reachable here); see Observables.cpp for the independent check made here.
+// Source status (searched 2026-11 with the project's reference search):
+// - the paper itself (ar5iv.labs.arxiv.org/html/1701.02727): only its abstract and the
+//   opening of the introduction could be read. Verified there: the correction is
+//   geometric and needs only the length of the contact/non-contact interfaces.
+// - a third-party reproduction of the paper (github.com/cofebem/aspher,
+//   doc/convergence_study/repro/REPORT.md, citing Tribol. Int. 114 (2017) 161-171)
+//   states the paper's correction as A* = A_d - (pi - 1 + ln 2)/24 * S_d * dx with
+//   S_d = M dx and M the number of contact/non-contact switches along all grid lines,
+//   i.e. exactly alpha * N_edges * dx * dy as here, and explains the coefficient as
+//   beta * pi/4: beta = (pi - 1 + ln 2)/(6 pi) ~ 0.1504, the mean area of the smaller
+//   part of a unit cell cut by a random line, and pi/4 turning the grid (Manhattan)
+//   perimeter into the Euclidean one.
+// NOT verified: the number of the equation in the paper (its body text was not
+// reachable), and the value against the paper's own text rather than that secondary
+// source. Observables.cpp records the check made here (Hertz on 1024^2: 0.056-0.14 dx^2
+// per edge, mean ~0.095, the size of alpha).
 // Returns a fraction of the nominal area. For ny == 1 the 2-D correction does not
 // apply and the raw fraction is returned.
 inline constexpr double kYastrebovAlpha = (std::numbers::pi - 1.0 + std::numbers::ln2) / 24.0;

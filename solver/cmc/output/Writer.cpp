@@ -1,11 +1,14 @@
 #include "cmc/output/Writer.hpp"
 
+#include "cmc/surface/H5Handle.hpp"
+
 #include <hdf5.h>
 #include <unistd.h>
 
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 namespace cmc {
 
@@ -33,49 +36,44 @@ namespace {
 void check(long long status, const std::string& what) {
   if (status < 0) throw std::runtime_error("HDF5: " + what + " failed");
 }
+// Every identifier below is held by an H5Handle (surface/H5Handle.hpp): a check() that
+// throws closes whatever was opened before it.
 void attr_string(hid_t obj, const char* name, const std::string& value) {
-  hid_t type = H5Tcopy(H5T_C_S1);
+  H5Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
   H5Tset_size(type, value.size() + 1);
-  hid_t space = H5Screate(H5S_SCALAR);
-  hid_t a = H5Acreate2(obj, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
+  H5Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+  H5Handle a(H5Acreate2(obj, name, type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
   check(a, std::string("attribute ") + name);
   check(H5Awrite(a, type, value.c_str()), std::string("attribute ") + name);
-  H5Aclose(a);
-  H5Sclose(space);
-  H5Tclose(type);
 }
 void attr_double(hid_t obj, const char* name, double value) {
-  hid_t space = H5Screate(H5S_SCALAR);
-  hid_t a = H5Acreate2(obj, name, H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT);
+  H5Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+  H5Handle a(H5Acreate2(obj, name, H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
   check(a, std::string("attribute ") + name);
   check(H5Awrite(a, H5T_NATIVE_DOUBLE, &value), std::string("attribute ") + name);
-  H5Aclose(a);
-  H5Sclose(space);
 }
 // A (ny, nx) dataset of `values` times `scale`, with its unit.
 void dataset(hid_t where, const std::string& name, const Grid& g, const Field& values, double scale, const char* unit,
              const char* meaning) {
   hsize_t dims[2] = {hsize_t(g.ny), hsize_t(g.nx)};
-  hid_t space = H5Screate_simple(2, dims, nullptr);
-  hid_t d = H5Dcreate2(where, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  H5Handle space(H5Screate_simple(2, dims, nullptr), H5Sclose);
+  H5Handle d(H5Dcreate2(where, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+             H5Dclose);
   check(d, "dataset " + name);
   Field scaled(values.size());
   for (std::size_t i = 0; i < values.size(); ++i) scaled[i] = values[i] * scale;
   check(H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, scaled.data()), "writing " + name);
   attr_string(d, "units", unit);
   attr_string(d, "description", meaning);
-  H5Dclose(d);
-  H5Sclose(space);
 }
 void vector_dataset(hid_t where, const std::string& name, const std::vector<double>& v, const char* unit) {
   hsize_t dims[1] = {hsize_t(v.size())};
-  hid_t space = H5Screate_simple(1, dims, nullptr);
-  hid_t d = H5Dcreate2(where, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  H5Handle space(H5Screate_simple(1, dims, nullptr), H5Sclose);
+  H5Handle d(H5Dcreate2(where, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+             H5Dclose);
   check(d, "dataset " + name);
   if (!v.empty()) check(H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), "writing " + name);
   attr_string(d, "units", unit);
-  H5Dclose(d);
-  H5Sclose(space);
 }
 }  // namespace
 
@@ -96,11 +94,13 @@ Writer::Writer(fs::path dir, const Case& c, const Scene& s, bool resume) : dir_(
     h5_tmp_.clear();
     return;
   }
-  file_ = H5Fcreate(h5_tmp_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  if (file_ < 0) throw std::runtime_error(h5_tmp_.string() + ": cannot create the HDF5 file");
+  // The file stays in a handle until its root is written: if a write throws, the
+  // constructor does not complete, ~Writer does not run, and the handle closes it.
+  H5Handle file(H5Fcreate(h5_tmp_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+  if (!file.ok()) throw std::runtime_error(h5_tmp_.string() + ": cannot create the HDF5 file");
   const Units& u = s.units;
   const Grid& g = s.grid;
-  hid_t root = hid_t(file_);
+  const hid_t root = file;
   attr_string(root, "case", c.name);
   attr_string(root, "cmc_version", CMC_VERSION);
   attr_double(root, "dx", u.to_m(g.dx()));
@@ -109,6 +109,7 @@ Writer::Writer(fs::path dir, const Case& c, const Scene& s, bool resume) : dir_(
   attr_double(root, "size_y", u.to_m(g.ly));
   attr_string(root, "length_units", "m");
   dataset(root, "heights", g, s.topography.heights, u.length_m, "m", "indenter heights h (gap g = h - penetration + u)");
+  file_ = file.release();  // from here on ~Writer closes it
 }
 
 void Writer::load_partial() {
@@ -151,20 +152,18 @@ void Writer::load_partial() {
       resume_.done.push_back(rec);
     }
   // The warm start: the last finished step's fields (reduced units).
-  hid_t f = H5Fopen(checkpoint_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (f < 0) throw CaseError(checkpoint_.string() + ": missing checkpoint of a partial run; run without --resume");
-  const std::size_t n = scene_.grid.size();
-  for (auto [name, field] : {std::pair{"pressure", &resume_.state.pressure}, {"displacement", &resume_.state.displacement},
-                             {"gap", &resume_.state.gap}}) {
-    field->resize(n);
-    hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
-    if (d < 0 || H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, field->data()) < 0) {
-      H5Fclose(f);
-      throw CaseError(checkpoint_.string() + ": unreadable checkpoint; run without --resume");
+  {
+    H5Handle f(H5Fopen(checkpoint_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+    if (!f.ok()) throw CaseError(checkpoint_.string() + ": missing checkpoint of a partial run; run without --resume");
+    const std::size_t n = scene_.grid.size();
+    for (auto [name, field] : {std::pair{"pressure", &resume_.state.pressure},
+                               {"displacement", &resume_.state.displacement}, {"gap", &resume_.state.gap}}) {
+      field->resize(n);
+      H5Handle d(H5Dopen2(f, name, H5P_DEFAULT), H5Dclose);
+      if (!d.ok() || H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, field->data()) < 0)
+        throw CaseError(checkpoint_.string() + ": unreadable checkpoint; run without --resume");
     }
-    H5Dclose(d);
   }
-  H5Fclose(f);
   resume_.state.penetration = u.length(resume_.done.back().penetration);
   resume_.state.mean_pressure = u.pressure(resume_.done.back().mean_pressure);
   steps_written_ = int(resume_.done.size());
@@ -185,12 +184,12 @@ void Writer::add_step(const StepRecord& rec, const ContactState& st) {
   // interrupted run can be resumed from here with --resume.
   {
     const fs::path tmp = dir_ / ".checkpoint.h5.tmp";
-    hid_t f = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-    if (f < 0) throw std::runtime_error(tmp.string() + ": cannot write the checkpoint");
+    H5Handle f(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+    if (!f.ok()) throw std::runtime_error(tmp.string() + ": cannot write the checkpoint");
     dataset(f, "pressure", scene_.grid, st.pressure, 1.0, "E*", "reduced pressure");
     dataset(f, "displacement", scene_.grid, st.displacement, 1.0, "L", "reduced displacement");
     dataset(f, "gap", scene_.grid, st.gap, 1.0, "L", "reduced gap");
-    H5Fclose(f);
+    check(f.reset(), "closing the checkpoint " + tmp.string());
     fs::rename(tmp, checkpoint_);
     records_.push_back(step_json(rec));
     std::ostringstream p;
@@ -201,7 +200,7 @@ void Writer::add_step(const StepRecord& rec, const ContactState& st) {
   const Units& u = scene_.units;
   char name[32];
   std::snprintf(name, sizeof name, "step_%04d", rec.index);
-  hid_t grp = H5Gcreate2(hid_t(file_), name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  H5Handle grp(H5Gcreate2(hid_t(file_), name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
   check(grp, std::string("group ") + name);
   dataset(grp, "pressure", scene_.grid, st.pressure, u.pressure_pa, "Pa", "interfacial pressure, compressive > 0");
   dataset(grp, "displacement", scene_.grid, st.displacement, u.length_m, "m", "surface displacement into the solid");
@@ -211,12 +210,11 @@ void Writer::add_step(const StepRecord& rec, const ContactState& st) {
   attr_double(grp, "mean_gap", rec.mean_gap);
   attr_string(grp, "branch", rec.branch);
   if (rec.observables) {
-    hid_t og = H5Gcreate2(grp, "observables", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    H5Handle og(H5Gcreate2(grp, "observables", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
     check(og, "group observables");
     for (const auto& [name, a] : rec.observables->arrays) vector_dataset(og, name, a.values, a.unit.c_str());
-    H5Gclose(og);
   }
-  H5Gclose(grp);
+  grp.reset();
   H5Fflush(hid_t(file_), H5F_SCOPE_LOCAL);
   ++steps_written_;
 }
@@ -287,8 +285,8 @@ void Writer::finish(const RunSummary& run, const toml::table& extra) {
                                       {"jumps", run.jumps}});
   for (const auto& [k, v] : extra) s.insert_or_assign(k, v);
   if (file_ >= 0) {
-    H5Fclose(hid_t(file_));
-    file_ = -1;
+    const hid_t f = hid_t(std::exchange(file_, -1));
+    check(H5Fclose(f), "closing " + h5_tmp_.string());  // a failed close may leave it incomplete
     fs::rename(h5_tmp_, dir_ / "result.h5");
     // XDMF pointer for ParaView: one 2-D uniform grid per step.
     const Grid& g = scene_.grid;

@@ -2,7 +2,7 @@
 
 #include "cmc/surface/SelfAffine.hpp"
 
-#include <hdf5.h>
+#include "cmc/surface/H5Handle.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -114,33 +114,7 @@ void check_map(const fs::path& file, const HeightMap& map) {
 }
 
 // ---------------------------------------------------------------- HDF5 helpers
-// Silences HDF5's automatic error stack printing for the scope (only our messages show).
-struct H5Quiet {
-  H5E_auto2_t func = nullptr;
-  void* data = nullptr;
-  H5Quiet() {
-    H5Eget_auto2(H5E_DEFAULT, &func, &data);
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  }
-  ~H5Quiet() { H5Eset_auto2(H5E_DEFAULT, func, data); }
-};
-
-struct H5Id {
-  hid_t id;
-  herr_t (*close)(hid_t);
-  H5Id(hid_t i, herr_t (*c)(hid_t)) : id(i), close(c) {}
-  H5Id(const H5Id&) = delete;
-  H5Id& operator=(const H5Id&) = delete;
-  ~H5Id() { reset(); }
-  herr_t reset() {
-    herr_t r = 0;
-    if (id >= 0) r = close(id);
-    id = -1;
-    return r;
-  }
-  bool ok() const { return id >= 0; }
-  operator hid_t() const { return id; }
-};
+// H5Handle, H5Quiet: cmc/surface/H5Handle.hpp.
 
 std::string root_names(hid_t f) {
   H5G_info_t info;
@@ -159,7 +133,7 @@ double read_double_attribute(const fs::path& file, hid_t obj, const char* name, 
   if (H5Aexists(obj, name) <= 0)
     throw SurfaceFileError(file, "dataset '" + dataset + "' has no attribute '" + name +
                                      "': pass the physical size lx, ly explicitly");
-  H5Id a(H5Aopen(obj, name, H5P_DEFAULT), H5Aclose);
+  H5Handle a(H5Aopen(obj, name, H5P_DEFAULT), H5Aclose);
   double v = 0;
   if (!a.ok() || H5Aread(a, H5T_NATIVE_DOUBLE, &v) < 0 || !(v > 0) || !std::isfinite(v))
     throw SurfaceFileError(file, "attribute '" + std::string(name) + "' of dataset '" + dataset +
@@ -266,20 +240,20 @@ HeightMap read_hdf5(const fs::path& file, const std::string& dataset, double lx,
   std::error_code ec;
   if (!fs::exists(file, ec)) throw SurfaceFileError(file, "no such file");
   H5Quiet quiet;
-  H5Id f(H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  H5Handle f(H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
   if (!f.ok()) throw SurfaceFileError(file, "cannot open as HDF5 (not an HDF5 file, or truncated/corrupt)");
   if (H5Lexists(f, dataset.c_str(), H5P_DEFAULT) <= 0)
     throw SurfaceFileError(file, "no dataset '" + dataset + "' (expected a 2-D height dataset; the file has " +
                                      root_names(f) + ")");
-  H5Id d(H5Dopen2(f, dataset.c_str(), H5P_DEFAULT), H5Dclose);
+  H5Handle d(H5Dopen2(f, dataset.c_str(), H5P_DEFAULT), H5Dclose);
   if (!d.ok()) throw SurfaceFileError(file, "'" + dataset + "' is not a readable dataset");
-  H5Id space(H5Dget_space(d), H5Sclose);
+  H5Handle space(H5Dget_space(d), H5Sclose);
   const int rank = space.ok() ? H5Sget_simple_extent_ndims(space) : -1;
   if (rank != 2)
     throw SurfaceFileError(file, "dataset '" + dataset + "' has " + std::to_string(rank) + " dimensions, expected 2");
   hsize_t dims[2];
   H5Sget_simple_extent_dims(space, dims, nullptr);
-  H5Id type(H5Dget_type(d), H5Tclose);
+  H5Handle type(H5Dget_type(d), H5Tclose);
   const H5T_class_t cls = type.ok() ? H5Tget_class(type) : H5T_NO_CLASS;
   if (cls != H5T_FLOAT && cls != H5T_INTEGER)
     throw SurfaceFileError(file, "dataset '" + dataset + "' is not numeric (expected floating-point heights)");
@@ -355,18 +329,18 @@ void write_hdf5_heights(const fs::path& file, const HeightMap& map, const std::s
   check_map(file, map);
   write_atomic(file, [&](const fs::path& tmp) {
     H5Quiet quiet;
-    H5Id f(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+    H5Handle f(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
     if (!f.ok()) throw SurfaceFileError(file, "cannot create HDF5 file " + tmp.string());
     const hsize_t dims[2] = {hsize_t(map.grid.ny), hsize_t(map.grid.nx)};
-    H5Id space(H5Screate_simple(2, dims, nullptr), H5Sclose);
-    H5Id lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
+    H5Handle space(H5Screate_simple(2, dims, nullptr), H5Sclose);
+    H5Handle lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
     H5Pset_create_intermediate_group(lcpl, 1);
-    H5Id d(H5Dcreate2(f, dataset.c_str(), H5T_IEEE_F64LE, space, lcpl, H5P_DEFAULT, H5P_DEFAULT), H5Dclose);
+    H5Handle d(H5Dcreate2(f, dataset.c_str(), H5T_IEEE_F64LE, space, lcpl, H5P_DEFAULT, H5P_DEFAULT), H5Dclose);
     if (!d.ok() || H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, map.heights.data()) < 0)
       throw SurfaceFileError(file, "cannot write dataset '" + dataset + "'");
-    H5Id scalar(H5Screate(H5S_SCALAR), H5Sclose);
+    H5Handle scalar(H5Screate(H5S_SCALAR), H5Sclose);
     for (auto [name, value] : {std::pair{"lx", map.grid.lx}, std::pair{"ly", map.grid.ly}}) {
-      H5Id a(H5Acreate2(d, name, H5T_IEEE_F64LE, scalar, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+      H5Handle a(H5Acreate2(d, name, H5T_IEEE_F64LE, scalar, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
       if (!a.ok() || H5Awrite(a, H5T_NATIVE_DOUBLE, &value) < 0)
         throw SurfaceFileError(file, std::string("cannot write attribute '") + name + "'");
     }

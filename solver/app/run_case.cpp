@@ -1,0 +1,46 @@
+// Solving one case into an output folder: what `cmc run` does, shared with `cmc refine`.
+#include "commands.hpp"
+
+#include "cmc/output/Writer.hpp"
+
+#include <unistd.h>
+
+#include <cstdio>
+
+namespace cmc::app {
+
+RunSummary run_case_to(const Case& c, Scene& scene, const std::string& out, bool resume, bool quiet) {
+  Writer writer(out, c, scene, resume);
+  const ResumePoint& rp = writer.resume_point();
+  if (!rp.done.empty() && !quiet)
+    std::fprintf(stderr, "resuming %s after step %d of %zu\n", c.name.c_str(), rp.done.back().index, scene.targets.size());
+  int step = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  const bool tty = !quiet && isatty(STDERR_FILENO);
+  RunSummary run;
+  try {
+    run = run_scene(
+        c, scene,
+        [&](const StepRecord& r, const ContactState& st) {
+          writer.add_step(r, st);
+          if (tty) std::fputc('\n', stderr);
+          if (!quiet)
+            std::fprintf(stderr, "step %d: %s after %d iterations (residual %.2e, %.2f s): p = %.6g Pa, "
+                                 "contact %.4f\n",
+                         r.index, r.result.converged ? "converged" : "NOT CONVERGED", r.result.iterations,
+                         r.result.residual, r.result.wall_s, r.mean_pressure, r.contact_fraction);
+          step = r.index + 1;
+        },
+        make_progress(quiet, &step, t0, int(scene.targets.size())), &rp.done, rp.done.empty() ? nullptr : &rp.state);
+    writer.finish(run);
+  } catch (const std::exception& e) {
+    writer.fail(e.what());
+    throw;
+  }
+  if (!quiet)
+    std::fprintf(stderr, "%s: %zu steps, %s, %.2f s, %.0f FFT pairs -> %s/summary.json\n", c.name.c_str(),
+                 run.steps.size(), run.status.c_str(), run.wall_s, run.fft_pairs, out.c_str());
+  return run;
+}
+
+}  // namespace cmc::app

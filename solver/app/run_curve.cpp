@@ -1,0 +1,85 @@
+// `cmc reference --run-curve SPEC.toml --out FILE.csv`: a reference curve made of a cmc
+// run's numbers (the challenge curves, scripts/challenge_reference.py), written in the
+// reference CSV format by validation/References.cpp (make_run_curve, write_curve), so
+// there is one formatter of that format, in C++.
+#include "commands.hpp"
+
+#include "References.hpp"
+
+#include <toml++/toml.h>
+
+namespace cmc::app {
+
+namespace {
+
+std::string need_string(const toml::table& t, const std::string& file, const std::string& key,
+                        const std::string& where = "") {
+  const auto v = t[key].value<std::string>();
+  if (!v) throw CaseError(file + ": key '" + where + key + "': expected a string");
+  return *v;
+}
+
+reference::Column column_from(const toml::node& node, const std::string& file, std::size_t k) {
+  const std::string where = "columns[" + std::to_string(k) + "]";
+  const auto* t = node.as_table();
+  if (!t) throw CaseError(file + ": " + where + ": expected a table {name, unit, meaning, values}");
+  reference::Column c{need_string(*t, file, "name", where + "."), need_string(*t, file, "unit", where + "."),
+                      (*t)["meaning"].value_or(std::string()), {}};
+  const auto* values = (*t)["values"].as_array();
+  if (!values) throw CaseError(file + ": key '" + where + ".values': expected an array of numbers");
+  for (const auto& v : *values) {
+    const auto x = v.value<double>();
+    if (!x) throw CaseError(file + ": key '" + where + ".values': expected numbers only");
+    c.values.push_back(*x);
+  }
+  return c;
+}
+
+}  // namespace
+
+int write_run_curve(const std::string& spec_file, const std::string& out) {
+  if (out.empty()) throw CaseError("cmc reference --run-curve needs --out FILE.csv");
+  toml::table t;
+  try {
+    t = toml::parse_file(spec_file);
+  } catch (const toml::parse_error& e) {
+    throw CaseError(spec_file + ": not a TOML curve spec (" + std::string(e.description()) + ")");
+  }
+  const auto* prov = t["provenance"].as_table();
+  if (!prov) throw CaseError(spec_file + ": key 'provenance': expected a table");
+  reference::RunProvenance how;
+  for (auto [key, field] : {std::pair{"cmc_version", &how.cmc_version}, {"case_file", &how.case_file},
+                            {"grid", &how.grid}, {"solver_tolerance", &how.solver_tolerance}, {"date", &how.date}})
+    *field = need_string(*prov, spec_file, key);
+  how.command = (*prov)["command"].value_or(std::string());
+  const auto* cols = t["columns"].as_array();
+  if (!cols || cols->size() < 2) throw CaseError(spec_file + ": key 'columns': expected an array of two or more tables");
+  std::vector<reference::Column> columns;
+  // (extra: optional; the other top-level keys are required strings, see --help)
+  for (std::size_t k = 0; k < cols->size(); ++k) columns.push_back(column_from((*cols)[k], spec_file, k));
+  reference::Curve c;
+  try {
+    c = reference::make_run_curve(need_string(t, spec_file, "name"), need_string(t, spec_file, "quantity"),
+                                  t["title"].value_or(std::string()), how, std::move(columns),
+                                  need_string(t, spec_file, "x"), need_string(t, spec_file, "y"),
+                                  need_string(t, spec_file, "representation"),
+                                  need_string(t, spec_file, "estimated_error"), std::nullopt);
+    // Further "key: value" lines (parameters, sampling, generator ...), after the
+    // provenance, in the spec's order: extra = [["key", "value"], ...].
+    if (const auto* more = t["extra"].as_array())
+      for (const auto& kv : *more) {
+        const auto* pair = kv.as_array();
+        const auto k = pair && pair->size() == 2 ? (*pair)[0].value<std::string>() : std::nullopt;
+        const auto v = pair && pair->size() == 2 ? (*pair)[1].value<std::string>() : std::nullopt;
+        if (!k || !v) throw CaseError(spec_file + ": key 'extra': expected [[\"key\", \"value\"], ...]");
+        c.extra.emplace_back(*k, *v);
+      }
+    reference::format_curve(c);  // validates before anything is written
+  } catch (const std::invalid_argument& e) {
+    throw CaseError(spec_file + ": " + e.what());
+  }
+  reference::write_curve(out, c);
+  return kOk;
+}
+
+}  // namespace cmc::app
