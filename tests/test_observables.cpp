@@ -33,9 +33,26 @@ void set_block(const Grid& g, Mask& m, int x0, int y0, int w, int h) {
 
 TEST(Observables, ContactMaskRules) {
   Field gap{0.0, 0.0, 1e-3, 0.5}, p{2.0, -1.0, -0.5, 0.0};
-  EXPECT_EQ(contact_mask(gap, p), (Mask{1, 0, 0, 0}));  // repulsive: p > 0 only
-  EXPECT_EQ(contact_mask(gap, p, ContactRule::gap_below(0.0)), (Mask{1, 1, 0, 0}));
-  EXPECT_EQ(contact_mask(gap, p, ContactRule::gap_below(1e-2)), (Mask{1, 1, 1, 0}));
+  // In contact: a closed gap, whatever the sign of p (the tensile point 1 is in contact).
+  EXPECT_EQ(contact_mask(gap), (Mask{1, 1, 0, 0}));
+  EXPECT_EQ(contact_mask(gap, ContactRule{1e-2}), (Mask{1, 1, 1, 0}));
+  EXPECT_DOUBLE_EQ(contact_fraction(gap), 0.5);
+  EXPECT_DOUBLE_EQ(contact_fraction(gap, ContactRule{1e-2}), 0.75);
+  EXPECT_DOUBLE_EQ(mask_fraction(contact_mask(gap)), contact_fraction(gap));
+  // Repulsive and attractive: beyond the stress cut on either side.
+  EXPECT_DOUBLE_EQ(repulsive_fraction(p), 0.25);
+  EXPECT_DOUBLE_EQ(attractive_fraction(p), 0.5);
+  const ContactRule noisy{0.0, 0.75};
+  EXPECT_DOUBLE_EQ(repulsive_fraction(p, noisy), 0.25);
+  EXPECT_DOUBLE_EQ(attractive_fraction(p, noisy), 0.25);  // -0.5 is noise below the cut
+  EXPECT_DOUBLE_EQ(contact_fraction(Field{}), 0.0);
+}
+
+TEST(Observables, ContactRuleOfAnInteraction) {
+  EXPECT_EQ(ContactRule::of(HardWall{}).stress_cut, 0.0);
+  const ExponentialAdhesion e(0.02, 0.01);  // peak tension w/rho = 2
+  EXPECT_DOUBLE_EQ(ContactRule::of(e, 0.5).stress_cut, ContactRule::kTensionNoise * 2.0);
+  EXPECT_EQ(ContactRule::of(e, 0.5).contact_gap, 0.5);
 }
 
 // ---- Patches -----------------------------------------------------------------------------
@@ -345,24 +362,29 @@ TEST(Observables, ScalarSummary) {
     if (block[k]) gap[k] = 0.0, p[k] = 3.0;
   p[3 * 8 + 3] = -1.0;  // one attractive point (not in a p > 0 contact)
   gap[3 * 8 + 3] = 0.0;
+  gap[5 * 8 + 5] = 0.25;  // a point under pressure with an open gap: not in contact
+  p[5 * 8 + 5] = 1e-3;
   const ScalarObservables o = scalar_observables(g, gap, p, {}, Connectivity::Four, &u);
-  EXPECT_DOUBLE_EQ(o.contact_fraction, 4.0 / 64);
-  EXPECT_DOUBLE_EQ(o.repulsive_fraction, 4.0 / 64);
+  // Closed gaps: the 2x2 patch and the tensile point, two patches, 8 + 4 faces.
+  EXPECT_DOUBLE_EQ(o.contact_fraction, 5.0 / 64);
+  EXPECT_DOUBLE_EQ(o.repulsive_fraction, 5.0 / 64);
   EXPECT_DOUBLE_EQ(o.attractive_fraction, 1.0 / 64);
-  EXPECT_DOUBLE_EQ(o.mean_pressure, (12.0 - 1.0) / 64);
-  EXPECT_DOUBLE_EQ(o.mean_gap, 0.5 * 59 / 64);
+  EXPECT_DOUBLE_EQ(o.mean_pressure, (12.0 - 1.0 + 1e-3) / 64);
+  EXPECT_DOUBLE_EQ(o.mean_gap, (0.5 * 58 + 0.25) / 64);
   EXPECT_DOUBLE_EQ(o.mean_displacement, -0.25);
   EXPECT_DOUBLE_EQ(o.max_pressure, 3.0);
   EXPECT_DOUBLE_EQ(o.min_pressure, -1.0);
   EXPECT_DOUBLE_EQ(o.max_gap, 0.5);
-  EXPECT_EQ(o.contact_edges, 8);
-  EXPECT_DOUBLE_EQ(o.contact_fraction_corrected, (4.0 - 8 * kYastrebovAlpha) / 64);
-  EXPECT_DOUBLE_EQ(o.contact_perimeter, 8 * g.dx());
-  EXPECT_EQ(o.n_patches, 1);
+  EXPECT_EQ(o.contact_edges, 12);
+  EXPECT_DOUBLE_EQ(o.contact_fraction_corrected, (5.0 - 12 * kYastrebovAlpha) / 64);
+  EXPECT_DOUBLE_EQ(o.contact_perimeter, 12 * g.dx());
+  EXPECT_EQ(o.n_patches, 2);
   EXPECT_DOUBLE_EQ(o.largest_patch_area, 4 * g.cell_area());
-  // Adhesive choice: the gap rule picks up the attractive point as a second patch.
-  const ScalarObservables a = scalar_observables(g, gap, p, ContactRule::gap_below(1e-9));
+  EXPECT_DOUBLE_EQ(o.mean_patch_area, 2.5 * g.cell_area());
+  // A stress cut (adhesion's noise floor): 1e-3 and -1 fall below it, the patch's 3 does not.
+  const ScalarObservables a = scalar_observables(g, gap, p, ContactRule{0.0, 2.0});
   EXPECT_DOUBLE_EQ(a.contact_fraction, 5.0 / 64);
-  EXPECT_EQ(a.n_patches, 2);
+  EXPECT_DOUBLE_EQ(a.repulsive_fraction, 4.0 / 64);
+  EXPECT_DOUBLE_EQ(a.attractive_fraction, 0.0);
   EXPECT_TRUE(std::isnan(a.mean_displacement));
 }

@@ -94,7 +94,7 @@ TEST(Writer, ResumesAnInterruptedRun) {
   w.finish(run);
   EXPECT_EQ(solved, 1);
   ASSERT_EQ(run.steps.size(), 3u);
-  EXPECT_EQ(run.status, "converged");
+  EXPECT_EQ(run.status, RunStatus::Converged);
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(run.steps[k].penetration, full.steps[k].penetration, 1e-9 * full.steps[k].penetration);
   // A different case (another --set) does not resume from these files.
   Case other = small_case();

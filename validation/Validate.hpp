@@ -24,7 +24,7 @@ struct CheckResult {
 
 // The error of `quantity` over all steps of a solved case (the largest over steps).
 // `run` supplies the pull-off of adhesive load paths (quantity "pulloff").
-double validation_error(const std::string& reference, const std::string& quantity, const Scene& s,
+double validation_error(ValidationReference reference, ValidationQuantity quantity, const Scene& s,
                         const std::vector<ContactState>& states, const RunSummary& run,
                         std::string* definition = nullptr);
 

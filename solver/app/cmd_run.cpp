@@ -65,8 +65,8 @@ int cmd_run(int argc, char** argv) {
   }
   if (!a.quiet)
     std::fprintf(stderr, "%s: %zu steps, %s, %.2f s, %.0f FFT pairs -> %s/summary.json\n", c.name.c_str(),
-                 run.steps.size(), run.status.c_str(), run.wall_s, run.fft_pairs, a.out.c_str());
-  if (run.status != "converged") {
+                 run.steps.size(), status_name(run.status), run.wall_s, run.fft_pairs, a.out.c_str());
+  if (run.status != RunStatus::Converged) {
     std::fprintf(stderr, "cmc run: %s\n", run.message.c_str());
     return kNotConverged;
   }

@@ -8,15 +8,6 @@
 
 namespace cmc {
 
-const char* branch_name(Branch b) { return b == Branch::Loading ? "loading" : "unloading"; }
-
-double contact_fraction(const ContactState& st, double contact_gap) {
-  if (st.gap.empty()) return 0.0;
-  double c = 0.0;
-  for (double g : st.gap) c += g <= contact_gap ? 1.0 : 0.0;
-  return c / double(st.gap.size());
-}
-
 std::vector<Target> ramp(Control control, double from, double to, int n) {
   if (n < 1) throw std::invalid_argument("ramp: need at least one step");
   std::vector<Target> t;
@@ -51,7 +42,7 @@ LoadPathResult run_load_path(const StepSolver& solve, const std::vector<Target>&
 
   bool have_prev = !state.empty();
   double v_prev = have_prev ? value_of(state, control) : targets.front().value;
-  double a_prev = have_prev ? contact_fraction(state, opt.contact_gap) : 0.0;
+  double a_prev = have_prev ? contact_fraction(state.gap, opt.contact_rule) : 0.0;
   double p_prev = have_prev ? state.mean_pressure : 0.0;
   double p_scale = have_prev ? std::abs(p_prev) : 0.0;  // largest |p| accepted so far
   Branch branch = Branch::Loading;
@@ -108,7 +99,7 @@ LoadPathResult run_load_path(const StepSolver& solve, const std::vector<Target>&
       rec.iterations += r.iterations;
       rec.fft_pairs += r.fft_pairs;
       rec.wall_s += r.wall_s;
-      const double a_new = contact_fraction(trial, opt.contact_gap);
+      const double a_new = contact_fraction(trial.gap, opt.contact_rule);
       const bool jumped = r.converged && is_jump(a_new, trial.mean_pressure);
       if ((!r.converged || jumped) && level < opt.max_halvings && have_prev) {
         ++level;

@@ -1,0 +1,83 @@
+// Every `kind`-like choice of a case file as a typed value, with the one table that
+// maps it to the word written in case files. The case parser turns the words into
+// these values (input/Case.cpp); nothing downstream compares strings. The words come
+// back only where a name is printed (messages, summary.json).
+#pragma once
+
+#include <array>
+#include <string_view>
+
+namespace cmc {
+
+enum class SurfaceKind { Sphere, Wavy1d, Wavy2d, Flat, SelfAffine, File };
+enum class SurfaceFormat { ChallengeHdf5, ChallengeAscii, Fourier, Hdf5, Ascii };
+enum class InteractionKind { HardWall, Exponential, Dugdale };
+// Auto: Polonsky-Keer for a hard wall, the adhesive CG with adhesion. The parser
+// resolves it, so a parsed Case never holds Auto.
+enum class SolverKind { Auto, PolonskyKeer, AdhesiveCg };
+enum class LoadControl { Force, MeanPressure, Penetration, MeanGap };
+enum class ValidationReference { Hertz, HertzPeriodic, Westergaard, Jkr, MaugisDugdale, Johnson };
+enum class ValidationQuantity { Penetration, PressureProfile, MeanPressure, MeanGap, Force, Pulloff };
+
+template <class E>
+struct KindName {
+  E value;
+  std::string_view name;
+};
+
+// The words of each choice, in the order cases/README.md lists them.
+constexpr std::array<KindName<SurfaceKind>, 6> kind_names(SurfaceKind) {
+  return {{{SurfaceKind::Sphere, "sphere"},
+           {SurfaceKind::Wavy1d, "wavy1d"},
+           {SurfaceKind::Wavy2d, "wavy2d"},
+           {SurfaceKind::Flat, "flat"},
+           {SurfaceKind::SelfAffine, "self_affine"},
+           {SurfaceKind::File, "file"}}};
+}
+constexpr std::array<KindName<SurfaceFormat>, 5> kind_names(SurfaceFormat) {
+  return {{{SurfaceFormat::ChallengeHdf5, "challenge_hdf5"},
+           {SurfaceFormat::ChallengeAscii, "challenge_ascii"},
+           {SurfaceFormat::Fourier, "fourier"},
+           {SurfaceFormat::Hdf5, "hdf5"},
+           {SurfaceFormat::Ascii, "ascii"}}};
+}
+constexpr std::array<KindName<InteractionKind>, 3> kind_names(InteractionKind) {
+  return {{{InteractionKind::HardWall, "hard_wall"},
+           {InteractionKind::Exponential, "exponential"},
+           {InteractionKind::Dugdale, "dugdale"}}};
+}
+constexpr std::array<KindName<SolverKind>, 3> kind_names(SolverKind) {
+  return {{{SolverKind::Auto, "auto"}, {SolverKind::PolonskyKeer, "polonsky_keer"}, {SolverKind::AdhesiveCg, "adhesive_cg"}}};
+}
+constexpr std::array<KindName<LoadControl>, 4> kind_names(LoadControl) {
+  return {{{LoadControl::Force, "force"},
+           {LoadControl::MeanPressure, "mean_pressure"},
+           {LoadControl::Penetration, "penetration"},
+           {LoadControl::MeanGap, "mean_gap"}}};
+}
+constexpr std::array<KindName<ValidationReference>, 6> kind_names(ValidationReference) {
+  return {{{ValidationReference::Hertz, "hertz"},
+           {ValidationReference::HertzPeriodic, "hertz_periodic"},
+           {ValidationReference::Westergaard, "westergaard"},
+           {ValidationReference::Jkr, "jkr"},
+           {ValidationReference::MaugisDugdale, "maugis_dugdale"},
+           {ValidationReference::Johnson, "johnson"}}};
+}
+constexpr std::array<KindName<ValidationQuantity>, 6> kind_names(ValidationQuantity) {
+  return {{{ValidationQuantity::Penetration, "penetration"},
+           {ValidationQuantity::PressureProfile, "pressure_profile"},
+           {ValidationQuantity::MeanPressure, "mean_pressure"},
+           {ValidationQuantity::MeanGap, "mean_gap"},
+           {ValidationQuantity::Force, "force"},
+           {ValidationQuantity::Pulloff, "pulloff"}}};
+}
+
+// The case-file word of a value.
+template <class E>
+constexpr std::string_view kind_name(E value) {
+  for (const auto& k : kind_names(value))
+    if (k.value == value) return k.name;
+  return "?";
+}
+
+}  // namespace cmc
