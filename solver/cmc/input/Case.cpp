@@ -443,7 +443,14 @@ namespace {
 std::string number_text(double v) {
   char buf[32];
   const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
+  std::string t(buf, r.ptr);
+  // 1e-08 -> 1e-8: exponents without leading zeros, as a person writes them.
+  const auto e = t.find('e');
+  if (e != std::string::npos) {
+    const std::size_t digits = t[e + 1] == '-' || t[e + 1] == '+' ? e + 2 : e + 1;
+    while (t.size() > digits + 1 && t[digits] == '0') t.erase(digits, 1);
+  }
+  return t;
 }
 std::string quoted(std::string_view word) {
   std::string q(1, '"');
