@@ -63,18 +63,13 @@ class Section {
   }
 
   std::string string(const std::string& key, std::optional<std::string> def = {}, std::set<std::string> choices = {}) {
-    used_.insert(key);
-    const toml::node* n = t_->get(key);
     std::string expected = "a string";
     if (!choices.empty()) {
       expected = "one of";
       for (const auto& c : choices) expected += " \"" + c + "\"";
     }
-    if (!n) {
-      if (!def) fail_missing(key, expected);
-      t_->insert(key, *def);
-      return *def;
-    }
+    const toml::node* n = given(key, def, expected);
+    if (!n) return *def;
     if (!n->is_string()) fail(key, expected);
     std::string v = n->as_string()->get();
     if (!choices.empty() && !choices.count(v)) fail(key, expected);
@@ -98,13 +93,8 @@ class Section {
 
   double number(const std::string& key, std::optional<double> def, const std::string& what,
                 bool positive = false, bool non_negative = false) {
-    used_.insert(key);
-    const toml::node* n = t_->get(key);
-    if (!n) {
-      if (!def) fail_missing(key, what);
-      t_->insert(key, *def);
-      return *def;
-    }
+    const toml::node* n = given(key, def, what);
+    if (!n) return *def;
     double v;
     if (auto f = n->as_floating_point()) v = f->get();
     else if (auto i = n->as_integer()) v = double(i->get());
@@ -116,13 +106,8 @@ class Section {
   }
 
   long long integer(const std::string& key, std::optional<long long> def, const std::string& what, long long min) {
-    used_.insert(key);
-    const toml::node* n = t_->get(key);
-    if (!n) {
-      if (!def) fail_missing(key, what);
-      t_->insert(key, *def);
-      return *def;
-    }
+    const toml::node* n = given(key, def, what);
+    if (!n) return *def;
     auto i = n->as_integer();
     if (!i) fail(key, what);
     if (i->get() < min) fail(key, what + " (>= " + std::to_string(min) + ")");
@@ -130,12 +115,8 @@ class Section {
   }
 
   bool boolean(const std::string& key, bool def) {
-    used_.insert(key);
-    const toml::node* n = t_->get(key);
-    if (!n) {
-      t_->insert(key, def);
-      return def;
-    }
+    const toml::node* n = given(key, std::optional<bool>(def), "true or false");
+    if (!n) return def;
     if (!n->is_boolean()) fail(key, "true or false");
     return n->as_boolean()->get();
   }
@@ -157,18 +138,12 @@ class Section {
   }
 
   toml::table* subtable(const std::string& key) {
-    used_.insert(key);
-    toml::node* n = t_->get(key);
-    if (!n) return nullptr;
-    if (!n->is_table()) fail(key, "a table");
-    return n->as_table();
+    toml::node* n = optional(key, toml::node_type::table, "a table");
+    return n ? n->as_table() : nullptr;
   }
   toml::array* array(const std::string& key) {
-    used_.insert(key);
-    toml::node* n = t_->get(key);
-    if (!n) return nullptr;
-    if (!n->is_array()) fail(key, "an array");
-    return n->as_array();
+    toml::node* n = optional(key, toml::node_type::array, "an array");
+    return n ? n->as_array() : nullptr;
   }
   void ignore(const std::string& key) { used_.insert(key); }
 
@@ -181,6 +156,25 @@ class Section {
   }
 
  private:
+  // The node of `key` as given, or nullptr when it is absent: then its default is written
+  // into the resolved case (an absent key without a default is an error).
+  template <class T>
+  const toml::node* given(const std::string& key, const std::optional<T>& def, const std::string& expected) {
+    used_.insert(key);
+    const toml::node* n = t_->get(key);
+    if (!n) {
+      if (!def) fail_missing(key, expected);
+      t_->insert(key, *def);
+    }
+    return n;
+  }
+  // An optional key of the given type (nullptr when absent).
+  toml::node* optional(const std::string& key, toml::node_type type, const std::string& expected) {
+    used_.insert(key);
+    toml::node* n = t_->get(key);
+    if (n && n->type() != type) fail(key, expected);
+    return n;
+  }
   [[noreturn]] void fail_missing(const std::string& key, const std::string& expected) const {
     throw CaseError(file_ + ": " + key_name(key) + ": missing required key, expected " + expected);
   }

@@ -27,49 +27,36 @@ struct KindName {
 
 // The words of each choice, in the order cases/README.md lists them.
 constexpr std::array<KindName<SurfaceKind>, 6> kind_names(SurfaceKind) {
-  return {{{SurfaceKind::Sphere, "sphere"},
-           {SurfaceKind::Wavy1d, "wavy1d"},
-           {SurfaceKind::Wavy2d, "wavy2d"},
-           {SurfaceKind::Flat, "flat"},
-           {SurfaceKind::SelfAffine, "self_affine"},
-           {SurfaceKind::File, "file"}}};
+  using enum SurfaceKind;
+  return {{{Sphere, "sphere"}, {Wavy1d, "wavy1d"}, {Wavy2d, "wavy2d"}, {Flat, "flat"}, {SelfAffine, "self_affine"},
+           {File, "file"}}};
 }
 constexpr std::array<KindName<SurfaceFormat>, 5> kind_names(SurfaceFormat) {
-  return {{{SurfaceFormat::ChallengeHdf5, "challenge_hdf5"},
-           {SurfaceFormat::ChallengeAscii, "challenge_ascii"},
-           {SurfaceFormat::Fourier, "fourier"},
-           {SurfaceFormat::Hdf5, "hdf5"},
-           {SurfaceFormat::Ascii, "ascii"}}};
+  using enum SurfaceFormat;
+  return {{{ChallengeHdf5, "challenge_hdf5"}, {ChallengeAscii, "challenge_ascii"}, {Fourier, "fourier"},
+           {Hdf5, "hdf5"}, {Ascii, "ascii"}}};
 }
 constexpr std::array<KindName<InteractionKind>, 3> kind_names(InteractionKind) {
-  return {{{InteractionKind::HardWall, "hard_wall"},
-           {InteractionKind::Exponential, "exponential"},
-           {InteractionKind::Dugdale, "dugdale"}}};
+  using enum InteractionKind;
+  return {{{HardWall, "hard_wall"}, {Exponential, "exponential"}, {Dugdale, "dugdale"}}};
 }
 constexpr std::array<KindName<SolverKind>, 3> kind_names(SolverKind) {
-  return {{{SolverKind::Auto, "auto"}, {SolverKind::PolonskyKeer, "polonsky_keer"}, {SolverKind::AdhesiveCg, "adhesive_cg"}}};
+  using enum SolverKind;
+  return {{{Auto, "auto"}, {PolonskyKeer, "polonsky_keer"}, {AdhesiveCg, "adhesive_cg"}}};
 }
 constexpr std::array<KindName<LoadControl>, 4> kind_names(LoadControl) {
-  return {{{LoadControl::Force, "force"},
-           {LoadControl::MeanPressure, "mean_pressure"},
-           {LoadControl::Penetration, "penetration"},
-           {LoadControl::MeanGap, "mean_gap"}}};
+  using enum LoadControl;
+  return {{{Force, "force"}, {MeanPressure, "mean_pressure"}, {Penetration, "penetration"}, {MeanGap, "mean_gap"}}};
 }
 constexpr std::array<KindName<ValidationReference>, 6> kind_names(ValidationReference) {
-  return {{{ValidationReference::Hertz, "hertz"},
-           {ValidationReference::HertzPeriodic, "hertz_periodic"},
-           {ValidationReference::Westergaard, "westergaard"},
-           {ValidationReference::Jkr, "jkr"},
-           {ValidationReference::MaugisDugdale, "maugis_dugdale"},
-           {ValidationReference::Johnson, "johnson"}}};
+  using enum ValidationReference;
+  return {{{Hertz, "hertz"}, {HertzPeriodic, "hertz_periodic"}, {Westergaard, "westergaard"}, {Jkr, "jkr"},
+           {MaugisDugdale, "maugis_dugdale"}, {Johnson, "johnson"}}};
 }
 constexpr std::array<KindName<ValidationQuantity>, 6> kind_names(ValidationQuantity) {
-  return {{{ValidationQuantity::Penetration, "penetration"},
-           {ValidationQuantity::PressureProfile, "pressure_profile"},
-           {ValidationQuantity::MeanPressure, "mean_pressure"},
-           {ValidationQuantity::MeanGap, "mean_gap"},
-           {ValidationQuantity::Force, "force"},
-           {ValidationQuantity::Pulloff, "pulloff"}}};
+  using enum ValidationQuantity;
+  return {{{Penetration, "penetration"}, {PressureProfile, "pressure_profile"}, {MeanPressure, "mean_pressure"},
+           {MeanGap, "mean_gap"}, {Force, "force"}, {Pulloff, "pulloff"}}};
 }
 
 // The case-file word of a value.
