@@ -7,7 +7,10 @@
 
 #include <cmath>
 #include <numbers>
+#include <cstdlib>
+#include <limits>
 #include <random>
+#include <tuple>
 
 using namespace cmc;
 
@@ -387,4 +390,58 @@ TEST(Observables, ScalarSummary) {
   EXPECT_DOUBLE_EQ(a.repulsive_fraction, 4.0 / 64);
   EXPECT_DOUBLE_EQ(a.attractive_fraction, 0.0);
   EXPECT_TRUE(std::isnan(a.mean_displacement));
+}
+
+// ---- Reductions through the grid layer --------------------------------------------------
+
+// The observables' counts, extrema and histograms go through Grid::parallel_reduce: on a
+// grid above Grid::parallel_min they are split into per-thread chunks and merged. Counts
+// and extrema must not depend on the thread count; sums only to round-off.
+TEST(Observables, ReductionsDoNotDependOnTheThreadCount) {
+  const Grid g{256, 256, 1.0, 1.0};
+  ASSERT_GE(g.size(), Grid::parallel_min);
+  Field gap = g.field(), p = g.field();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  for (std::size_t k = 0; k < g.size(); ++k) {
+    const double x = U(rng);
+    gap[k] = x < 0.0 ? 0.0 : x;
+    p[k] = x < 0.0 ? -x : -0.1 * x;
+  }
+  const ContactRule rule{0.0, 0.05};
+  auto measure = [&](const char* threads) {
+    setenv("CMC_THREADS", threads, 1);
+    Fourier f(g.nx, g.ny);
+    return std::tuple{scalar_observables(g, gap, p, rule), stress_distribution(p, 50), gap_distribution(gap, 10),
+                      radial_spectrum(g, f, p), contact_fraction(gap, rule)};
+  };
+  const char* before = std::getenv("CMC_THREADS");
+  const std::string saved = before ? before : "";
+  const auto [s1, h1, d1, r1, c1] = measure("1");
+  const auto [s4, h4, d4, r4, c4] = measure("4");
+  if (before) setenv("CMC_THREADS", saved.c_str(), 1);
+  else unsetenv("CMC_THREADS");
+  EXPECT_GT(s1.contact_fraction, 0.4);  // the field is about half in contact
+  EXPECT_EQ(s1.contact_fraction, s4.contact_fraction);
+  EXPECT_EQ(c1, c4);
+  EXPECT_EQ(s1.repulsive_fraction, s4.repulsive_fraction);
+  EXPECT_EQ(s1.attractive_fraction, s4.attractive_fraction);
+  EXPECT_EQ(s1.contact_edges, s4.contact_edges);
+  EXPECT_EQ(s1.max_pressure, s4.max_pressure);
+  EXPECT_EQ(s1.min_pressure, s4.min_pressure);
+  EXPECT_EQ(s1.max_gap, s4.max_gap);
+  // Sums only to round-off: a recursive sum of n terms errs by at most (n - 1) eps sum|x|
+  // (Higham, Accuracy and Stability of Numerical Algorithms, 2nd ed., eq. 4.4); means of
+  // values below 1 in magnitude, so n eps bounds the difference of two orders.
+  const double sum_bound = double(g.size()) * std::numeric_limits<double>::epsilon();
+  EXPECT_NEAR(s1.mean_gap, s4.mean_gap, sum_bound);
+  EXPECT_NEAR(s1.mean_pressure, s4.mean_pressure, sum_bound);
+  EXPECT_NE(s1.mean_pressure, 0.0);
+  EXPECT_EQ(h1.counts, h4.counts);
+  EXPECT_EQ(h1.excluded, h4.excluded);
+  EXPECT_EQ(d1.counts, d4.counts);
+  EXPECT_EQ(r1.modes, r4.modes);
+  ASSERT_EQ(r1.power.size(), r4.power.size());
+  for (std::size_t b = 0; b < r1.power.size(); ++b) EXPECT_NEAR(r1.power[b], r4.power[b], sum_bound * r1.variance);
+  EXPECT_NEAR(r1.variance, r4.variance, sum_bound * r1.variance);
 }
