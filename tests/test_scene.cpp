@@ -93,3 +93,28 @@ TEST(Scene, DriverRunsTheCasesSolver) {
     EXPECT_GT(run.steps[0].contact_fraction, 0.0) << kind;
   }
 }
+
+// One contact rule: the step record's contact_fraction and the observables' are the same
+// number, with and without a contact gap threshold (which widens both).
+TEST(Scene, StepRecordAndObservablesShareTheContactRule) {
+  toml::table t = base();
+  t["grid"].as_table()->insert_or_assign("n", 32);
+  t["loading"].as_table()->insert_or_assign("values", toml::array{0.5});
+  double without = 0.0;
+  for (double threshold : {0.0, 2e-6}) {
+    t.insert_or_assign("observables", toml::table{{"enabled", true}, {"contact_gap_threshold", threshold}});
+    const Case c = parse_case(t, "mem");
+    Scene s = build_scene(c);
+    const RunSummary run = run_scene(c, s, {});
+    ASSERT_EQ(run.steps.size(), 1u);
+    const StepRecord& r = run.steps[0];
+    ASSERT_TRUE(r.observables);
+    double observed = -1.0;
+    for (const auto& [name, v] : r.observables->scalars)
+      if (name == "contact_fraction") observed = v;
+    EXPECT_EQ(r.contact_fraction, observed) << threshold;
+    if (threshold == 0.0) without = r.contact_fraction;
+    else EXPECT_GT(r.contact_fraction, without);
+  }
+  EXPECT_GT(without, 0.0);
+}

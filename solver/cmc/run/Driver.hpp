@@ -31,7 +31,8 @@ struct StepRecord {
   std::optional<ObservablesRecord> observables;  // when the case asks for them
 };
 
-// How a run ended; the Writer writes it as "converged", "not_converged" or "failed".
+// How a run ended; status_name() gives the word summary.json uses ("converged",
+// "not_converged", "failed"): the Writer writes it, `cmc run` prints it.
 enum class RunStatus { Converged, NotConverged, Failed };
 const char* status_name(RunStatus s);
 
