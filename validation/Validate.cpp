@@ -28,6 +28,21 @@ double min_image(double d, double l) { return d - l * std::round(d / l); }
 using Q = ValidationQuantity;
 using Ref = ValidationReference;
 
+// Σ (p − p_ref(ix, iy))² over the grid, through the grid layer.
+template <class Reference>
+double squared_deviation(const Grid& g, const Field& p, Reference p_ref) {
+  struct Sum {
+    double s = 0.0;
+    void merge(const Sum& o) { s += o.s; }
+  };
+  return Grid::parallel_reduce<Sum>(g.size(), [&](std::size_t b, std::size_t e, Sum& acc) {
+    for (std::size_t k = b; k < e; ++k) {
+      const double d = p[k] - p_ref(int(k % std::size_t(g.nx)), int(k / std::size_t(g.nx)));
+      acc.s += d * d;
+    }
+  }).s;
+}
+
 [[noreturn]] void no_quantity(Ref ref, Q q) {
   throw std::invalid_argument("validation: reference " + std::string(kind_name(ref)) + " has no quantity '" +
                               std::string(kind_name(q)) + "'");
@@ -47,15 +62,12 @@ double hertz_error(bool periodic, Q q, const Scene& s, const ContactState& st, s
     // rms of p − p_Hertz over the grid, normalised by the number of cells in the Hertz
     // disc (so it is an rms over the contact), divided by p0.
     def = "sqrt(sum (p - p_Hertz)^2 / cells in Hertz disc) / p0";
-    double s2 = 0.0;
     const Grid& g = s.grid;
-    for (int iy = 0; iy < g.ny; ++iy)
-      for (int ix = 0; ix < g.nx; ++ix) {
-        double dx = ix * g.dx() - s.apex_x, dy = iy * g.dy() - s.apex_y;
-        if (periodic) dx = min_image(dx, g.lx), dy = min_image(dy, g.ly);
-        const double d = st.pressure[std::size_t(iy) * g.nx + ix] - an::hertz_pressure(1.0, R, H.radius, std::hypot(dx, dy));
-        s2 += d * d;
-      }
+    const double s2 = squared_deviation(g, st.pressure, [&](int ix, int iy) {
+      double dx = ix * g.dx() - s.apex_x, dy = iy * g.dy() - s.apex_y;
+      if (periodic) dx = min_image(dx, g.lx), dy = min_image(dy, g.ly);
+      return an::hertz_pressure(1.0, R, H.radius, std::hypot(dx, dy));
+    });
     const double cells = std::numbers::pi * H.radius * H.radius / g.cell_area();
     return std::sqrt(s2 / cells) / H.max_pressure;
   }
@@ -93,13 +105,9 @@ double westergaard_error(Q q, const Scene& s, const ContactState& st, std::strin
     def = "rms over the period of (p - p_Westergaard(x; pbar)) / p*";
     const double a = an::westergaard_half_width(1.0, h, lambda, pbar);
     const Grid& g = s.grid;
-    double s2 = 0.0;
-    for (int iy = 0; iy < g.ny; ++iy)
-      for (int ix = 0; ix < g.nx; ++ix) {
-        const double x = min_image(ix * g.dx(), lambda);
-        const double d = st.pressure[std::size_t(iy) * g.nx + ix] - an::westergaard_pressure(1.0, h, lambda, a, x);
-        s2 += d * d;
-      }
+    const double s2 = squared_deviation(g, st.pressure, [&](int ix, int) {
+      return an::westergaard_pressure(1.0, h, lambda, a, min_image(ix * g.dx(), lambda));
+    });
     return std::sqrt(s2 / double(g.size())) / pstar;
   }
   if (q == Q::MeanGap) {
