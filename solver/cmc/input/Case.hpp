@@ -135,6 +135,7 @@ struct DocumentedDefault {
   std::string section, key, text;
 };
 std::vector<DocumentedDefault> case_defaults();
+
 // Read, apply overrides, validate.
 Case load_case(const std::string& path, const std::vector<std::string>& overrides = {});
 
