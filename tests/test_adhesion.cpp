@@ -37,7 +37,7 @@ void report(const char* key, double value) {
 void print_path(const LoadPathResult& res) {
   for (const auto& s : res.steps)
     std::printf("    [path] %-9s target %+.5e  p %+.5e  contact %.4f  jump %d  halvings %d  solves %d  iterations %d\n",
-                branch_name(s.branch), s.target.value, s.mean_pressure, s.contact_fraction, int(s.jump), s.halvings,
+                s.branch == Branch::Loading ? "loading" : "unloading", s.target.value, s.mean_pressure, s.contact_fraction, int(s.jump), s.halvings,
                 s.solves, s.iterations);
 }
 
@@ -256,7 +256,7 @@ TEST(AdhesiveSolver, LoadControlOnAdhesiveBranch) {
   AdhesiveSolver solver(hs, topo.heights, ExponentialAdhesion(w, rho), o);
   ContactState st;
   ASSERT_TRUE(solver.solve({Control::Penetration, 0.2 * h0}, st).converged);
-  ASSERT_GT(contact_fraction(st), 0.1);
+  ASSERT_GT(contact_fraction(st.gap), 0.1);
   const double target = -0.05 * pstar;  // Johnson pull-off is −0.096 p*
   const auto r = solver.solve({Control::MeanPressure, target}, st);
   ASSERT_TRUE(r.converged) << r.message;
@@ -665,7 +665,7 @@ TEST(AdhesiveSolver, ColdStartRoughPatchTabor3) {
     std::snprintf(key, sizeof key, "rough.q%.1f.iterations", q);
     report(key, r.iterations);
     std::snprintf(key, sizeof key, "rough.q%.1f.contact_fraction", q);
-    report(key, contact_fraction(st));
+    report(key, contact_fraction(st.gap));
     if (!r.converged) EXPECT_FALSE(r.message.empty());
     for (std::size_t i = 0; i < g.size(); ++i) {
       ASSERT_TRUE(std::isfinite(st.pressure[i]) && std::isfinite(st.gap[i]));

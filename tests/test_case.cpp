@@ -61,7 +61,7 @@ TEST(Case, GoodCaseParsesWithDefaults) {
   EXPECT_EQ(c.grid.ny, 16);
   EXPECT_TRUE(c.grid.periodic);
   EXPECT_DOUBLE_EQ(c.grid.size_y, 1e-3);
-  EXPECT_EQ(c.solver.kind, "polonsky_keer");
+  EXPECT_EQ(c.solver.kind, SolverKind::PolonskyKeer);
   EXPECT_DOUBLE_EQ(c.solver.tolerance, 1e-10);
   // Defaults are written into the resolved case.
   EXPECT_EQ(c.resolved["solver"]["tolerance"].value<double>(), 1e-10);
@@ -133,7 +133,7 @@ TEST(Case, SelfAffineAndObservablesKeys) {
   std::string t = replace(kGood, "kind = \"sphere\"\nradius = 1e-2",
                           "kind = \"self_affine\"\nrolloff_wavelength = 2e-4\ncutoff_wavelength = 1e-5");
   const Case c = load_case(write(t + "\n[observables]\nenabled = true\n"));
-  EXPECT_EQ(c.surface.kind, "self_affine");
+  EXPECT_EQ(c.surface.kind, SurfaceKind::SelfAffine);
   EXPECT_DOUBLE_EQ(c.surface.hurst, 0.8);
   EXPECT_TRUE(c.observables.enabled);
   EXPECT_DOUBLE_EQ(c.observables.cross_section_x, 0.5e-3);
@@ -143,4 +143,51 @@ TEST(Case, SelfAffineAndObservablesKeys) {
   EXPECT_NE(m.find("[surface] hurst"), std::string::npos) << m;
   m = error_of(t + "\n[observables]\nenabled = true\nstress_bins = 0\n");
   EXPECT_NE(m.find("[observables] stress_bins"), std::string::npos) << m;
+}
+
+// The bug of issue 10: [solver] kind was parsed and then ignored, so "polonsky_keer" with
+// adhesion silently ran the adhesive solver. Now it is an error naming the key and what
+// to use instead.
+TEST(Case, HardWallSolverWithAdhesionIsAnError) {
+  const std::string adhesive = std::string(kGood) +
+                               "\n[interaction]\nkind = \"exponential\"\nwork_of_adhesion = 0.05\nrange = 2e-9\n";
+  const auto m = error_of(adhesive + "\n[solver]\nkind = \"polonsky_keer\"\n");
+  EXPECT_NE(m.find("[solver] kind: expected \"adhesive_cg\" or \"auto\" with an adhesive interaction"), std::string::npos)
+      << m;
+  EXPECT_NE(m.find("'polonsky_keer'"), std::string::npos) << m;  // what was given
+  // The same through --set, and for Dugdale's law.
+  EXPECT_NE(error_of(adhesive, {"solver.kind=polonsky_keer"}).find("[solver] kind"), std::string::npos);
+  const std::string dugdale = std::string(kGood) + "\n[interaction]\nkind = \"dugdale\"\nwork_of_adhesion = 0.05\n"
+                                                   "range = 2e-9\n[solver]\nkind = \"polonsky_keer\"\n";
+  EXPECT_NE(error_of(dugdale).find("[solver] kind"), std::string::npos);
+  // An unknown solver is an error that lists the known ones.
+  const auto u = error_of(std::string(kGood) + "\n[solver]\nkind = \"newton\"\n");
+  EXPECT_NE(u.find("[solver] kind: expected one of \"adhesive_cg\" \"auto\" \"polonsky_keer\""), std::string::npos) << u;
+}
+
+TEST(Case, SolverKindAutoAndExplicit) {
+  const std::string adhesive = std::string(kGood) +
+                               "\n[interaction]\nkind = \"exponential\"\nwork_of_adhesion = 0.05\nrange = 2e-9\n";
+  // auto (the default): Polonsky-Keer for a hard wall, the adhesive CG with adhesion,
+  // each with its own default tolerance; the resolved case names the solver that runs.
+  Case c = load_case(write(adhesive));
+  EXPECT_EQ(c.solver.kind, SolverKind::AdhesiveCg);
+  EXPECT_DOUBLE_EQ(c.solver.tolerance, 1e-8);
+  EXPECT_EQ(c.resolved["solver"]["kind"].value<std::string>(), "adhesive_cg");
+  c = load_case(write(std::string(kGood) + "\n[solver]\nkind = \"auto\"\n"));
+  EXPECT_EQ(c.solver.kind, SolverKind::PolonskyKeer);
+  EXPECT_EQ(c.resolved["solver"]["kind"].value<std::string>(), "polonsky_keer");
+  // The adhesive CG solves a hard wall too: asked for, it is what runs.
+  c = load_case(write(std::string(kGood) + "\n[solver]\nkind = \"adhesive_cg\"\n"));
+  EXPECT_EQ(c.solver.kind, SolverKind::AdhesiveCg);
+  EXPECT_DOUBLE_EQ(c.solver.tolerance, 1e-8);
+}
+
+TEST(Case, KindsAreTyped) {
+  const Case c = load_case(write(replace(kGood, "control = \"force\"", "control = \"mean_gap\"")));
+  EXPECT_EQ(c.loading.control, LoadControl::MeanGap);
+  EXPECT_EQ(c.interaction.kind, InteractionKind::HardWall);
+  EXPECT_EQ(kind_name(LoadControl::MeanGap), "mean_gap");
+  EXPECT_EQ(kind_name(SurfaceFormat::ChallengeHdf5), "challenge_hdf5");
+  EXPECT_EQ(kind_name(ValidationReference::MaugisDugdale), "maugis_dugdale");
 }

@@ -7,7 +7,10 @@
 
 #include <cmath>
 #include <numbers>
+#include <cstdlib>
+#include <limits>
 #include <random>
+#include <tuple>
 
 using namespace cmc;
 
@@ -33,9 +36,26 @@ void set_block(const Grid& g, Mask& m, int x0, int y0, int w, int h) {
 
 TEST(Observables, ContactMaskRules) {
   Field gap{0.0, 0.0, 1e-3, 0.5}, p{2.0, -1.0, -0.5, 0.0};
-  EXPECT_EQ(contact_mask(gap, p), (Mask{1, 0, 0, 0}));  // repulsive: p > 0 only
-  EXPECT_EQ(contact_mask(gap, p, ContactRule::gap_below(0.0)), (Mask{1, 1, 0, 0}));
-  EXPECT_EQ(contact_mask(gap, p, ContactRule::gap_below(1e-2)), (Mask{1, 1, 1, 0}));
+  // In contact: a closed gap, whatever the sign of p (the tensile point 1 is in contact).
+  EXPECT_EQ(contact_mask(gap), (Mask{1, 1, 0, 0}));
+  EXPECT_EQ(contact_mask(gap, ContactRule{1e-2}), (Mask{1, 1, 1, 0}));
+  EXPECT_DOUBLE_EQ(contact_fraction(gap), 0.5);
+  EXPECT_DOUBLE_EQ(contact_fraction(gap, ContactRule{1e-2}), 0.75);
+  EXPECT_DOUBLE_EQ(mask_fraction(contact_mask(gap)), contact_fraction(gap));
+  // Repulsive and attractive: beyond the stress cut on either side.
+  EXPECT_DOUBLE_EQ(repulsive_fraction(p), 0.25);
+  EXPECT_DOUBLE_EQ(attractive_fraction(p), 0.5);
+  const ContactRule noisy{0.0, 0.75};
+  EXPECT_DOUBLE_EQ(repulsive_fraction(p, noisy), 0.25);
+  EXPECT_DOUBLE_EQ(attractive_fraction(p, noisy), 0.25);  // -0.5 is noise below the cut
+  EXPECT_DOUBLE_EQ(contact_fraction(Field{}), 0.0);
+}
+
+TEST(Observables, ContactRuleOfAnInteraction) {
+  EXPECT_EQ(ContactRule::of(HardWall{}).stress_cut, 0.0);
+  const ExponentialAdhesion e(0.02, 0.01);  // peak tension w/rho = 2
+  EXPECT_DOUBLE_EQ(ContactRule::of(e, 0.5).stress_cut, ContactRule::kTensionNoise * 2.0);
+  EXPECT_EQ(ContactRule::of(e, 0.5).contact_gap, 0.5);
 }
 
 // ---- Patches -----------------------------------------------------------------------------
@@ -345,24 +365,83 @@ TEST(Observables, ScalarSummary) {
     if (block[k]) gap[k] = 0.0, p[k] = 3.0;
   p[3 * 8 + 3] = -1.0;  // one attractive point (not in a p > 0 contact)
   gap[3 * 8 + 3] = 0.0;
+  gap[5 * 8 + 5] = 0.25;  // a point under pressure with an open gap: not in contact
+  p[5 * 8 + 5] = 1e-3;
   const ScalarObservables o = scalar_observables(g, gap, p, {}, Connectivity::Four, &u);
-  EXPECT_DOUBLE_EQ(o.contact_fraction, 4.0 / 64);
-  EXPECT_DOUBLE_EQ(o.repulsive_fraction, 4.0 / 64);
+  // Closed gaps: the 2x2 patch and the tensile point, two patches, 8 + 4 faces.
+  EXPECT_DOUBLE_EQ(o.contact_fraction, 5.0 / 64);
+  EXPECT_DOUBLE_EQ(o.repulsive_fraction, 5.0 / 64);
   EXPECT_DOUBLE_EQ(o.attractive_fraction, 1.0 / 64);
-  EXPECT_DOUBLE_EQ(o.mean_pressure, (12.0 - 1.0) / 64);
-  EXPECT_DOUBLE_EQ(o.mean_gap, 0.5 * 59 / 64);
+  EXPECT_DOUBLE_EQ(o.mean_pressure, (12.0 - 1.0 + 1e-3) / 64);
+  EXPECT_DOUBLE_EQ(o.mean_gap, (0.5 * 58 + 0.25) / 64);
   EXPECT_DOUBLE_EQ(o.mean_displacement, -0.25);
   EXPECT_DOUBLE_EQ(o.max_pressure, 3.0);
   EXPECT_DOUBLE_EQ(o.min_pressure, -1.0);
   EXPECT_DOUBLE_EQ(o.max_gap, 0.5);
-  EXPECT_EQ(o.contact_edges, 8);
-  EXPECT_DOUBLE_EQ(o.contact_fraction_corrected, (4.0 - 8 * kYastrebovAlpha) / 64);
-  EXPECT_DOUBLE_EQ(o.contact_perimeter, 8 * g.dx());
-  EXPECT_EQ(o.n_patches, 1);
+  EXPECT_EQ(o.contact_edges, 12);
+  EXPECT_DOUBLE_EQ(o.contact_fraction_corrected, (5.0 - 12 * kYastrebovAlpha) / 64);
+  EXPECT_DOUBLE_EQ(o.contact_perimeter, 12 * g.dx());
+  EXPECT_EQ(o.n_patches, 2);
   EXPECT_DOUBLE_EQ(o.largest_patch_area, 4 * g.cell_area());
-  // Adhesive choice: the gap rule picks up the attractive point as a second patch.
-  const ScalarObservables a = scalar_observables(g, gap, p, ContactRule::gap_below(1e-9));
+  EXPECT_DOUBLE_EQ(o.mean_patch_area, 2.5 * g.cell_area());
+  // A stress cut (adhesion's noise floor): 1e-3 and -1 fall below it, the patch's 3 does not.
+  const ScalarObservables a = scalar_observables(g, gap, p, ContactRule{0.0, 2.0});
   EXPECT_DOUBLE_EQ(a.contact_fraction, 5.0 / 64);
-  EXPECT_EQ(a.n_patches, 2);
+  EXPECT_DOUBLE_EQ(a.repulsive_fraction, 4.0 / 64);
+  EXPECT_DOUBLE_EQ(a.attractive_fraction, 0.0);
   EXPECT_TRUE(std::isnan(a.mean_displacement));
+}
+
+// ---- Reductions through the grid layer --------------------------------------------------
+
+// The observables' counts, extrema and histograms go through Grid::parallel_reduce: on a
+// grid above Grid::parallel_min they are split into per-thread chunks and merged. Counts
+// and extrema must not depend on the thread count; sums only to round-off.
+TEST(Observables, ReductionsDoNotDependOnTheThreadCount) {
+  const Grid g{256, 256, 1.0, 1.0};
+  ASSERT_GE(g.size(), Grid::parallel_min);
+  Field gap = g.field(), p = g.field();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  for (std::size_t k = 0; k < g.size(); ++k) {
+    const double x = U(rng);
+    gap[k] = x < 0.0 ? 0.0 : x;
+    p[k] = x < 0.0 ? -x : -0.1 * x;
+  }
+  const ContactRule rule{0.0, 0.05};
+  auto measure = [&](const char* threads) {
+    setenv("CMC_THREADS", threads, 1);
+    Fourier f(g.nx, g.ny);
+    return std::tuple{scalar_observables(g, gap, p, rule), stress_distribution(p, 50), gap_distribution(gap, 10),
+                      radial_spectrum(g, f, p), contact_fraction(gap, rule)};
+  };
+  const char* before = std::getenv("CMC_THREADS");
+  const std::string saved = before ? before : "";
+  const auto [s1, h1, d1, r1, c1] = measure("1");
+  const auto [s4, h4, d4, r4, c4] = measure("4");
+  if (before) setenv("CMC_THREADS", saved.c_str(), 1);
+  else unsetenv("CMC_THREADS");
+  EXPECT_GT(s1.contact_fraction, 0.4);  // the field is about half in contact
+  EXPECT_EQ(s1.contact_fraction, s4.contact_fraction);
+  EXPECT_EQ(c1, c4);
+  EXPECT_EQ(s1.repulsive_fraction, s4.repulsive_fraction);
+  EXPECT_EQ(s1.attractive_fraction, s4.attractive_fraction);
+  EXPECT_EQ(s1.contact_edges, s4.contact_edges);
+  EXPECT_EQ(s1.max_pressure, s4.max_pressure);
+  EXPECT_EQ(s1.min_pressure, s4.min_pressure);
+  EXPECT_EQ(s1.max_gap, s4.max_gap);
+  // Sums only to round-off: a recursive sum of n terms errs by at most (n - 1) eps sum|x|
+  // (Higham, Accuracy and Stability of Numerical Algorithms, 2nd ed., eq. 4.4); means of
+  // values below 1 in magnitude, so n eps bounds the difference of two orders.
+  const double sum_bound = double(g.size()) * std::numeric_limits<double>::epsilon();
+  EXPECT_NEAR(s1.mean_gap, s4.mean_gap, sum_bound);
+  EXPECT_NEAR(s1.mean_pressure, s4.mean_pressure, sum_bound);
+  EXPECT_NE(s1.mean_pressure, 0.0);
+  EXPECT_EQ(h1.counts, h4.counts);
+  EXPECT_EQ(h1.excluded, h4.excluded);
+  EXPECT_EQ(d1.counts, d4.counts);
+  EXPECT_EQ(r1.modes, r4.modes);
+  ASSERT_EQ(r1.power.size(), r4.power.size());
+  for (std::size_t b = 0; b < r1.power.size(); ++b) EXPECT_NEAR(r1.power[b], r4.power[b], sum_bound * r1.variance);
+  EXPECT_NEAR(r1.variance, r4.variance, sum_bound * r1.variance);
 }

@@ -1,4 +1,5 @@
 // Case -> Scene: unit conversion in one place, surfaces from generators and files.
+#include "cmc/run/Driver.hpp"
 #include "cmc/scene/Scene.hpp"
 #include "cmc/surface/SurfaceIO.hpp"
 
@@ -73,4 +74,47 @@ TEST(Scene, SurfaceFileIsReadAndInterpolated) {
     EXPECT_NE(std::string(e.what()).find("nope.h5"), std::string::npos) << e.what();
   }
   std::filesystem::remove_all(dir);
+}
+
+// The driver runs the solver the case names (one dispatch on the typed kind): the
+// adhesive CG's load path shows in the summary, Polonsky–Keer has none.
+TEST(Scene, DriverRunsTheCasesSolver) {
+  toml::table t = base();
+  t["grid"].as_table()->insert_or_assign("n", 32);
+  t["loading"].as_table()->insert_or_assign("values", toml::array{0.5});  // a Hertz contact well inside the cell
+  for (const char* kind : {"polonsky_keer", "adhesive_cg"}) {
+    t.insert_or_assign("solver", toml::table{{"kind", kind}});
+    const Case c = parse_case(t, "mem");
+    Scene s = build_scene(c);
+    const RunSummary run = run_scene(c, s, {});
+    EXPECT_EQ(run.status, RunStatus::Converged) << kind;
+    EXPECT_EQ(run.load_path, std::string(kind) == "adhesive_cg") << kind;
+    ASSERT_EQ(run.steps.size(), 1u);
+    EXPECT_GT(run.steps[0].contact_fraction, 0.0) << kind;
+  }
+}
+
+// One contact rule: the step record's contact_fraction and the observables' are the same
+// number, with and without a contact gap threshold (which widens both).
+TEST(Scene, StepRecordAndObservablesShareTheContactRule) {
+  toml::table t = base();
+  t["grid"].as_table()->insert_or_assign("n", 32);
+  t["loading"].as_table()->insert_or_assign("values", toml::array{0.5});
+  double without = 0.0;
+  for (double threshold : {0.0, 2e-6}) {
+    t.insert_or_assign("observables", toml::table{{"enabled", true}, {"contact_gap_threshold", threshold}});
+    const Case c = parse_case(t, "mem");
+    Scene s = build_scene(c);
+    const RunSummary run = run_scene(c, s, {});
+    ASSERT_EQ(run.steps.size(), 1u);
+    const StepRecord& r = run.steps[0];
+    ASSERT_TRUE(r.observables);
+    double observed = -1.0;
+    for (const auto& [name, v] : r.observables->scalars)
+      if (name == "contact_fraction") observed = v;
+    EXPECT_EQ(r.contact_fraction, observed) << threshold;
+    if (threshold == 0.0) without = r.contact_fraction;
+    else EXPECT_GT(r.contact_fraction, without);
+  }
+  EXPECT_GT(without, 0.0);
 }

@@ -49,10 +49,10 @@ TEST(HertzGap, EdgeAndFarField) {
 }
 
 TEST(Profiles, OnlyFieldWiseReferences) {
-  EXPECT_TRUE(has_profiles("hertz"));
-  EXPECT_TRUE(has_profiles("westergaard"));
-  EXPECT_FALSE(has_profiles("jkr"));
-  EXPECT_THROW(profiles_csv("johnson", Scene{}, {}), std::invalid_argument);
+  EXPECT_TRUE(has_profiles(ValidationReference::Hertz));
+  EXPECT_TRUE(has_profiles(ValidationReference::Westergaard));
+  EXPECT_FALSE(has_profiles(ValidationReference::Jkr));
+  EXPECT_THROW(profiles_csv(ValidationReference::Johnson, Scene{}, {}), std::invalid_argument);
 }
 
 // The refinement table: a value converging as v(n) = 1 + 8/n^2 shows successive

@@ -95,7 +95,7 @@ TEST(Writer, ResumesAnInterruptedRun) {
   w.finish(run);
   EXPECT_EQ(solved, 1);
   ASSERT_EQ(run.steps.size(), 3u);
-  EXPECT_EQ(run.status, "converged");
+  EXPECT_EQ(run.status, RunStatus::Converged);
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(run.steps[k].penetration, full.steps[k].penetration, 1e-9 * full.steps[k].penetration);
   // A different case (another --set) does not resume from these files.
   Case other = small_case();
@@ -128,7 +128,7 @@ TEST(Writer, FailedWriteLeaksNoHdf5Handle) {
     run_scene(c, s, [&](const StepRecord& r, const ContactState& st) {
       if (r.index != 0) return;
       StepRecord bad = r;
-      bad.observables = StepObservables{};
+      bad.observables = ObservablesRecord{};
       bad.observables->arrays["no/such/group"] = {{1.0, 2.0}, "m"};
       try {
         w.add_step(bad, st);

@@ -88,15 +88,23 @@ std::string westergaard_profiles(const Scene& s, const std::vector<ContactState>
 
 }  // namespace
 
-bool has_profiles(const std::string& reference) {
-  return reference == "hertz" || reference == "hertz_periodic" || reference == "westergaard";
+bool has_profiles(ValidationReference reference) {
+  using R = ValidationReference;
+  return reference == R::Hertz || reference == R::HertzPeriodic || reference == R::Westergaard;
 }
 
-std::string profiles_csv(const std::string& reference, const Scene& s, const std::vector<ContactState>& states) {
-  if (reference == "hertz" || reference == "hertz_periodic")
-    return hertz_profiles(reference == "hertz_periodic", s, states);
-  if (reference == "westergaard") return westergaard_profiles(s, states);
-  throw std::invalid_argument("profiles: reference '" + reference + "' has no field-wise closed form");
+std::string profiles_csv(ValidationReference reference, const Scene& s, const std::vector<ContactState>& states) {
+  using R = ValidationReference;
+  switch (reference) {
+    case R::Hertz:
+    case R::HertzPeriodic:
+      return hertz_profiles(reference == R::HertzPeriodic, s, states);
+    case R::Westergaard:
+      return westergaard_profiles(s, states);
+    default:
+      throw std::invalid_argument("profiles: reference '" + std::string(kind_name(reference)) +
+                                  "' has no field-wise closed form");
+  }
 }
 
 }  // namespace cmc

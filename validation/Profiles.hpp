@@ -17,11 +17,11 @@
 namespace cmc {
 
 // True if `reference` has a profile table (hertz, hertz_periodic, westergaard).
-bool has_profiles(const std::string& reference);
+bool has_profiles(ValidationReference reference);
 
 // The table as CSV text: '#' comment lines (what each column is, and its source), a
 // header row, then rows of %.9e numbers. Throws std::invalid_argument for a reference
 // without profiles.
-std::string profiles_csv(const std::string& reference, const Scene& s, const std::vector<ContactState>& states);
+std::string profiles_csv(ValidationReference reference, const Scene& s, const std::vector<ContactState>& states);
 
 }  // namespace cmc

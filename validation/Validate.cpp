@@ -25,33 +25,53 @@ namespace {
 
 double min_image(double d, double l) { return d - l * std::round(d / l); }
 
+using Q = ValidationQuantity;
+using Ref = ValidationReference;
+
+// Σ (p − p_ref(ix, iy))² over the grid, through the grid layer.
+template <class Reference>
+double squared_deviation(const Grid& g, const Field& p, Reference p_ref) {
+  struct Sum {
+    double s = 0.0;
+    void merge(const Sum& o) { s += o.s; }
+  };
+  return Grid::parallel_reduce<Sum>(g.size(), [&](std::size_t b, std::size_t e, Sum& acc) {
+    for (std::size_t k = b; k < e; ++k) {
+      const double d = p[k] - p_ref(int(k % std::size_t(g.nx)), int(k / std::size_t(g.nx)));
+      acc.s += d * d;
+    }
+  }).s;
+}
+
+[[noreturn]] void no_quantity(Ref ref, Q q) {
+  throw std::invalid_argument("validation: reference " + std::string(kind_name(ref)) + " has no quantity '" +
+                              std::string(kind_name(q)) + "'");
+}
+
 // ---- sphere: δ(F) and p(r) against Hertz (E* = 1 inside cmc)
-double hertz_error(bool periodic, const std::string& q, const Scene& s, const ContactState& st, std::string& def) {
+double hertz_error(bool periodic, Q q, const Scene& s, const ContactState& st, std::string& def) {
   const double R = s.sphere_radius, F = st.mean_pressure * s.grid.area();
   const auto H = an::hertz_from_force(1.0, R, F);
-  if (q == "penetration") {
+  if (q == Q::Penetration) {
     // Johnson (1985) eq. 4.23; periodic cell: minus c F/(E* L) (analytic::hertz_periodic_penetration).
     const double ref = periodic ? an::hertz_periodic_penetration(1.0, R, F, s.grid.lx) : H.penetration;
     def = periodic ? "|delta - delta_Hertz_periodic(F)| / delta_Hertz(F)" : "|delta - delta_Hertz(F)| / delta_Hertz(F)";
     return std::abs(st.penetration - ref) / H.penetration;
   }
-  if (q == "pressure_profile") {
+  if (q == Q::PressureProfile) {
     // rms of p − p_Hertz over the grid, normalised by the number of cells in the Hertz
     // disc (so it is an rms over the contact), divided by p0.
     def = "sqrt(sum (p - p_Hertz)^2 / cells in Hertz disc) / p0";
-    double s2 = 0.0;
     const Grid& g = s.grid;
-    for (int iy = 0; iy < g.ny; ++iy)
-      for (int ix = 0; ix < g.nx; ++ix) {
-        double dx = ix * g.dx() - s.apex_x, dy = iy * g.dy() - s.apex_y;
-        if (periodic) dx = min_image(dx, g.lx), dy = min_image(dy, g.ly);
-        const double d = st.pressure[std::size_t(iy) * g.nx + ix] - an::hertz_pressure(1.0, R, H.radius, std::hypot(dx, dy));
-        s2 += d * d;
-      }
+    const double s2 = squared_deviation(g, st.pressure, [&](int ix, int iy) {
+      double dx = ix * g.dx() - s.apex_x, dy = iy * g.dy() - s.apex_y;
+      if (periodic) dx = min_image(dx, g.lx), dy = min_image(dy, g.ly);
+      return an::hertz_pressure(1.0, R, H.radius, std::hypot(dx, dy));
+    });
     const double cells = std::numbers::pi * H.radius * H.radius / g.cell_area();
     return std::sqrt(s2 / cells) / H.max_pressure;
   }
-  throw std::invalid_argument("validation: reference hertz has no quantity '" + q + "'");
+  no_quantity(periodic ? Ref::HertzPeriodic : Ref::Hertz, q);
 }
 
 // Contact half-width of a 1-D contact centred at x = 0, from the pressure on row 0:
@@ -72,33 +92,29 @@ double measured_half_width(const Scene& s, const ContactState& st) {
   return 0.5 * (side(+1) + side(-1));
 }
 
-double westergaard_error(const std::string& q, const Scene& s, const ContactState& st, std::string& def) {
+double westergaard_error(Q q, const Scene& s, const ContactState& st, std::string& def) {
   const double h = s.wave_amplitude, lambda = s.wavelength, pbar = st.mean_pressure;
   const double pstar = an::westergaard_full_contact_pressure(1.0, h, lambda);
-  if (q == "mean_pressure") {
+  if (q == Q::MeanPressure) {
     // Johnson (1995) eq. 4 / Johnson (1985) §13.2: pbar = p* sin²(π a/λ), at the
     // measured half-width.
     def = "|pbar_Westergaard(a_measured) - pbar| / p*";
     return std::abs(an::westergaard_mean_pressure(1.0, h, lambda, measured_half_width(s, st)) - pbar) / pstar;
   }
-  if (q == "pressure_profile") {
+  if (q == Q::PressureProfile) {
     def = "rms over the period of (p - p_Westergaard(x; pbar)) / p*";
     const double a = an::westergaard_half_width(1.0, h, lambda, pbar);
     const Grid& g = s.grid;
-    double s2 = 0.0;
-    for (int iy = 0; iy < g.ny; ++iy)
-      for (int ix = 0; ix < g.nx; ++ix) {
-        const double x = min_image(ix * g.dx(), lambda);
-        const double d = st.pressure[std::size_t(iy) * g.nx + ix] - an::westergaard_pressure(1.0, h, lambda, a, x);
-        s2 += d * d;
-      }
+    const double s2 = squared_deviation(g, st.pressure, [&](int ix, int) {
+      return an::westergaard_pressure(1.0, h, lambda, a, min_image(ix * g.dx(), lambda));
+    });
     return std::sqrt(s2 / double(g.size())) / pstar;
   }
-  if (q == "mean_gap") {
+  if (q == Q::MeanGap) {
     def = "|mean gap - mean gap_Westergaard(pbar)| / amplitude";
     return std::abs(Grid::mean(st.gap) - an::westergaard_mean_gap(1.0, h, lambda, pbar)) / h;
   }
-  throw std::invalid_argument("validation: reference westergaard has no quantity '" + q + "'");
+  no_quantity(Ref::Westergaard, q);
 }
 
 double force_of(const ContactState& st, double area) { return st.mean_pressure * area; }
@@ -112,18 +128,19 @@ struct Curve {
 // Maugis–Dugdale (Maugis 1992): the force-penetration curve, sampled at 4000 contact
 // radii (interpolation error far below the tolerances), and the pull-off = the most
 // negative force of the path.
-double sphere_adhesion_error(const std::string& ref, const std::string& q, const Scene& s,
+double sphere_adhesion_error(Ref reference, Q q, const Scene& s,
                              const std::vector<ContactState>& states, const RunSummary& run, std::string& def) {
   const double R = s.sphere_radius, w = work_of_adhesion(s.interaction), A = s.grid.area();
   Curve all;  // the whole curve, parametrised by the contact radius
   double pulloff, d_pulloff;
+  const std::string ref(kind_name(reference));
   auto sample_all = [&](double s0, double s1, auto xf, auto yf) {
     for (int i = 0; i <= 4000; ++i) {
       const double sv = s0 + (s1 - s0) * i / 4000.0;
       all.x.push_back(xf(sv)), all.y.push_back(yf(sv));
     }
   };
-  if (ref == "jkr") {
+  if (reference == Ref::Jkr) {
     const double a_max = 4.0 * std::cbrt(R * R * w);  // beyond every contact radius of the cases
     sample_all(1e-6 * a_max, a_max, [&](double a) { return an::jkr_penetration(1.0, R, w, a); },
                [&](double a) { return an::jkr_force(1.0, R, w, a); });
@@ -139,14 +156,14 @@ double sphere_adhesion_error(const std::string& ref, const std::string& q, const
     const auto po = an::md_pulloff(lambda);
     pulloff = po.Pbar * sc.force, d_pulloff = po.Delta * sc.penetration;
   }
-  if (q == "force") {
+  if (q == Q::Force) {
     // Distance of each solved (δ, F) in contact from the reference curve, in units of
     // the pull-off penetration and force: a vertical force error would blow up where the
     // curve turns vertical at snap-off.
     def = "distance of (delta, F) from the " + ref + " curve in units of (|delta_pulloff|, |F_pulloff|)";
     double worst = 0.0;
     for (const auto& st : states) {
-      if (!(Grid::min(st.gap) <= 0.0)) continue;  // out of contact: off the curve's domain
+      if (contact_points(st.gap, s.contact_rule) == 0) continue;  // out of contact: off the curve's domain
       const double x = st.penetration / std::abs(d_pulloff), y = force_of(st, A) / std::abs(pulloff);
       double best = INFINITY;
       for (std::size_t k = 0; k + 1 < all.x.size(); ++k) {
@@ -159,63 +176,60 @@ double sphere_adhesion_error(const std::string& ref, const std::string& q, const
     }
     return worst;
   }
-  if (q == "pulloff") {
+  if (q == Q::Pulloff) {
     def = "|most negative force of the path - pull-off_" + ref + "| / |pull-off_" + ref + "|";
     return std::abs(run.pulloff_force / (s.units.pressure_pa * s.units.length_m * s.units.length_m) - pulloff) /
            std::abs(pulloff);
   }
-  throw std::invalid_argument("validation: reference " + ref + " has no quantity '" + q + "'");
+  no_quantity(reference, q);
 }
 
 // 1-D wavy surface with adhesion against Johnson (1995): mean pressure at the measured
 // mean gap (both parametrised by the contact half-width a), and the pull-off.
-double johnson_error(const std::string& q, const Scene& s, const std::vector<ContactState>& states,
+double johnson_error(Q q, const Scene& s, const std::vector<ContactState>& states,
                      const RunSummary& run, std::string& def) {
   const double h = s.wave_amplitude, lambda = s.wavelength, w = work_of_adhesion(s.interaction);
   const double pstar = an::westergaard_full_contact_pressure(1.0, h, lambda);
-  if (q == "mean_pressure") {
+  if (q == Q::MeanPressure) {
     // Johnson (1995): pbar/p* = sin²(πa/λ) − α √tan(πa/λ), at the contact half-width
     // counted on the grid (2a = points with a closed gap x Δx, ±Δx/2).
     def = "|pbar - pbar_Johnson(a counted)| / p*";
     double worst = 0.0;
     for (const auto& st : states) {
-      double closed = 0.0;
-      for (double g : st.gap) closed += g <= 0.0 ? 1.0 : 0.0;
+      const double closed = double(contact_points(st.gap, s.contact_rule));
       if (closed == 0.0) continue;  // out of contact
       const double a = 0.5 * closed * s.grid.dx();
       worst = std::max(worst, std::abs(st.mean_pressure - an::johnson_mean_pressure(1.0, w, h, lambda, a)) / pstar);
     }
     return worst;
   }
-  if (q == "pulloff") {
+  if (q == Q::Pulloff) {
     def = "|most negative mean pressure of the path - pull-off_Johnson| / |pull-off_Johnson|";
     const double ref = an::johnson_pulloff(1.0, w, h, lambda).mean_pressure;
     return std::abs(s.units.pressure(run.pulloff_mean_pressure) - ref) / std::abs(ref);
   }
-  throw std::invalid_argument("validation: reference johnson has no quantity '" + q + "'");
+  no_quantity(Ref::Johnson, q);
 }
 
 }  // namespace
 
-double validation_error(const std::string& reference, const std::string& quantity, const Scene& s,
+double validation_error(ValidationReference reference, ValidationQuantity quantity, const Scene& s,
                         const std::vector<ContactState>& states, const RunSummary& run, std::string* definition) {
   std::string def;
   double worst = 0.0;
-  if (reference == "jkr" || reference == "maugis_dugdale") {
+  if (reference == Ref::Jkr || reference == Ref::MaugisDugdale) {
     worst = sphere_adhesion_error(reference, quantity, s, states, run, def);
-  } else if (reference == "johnson") {
+  } else if (reference == Ref::Johnson) {
     worst = johnson_error(quantity, s, states, run, def);
   } else {
     for (const auto& st : states) {
-      double e;
-      if (reference == "hertz" || reference == "hertz_periodic") e = hertz_error(reference == "hertz_periodic", quantity, s, st, def);
-      else if (reference == "westergaard") e = westergaard_error(quantity, s, st, def);
-      else throw std::invalid_argument("validation: unknown reference '" + reference + "'");
+      const double e = reference == Ref::Westergaard ? westergaard_error(quantity, s, st, def)
+                                                     : hertz_error(reference == Ref::HertzPeriodic, quantity, s, st, def);
       worst = std::max(worst, std::isfinite(e) ? e : INFINITY);
     }
   }
   if (!std::isfinite(worst)) worst = INFINITY;
-  if (definition) *definition = (quantity == "pulloff" ? "" : "max over steps of ") + def;
+  if (definition) *definition = (quantity == Q::Pulloff ? "" : "max over steps of ") + def;
   return worst;
 }
 
@@ -225,7 +239,7 @@ std::vector<CheckResult> evaluate_checks(const Case& c, const Scene& s, const st
   if (!c.validation) return out;
   for (const auto& ch : c.validation->checks) {
     CheckResult r;
-    r.quantity = ch.quantity;
+    r.quantity = kind_name(ch.quantity);
     r.tolerance = ch.tolerance;
     r.error = validation_error(c.validation->reference, ch.quantity, s, states, run, &r.definition);
     r.pass = r.error <= r.tolerance;
@@ -268,7 +282,7 @@ RefinementResult run_refinement(const Case& c) {
     }
     const Case cn = parse_case(t, c.file + " (grid " + std::to_string(n) + ")");
     const SolvedCase sc = solve_case(cn);
-    if (sc.run.status != "converged") throw std::runtime_error(cn.file + ": refinement run did not converge: " + sc.run.message);
+    if (sc.run.status != RunStatus::Converged) throw std::runtime_error(cn.file + ": refinement run did not converge: " + sc.run.message);
     rr.grids.push_back(n);
     rr.errors.push_back(validation_error(c.validation->reference, spec.quantity, sc.scene, sc.states, sc.run));
   }

@@ -30,7 +30,7 @@ struct CheckResult {
 // "mean_pressure" the largest over the steps with a closed gap. "pulloff" (adhesive
 // references) is one number for the whole path, from `run`. Throws
 // std::invalid_argument for an unknown reference or quantity.
-double validation_error(const std::string& reference, const std::string& quantity, const Scene& s,
+double validation_error(ValidationReference reference, ValidationQuantity quantity, const Scene& s,
                         const std::vector<ContactState>& states, const RunSummary& run,
                         std::string* definition = nullptr);
 

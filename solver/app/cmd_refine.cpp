@@ -78,11 +78,11 @@ std::optional<RefinementGrid> finished(const fs::path& dir, const Case& c, int n
 RefinementGrid run_grid(const fs::path& dir, const Case& c, int n, bool quiet) {
   Scene scene = build_scene(c);
   const RunSummary run = run_case_to(c, scene, dir.string(), /*resume=*/true, quiet);
-  RefinementGrid g{n, run.status, scene.units.to_m(scene.grid.dx()), {}, {}};
+  RefinementGrid g{n, status_name(run.status), scene.units.to_m(scene.grid.dx()), {}, {}};
   if (!run.steps.empty()) g.last_step = Writer::step_json(run.steps.back());
-  for (const auto& [k, v] : scene.surface_facts) g.facts.insert(k, v);
+  for (const auto& [k, v] : surface_fact_entries(scene.surface_facts)) g.facts.insert(k, v);
   std::ostringstream rec;
-  rec << toml::table{{"case", to_json(c.resolved)}, {"n", n},          {"status", run.status},
+  rec << toml::table{{"case", to_json(c.resolved)}, {"n", n},          {"status", status_name(run.status)},
                      {"dx_m", g.dx_m},             {"facts", g.facts}, {"last_step", g.last_step}}
       << "\n";
   write_atomically(dir / kRecord, rec.str());

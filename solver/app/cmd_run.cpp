@@ -32,7 +32,7 @@ int cmd_run(int argc, char** argv) {
   const Case c = load_case(a.positional[0], a.overrides);
   Scene scene = build_scene(c);
   const RunSummary run = run_case_to(c, scene, a.out, a.resume, a.quiet);
-  if (run.status != "converged") {
+  if (run.status != RunStatus::Converged) {
     std::fprintf(stderr, "cmc run: %s\n", run.message.c_str());
     return kNotConverged;
   }

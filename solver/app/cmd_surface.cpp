@@ -36,9 +36,11 @@ int cmd_surface(int argc, char** argv) {
               st.min * L, st.max * L, st.rms_height * L);
   std::printf("  rms gradient     %.12g\n  rms curvature    %.6g 1/m\n  R_c              %.6g m\n", st.rms_gradient,
               st.rms_curvature / L, st.curvature_radius * L);
-  for (const auto& [k, v] : s.surface_facts)
-    if (k == "tabor_parameter" || k == "dx_over_cutoff_wavelength" || k == "dx_over_range" || k == "modes_dropped")
-      std::printf("  %-16s %.6g\n", k.c_str(), v);
+  const SurfaceFacts& f = s.surface_facts;
+  for (const auto& [name, v] : {std::pair{"modes_dropped", f.modes_dropped},
+                                {"dx_over_cutoff_wavelength", f.dx_over_cutoff_wavelength},
+                                {"dx_over_range", f.dx_over_range}, {"tabor_parameter", f.tabor_parameter}})
+    if (v) std::printf("  %-16s %.6g\n", name, *v);
   for (const auto& w : s.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   const std::string out = a.option("--write");
   if (!out.empty()) {

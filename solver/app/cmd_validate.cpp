@@ -39,7 +39,7 @@ int cmd_validate(int argc, char** argv) {
     int step = 0;
     SolvedCase sc = solve_case(c, {}, make_progress(a.quiet, &step, t0));
     auto checks = evaluate_checks(c, sc.scene, sc.states, sc.run);
-    if (sc.run.status != "converged") {
+    if (sc.run.status != RunStatus::Converged) {
       checks.push_back({"convergence", sc.run.message, 1.0, 0.0, false});
     }
     double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -48,7 +48,7 @@ int cmd_validate(int argc, char** argv) {
       std::printf("%-28s %-18s %12.4e %12.4e %6s %8.2f\n", c.name.c_str(), r.quantity.c_str(), r.error, r.tolerance,
                   r.pass ? "pass" : "FAIL", seconds);
       all_pass &= r.pass;
-      json_checks.push_back(toml::table{{"reference", c.validation->reference}, {"quantity", r.quantity},
+      json_checks.push_back(toml::table{{"reference", std::string(kind_name(c.validation->reference))}, {"quantity", r.quantity},
                                         {"definition", r.definition}, {"error", r.error},
                                         {"tolerance", r.tolerance}, {"pass", r.pass}});
     }
@@ -68,11 +68,11 @@ int cmd_validate(int argc, char** argv) {
         fitted.push_back(rr.fitted[k]);
         required.push_back(rr.required[k]);
       }
-      const std::string q = "order(" + c.validation->refinement->quantity + ")";
+      const std::string q = "order(" + std::string(kind_name(c.validation->refinement->quantity)) + ")";
       std::printf("%-28s %-18s %12.4f %12.4f %6s %8.2f   grids %s errors %s\n", c.name.c_str(), q.c_str(), rr.order,
                   rr.min_order, rr.pass ? "pass" : "FAIL", seconds, grids.c_str(), errors.c_str());
       all_pass &= rr.pass;
-      json_checks.push_back(toml::table{{"reference", c.validation->reference}, {"quantity", q},
+      json_checks.push_back(toml::table{{"reference", std::string(kind_name(c.validation->reference))}, {"quantity", q},
                                         {"grids", g}, {"errors", e}, {"observed_order", rr.order},
                                         {"min_order", rr.min_order}, {"fitted_errors", fitted},
                                         {"required_order_errors", required}, {"pass", rr.pass}});

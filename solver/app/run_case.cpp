@@ -39,7 +39,7 @@ RunSummary run_case_to(const Case& c, Scene& scene, const std::string& out, bool
   }
   if (!quiet)
     std::fprintf(stderr, "%s: %zu steps, %s, %.2f s, %.0f FFT pairs -> %s/summary.json\n", c.name.c_str(),
-                 run.steps.size(), run.status.c_str(), run.wall_s, run.fft_pairs, out.c_str());
+                 run.steps.size(), status_name(run.status), run.wall_s, run.fft_pairs, out.c_str());
   return run;
 }
 

@@ -17,7 +17,7 @@
 // Jump (between two consecutive solves, previous → new), with f = jump_fraction:
 //   |a_new − a_prev| > f · max(a_prev, contact_fraction_floor)             or
 //   |p_new − p_prev| > f · max(|p_prev|, p_floor)
-// a = contact fraction (fraction of points with gap <= contact_gap), p = mean pressure,
+// a = contact fraction (ContactRule.hpp: fraction of points with a closed gap), p = mean pressure,
 // p_floor = pressure_floor, or when that is 0 the largest |p| accepted so far on the path
 // (a problem-independent default; give pressure_floor a physical scale, e.g. the
 // pull-off pressure, when the path starts out of contact, where the tail of a finite-range
@@ -33,6 +33,7 @@
 // instability sharpens it), optionally sharpened further by refine_pulloff.
 #pragma once
 
+#include "cmc/contact/ContactRule.hpp"
 #include "cmc/contact/Solver.hpp"
 
 #include <functional>
@@ -41,8 +42,9 @@
 
 namespace cmc {
 
+// The branch of a load path a step is on. Its name ("loading" / "unloading") is
+// written only by the Writer (output/Writer.cpp).
 enum class Branch { Loading, Unloading };
-const char* branch_name(Branch b);  // "loading" / "unloading"
 
 using StepSolver = std::function<SolveResult(const Target&, ContactState&)>;
 
@@ -51,7 +53,7 @@ struct LoadPathOptions {
   double jump_fraction = 0.5;
   double contact_fraction_floor = 1e-3;
   double pressure_floor = 0.0;  // 0: the largest |mean pressure| accepted so far
-  double contact_gap = 0.0;     // a point is in contact when its gap is <= this
+  ContactRule contact_rule;     // what the contact fraction a counts
   bool stop_on_failure = true;
   // Pull-off refinement: when > 0 and the most negative mean pressure is at a sub-step with
   // accepted neighbours on both sides, up to this many extra solves do a golden-section
@@ -96,9 +98,6 @@ using LoadStepCallback = std::function<void(const LoadStep&, const ContactState&
 // `state` holds the last accepted solution. All targets must share one Control.
 LoadPathResult run_load_path(const StepSolver& solve, const std::vector<Target>& targets, ContactState& state,
                              const LoadPathOptions& options = {}, const LoadStepCallback& on_step = {});
-
-// Fraction of points with gap <= contact_gap (0 for an empty state).
-double contact_fraction(const ContactState& state, double contact_gap = 0.0);
 
 // ---- target sequences
 // n + 1 equally spaced values from `from` to `to` (both included); n >= 1.

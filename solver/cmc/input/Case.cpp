@@ -1,5 +1,6 @@
 #include "cmc/input/Case.hpp"
 
+#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -62,33 +63,38 @@ class Section {
   }
 
   std::string string(const std::string& key, std::optional<std::string> def = {}, std::set<std::string> choices = {}) {
-    used_.insert(key);
-    const toml::node* n = t_->get(key);
     std::string expected = "a string";
     if (!choices.empty()) {
       expected = "one of";
       for (const auto& c : choices) expected += " \"" + c + "\"";
     }
-    if (!n) {
-      if (!def) fail_missing(key, expected);
-      t_->insert(key, *def);
-      return *def;
-    }
+    const toml::node* n = given(key, def, expected);
+    if (!n) return *def;
     if (!n->is_string()) fail(key, expected);
     std::string v = n->as_string()->get();
     if (!choices.empty() && !choices.count(v)) fail(key, expected);
     return v;
   }
 
+  // One of the words of kind_names(E) (input/Kinds.hpp), as its typed value. A default
+  // is written back as its word, like every other default.
+  template <class E>
+  E choice(const std::string& key, std::optional<E> def = {}) {
+    std::set<std::string> words;
+    for (const auto& k : kind_names(E{})) words.insert(std::string(k.name));
+    const std::optional<std::string> word = def ? std::optional(std::string(kind_name(*def))) : std::nullopt;
+    const std::string v = string(key, word, words);
+    for (const auto& k : kind_names(E{}))
+      if (k.name == v) return k.value;
+    fail(key, "a known word");  // unreachable: string() checked the choices
+  }
+  // Replace the value of `key` in the resolved case (e.g. a kind resolved from "auto").
+  void resolve(const std::string& key, const std::string& value) { t_->insert_or_assign(key, value); }
+
   double number(const std::string& key, std::optional<double> def, const std::string& what,
                 bool positive = false, bool non_negative = false) {
-    used_.insert(key);
-    const toml::node* n = t_->get(key);
-    if (!n) {
-      if (!def) fail_missing(key, what);
-      t_->insert(key, *def);
-      return *def;
-    }
+    const toml::node* n = given(key, def, what);
+    if (!n) return *def;
     double v;
     if (auto f = n->as_floating_point()) v = f->get();
     else if (auto i = n->as_integer()) v = double(i->get());
@@ -100,13 +106,8 @@ class Section {
   }
 
   long long integer(const std::string& key, std::optional<long long> def, const std::string& what, long long min) {
-    used_.insert(key);
-    const toml::node* n = t_->get(key);
-    if (!n) {
-      if (!def) fail_missing(key, what);
-      t_->insert(key, *def);
-      return *def;
-    }
+    const toml::node* n = given(key, def, what);
+    if (!n) return *def;
     auto i = n->as_integer();
     if (!i) fail(key, what);
     if (i->get() < min) fail(key, what + " (>= " + std::to_string(min) + ")");
@@ -114,12 +115,8 @@ class Section {
   }
 
   bool boolean(const std::string& key, bool def) {
-    used_.insert(key);
-    const toml::node* n = t_->get(key);
-    if (!n) {
-      t_->insert(key, def);
-      return def;
-    }
+    const toml::node* n = given(key, std::optional<bool>(def), "true or false");
+    if (!n) return def;
     if (!n->is_boolean()) fail(key, "true or false");
     return n->as_boolean()->get();
   }
@@ -141,18 +138,12 @@ class Section {
   }
 
   toml::table* subtable(const std::string& key) {
-    used_.insert(key);
-    toml::node* n = t_->get(key);
-    if (!n) return nullptr;
-    if (!n->is_table()) fail(key, "a table");
-    return n->as_table();
+    toml::node* n = optional(key, toml::node_type::table, "a table");
+    return n ? n->as_table() : nullptr;
   }
   toml::array* array(const std::string& key) {
-    used_.insert(key);
-    toml::node* n = t_->get(key);
-    if (!n) return nullptr;
-    if (!n->is_array()) fail(key, "an array");
-    return n->as_array();
+    toml::node* n = optional(key, toml::node_type::array, "an array");
+    return n ? n->as_array() : nullptr;
   }
   void ignore(const std::string& key) { used_.insert(key); }
 
@@ -165,6 +156,25 @@ class Section {
   }
 
  private:
+  // The node of `key` as given, or nullptr when it is absent: then its default is written
+  // into the resolved case (an absent key without a default is an error).
+  template <class T>
+  const toml::node* given(const std::string& key, const std::optional<T>& def, const std::string& expected) {
+    used_.insert(key);
+    const toml::node* n = t_->get(key);
+    if (!n) {
+      if (!def) fail_missing(key, expected);
+      t_->insert(key, *def);
+    }
+    return n;
+  }
+  // An optional key of the given type (nullptr when absent).
+  toml::node* optional(const std::string& key, toml::node_type type, const std::string& expected) {
+    used_.insert(key);
+    toml::node* n = t_->get(key);
+    if (n && n->type() != type) fail(key, expected);
+    return n;
+  }
   [[noreturn]] void fail_missing(const std::string& key, const std::string& expected) const {
     throw CaseError(file_ + ": " + key_name(key) + ": missing required key, expected " + expected);
   }
@@ -204,6 +214,187 @@ void apply_override(toml::table& t, const std::string& a) {
   sect.as_table()->insert_or_assign(path.substr(dot + 1), *parsed.get("v"));
 }
 
+namespace {
+
+void parse_grid(Section s, GridSpec& g) {
+  if (s.has("n")) {
+    if (s.has("nx") || s.has("ny")) s.fail("n", "either n or nx/ny, not both");
+    g.nx = g.ny = int(s.integer("n", {}, "a positive number of points per side", 1));
+  } else {
+    g.nx = int(s.integer("nx", {}, "a positive number of points along x (or give n)", 1));
+    g.ny = int(s.integer("ny", {}, "a positive number of points along y (1 for a 1-D problem)", 1));
+  }
+  g.size_x = s.number("size", {}, "the side length along x in m", true);
+  g.size_y = s.number("size_y", g.size_x, "the side length along y in m", true);
+  g.periodic = s.string("boundary", std::string(g.periodic ? "periodic" : "free"), {"periodic", "free"}) == "periodic";
+  const double points = double(g.nx) * g.ny;
+  // A periodic solve holds about 8 fields of N doubles; free-boundary ones work on a
+  // grid 4x larger. Refuse what cannot fit rather than failing deep in an allocation.
+  const double bytes = points * 8.0 * (g.periodic ? 8.0 : 20.0);
+  if (bytes > 64e9) s.fail(g.nx == g.ny ? "n" : "nx", "a grid that fits in memory (this one needs about " +
+                                             std::to_string(int(bytes / 1e9)) + " GB)");
+  if (!g.periodic && g.ny < 2) s.fail("ny", "at least 2 points: a free boundary needs a 2-D grid");
+  s.finish();
+}
+
+void parse_surface(Section s, const GridSpec& grid, SurfaceSpec& sf) {
+  sf.kind = s.choice<SurfaceKind>("kind");
+  switch (sf.kind) {
+    case SurfaceKind::Sphere:
+      sf.radius = s.number("radius", {}, "the sphere radius in m", true);
+      if (s.has("center")) {
+        auto v = s.numbers("center", "[x, y] in m", 2);
+        if (v.size() != 2) s.fail("center", "[x, y] in m");
+        sf.center = v;
+      }
+      break;
+    case SurfaceKind::Wavy1d:
+    case SurfaceKind::Wavy2d: {
+      sf.amplitude = s.number("amplitude", {}, "the amplitude a in m of h = a (1 - cos(2 pi x / wavelength))", true);
+      sf.wavelength = s.number("wavelength", grid.size_x, "the wavelength in m", true);
+      const double periods = grid.size_x / sf.wavelength;
+      if (grid.periodic && std::abs(periods - std::round(periods)) > 1e-9)
+        s.fail("wavelength", "a wavelength that divides the periodic grid size " + std::to_string(grid.size_x));
+      break;
+    }
+    case SurfaceKind::SelfAffine:
+      if (grid.size_x != grid.size_y) s.fail("kind", "a square grid (size_y = size) for a self-affine surface");
+      sf.hurst = s.number("hurst", sf.hurst, "the Hurst exponent H in (0, 1]", true);
+      if (sf.hurst > 1.0) s.fail("hurst", "the Hurst exponent H in (0, 1]");
+      sf.rolloff_wavelength = s.number("rolloff_wavelength", SurfaceSpec::kRolloffFraction * grid.size_x,
+                                       "the roll-off wavelength in m", true);
+      sf.cutoff_wavelength = s.number("cutoff_wavelength", SurfaceSpec::kCutoffFraction * grid.size_x,
+                                      "the short-wavelength cutoff in m", true);
+      if (!(sf.cutoff_wavelength < sf.rolloff_wavelength) || sf.rolloff_wavelength > grid.size_x)
+        s.fail("cutoff_wavelength", "cutoff_wavelength < rolloff_wavelength <= grid size");
+      sf.rms_gradient = s.number("rms_gradient", sf.rms_gradient, "the rms gradient of the surface", true);
+      sf.seed = s.integer("seed", sf.seed, "a non-negative random seed", 0);
+      break;
+    case SurfaceKind::File: {
+      sf.path = s.string("path");
+      sf.format = s.choice<SurfaceFormat>("format");
+      sf.dataset = s.string("dataset", sf.dataset);
+      // The challenge's own files hold heights in units of L; generic files say what they hold.
+      const bool in_units_of_l = sf.format == SurfaceFormat::ChallengeHdf5 ||
+                                 sf.format == SurfaceFormat::ChallengeAscii || sf.format == SurfaceFormat::Fourier;
+      sf.height_unit = s.number("height_unit", in_units_of_l ? grid.size_x : 1.0, "metres per height unit of the file", true);
+      break;
+    }
+    case SurfaceKind::Flat:
+      break;
+  }
+  s.finish();
+}
+
+void parse_interaction(Section s, SurfaceKind surface, InteractionSpec& in) {
+  in.kind = s.choice<InteractionKind>("kind", in.kind);
+  if (in.kind != InteractionKind::HardWall) {
+    const bool exponential = in.kind == InteractionKind::Exponential;
+    in.work_of_adhesion = s.number("work_of_adhesion", {}, "the work of adhesion in J/m^2", true);
+    const bool sphere = surface == SurfaceKind::Sphere;
+    const bool rough = surface == SurfaceKind::SelfAffine || surface == SurfaceKind::File;
+    int given = 0;
+    if (s.has("range")) in.range = s.number("range", {}, "the interaction range in m", true), ++given;
+    if (exponential && s.has("tabor")) {
+      if (!sphere && !rough) s.fail("tabor", "a sphere or rough surface (a radius of curvature to define mu_T); give range");
+      in.tabor = s.number("tabor", {}, "the Tabor parameter mu_T", true), ++given;
+    }
+    if (!exponential && s.has("maugis_lambda")) {
+      if (!sphere) s.fail("maugis_lambda", "a sphere (Maugis' lambda needs its radius); give range");
+      in.maugis_lambda = s.number("maugis_lambda", {}, "Maugis' parameter lambda", true), ++given;
+    }
+    if (given != 1)
+      s.fail("range", exponential ? "exactly one of range (m) or tabor" : "exactly one of range (h0, m) or maugis_lambda");
+    if (!exponential) in.smoothing = s.number("smoothing", in.smoothing, "a smoothing width in m", false, true);
+  }
+  s.finish();
+}
+
+void parse_loading(Section s, bool adhesive, bool periodic, LoadingSpec& l) {
+  l.control = s.choice<LoadControl>("control");
+  const bool pressure_like = l.control == LoadControl::Force || l.control == LoadControl::MeanPressure;
+  const std::string what = pressure_like ? "a non-empty array of loads (N or Pa)" : "a non-empty array of lengths in m";
+  l.values = s.numbers("values", what);
+  if (s.has("unloading")) l.unloading = s.numbers("unloading", what);
+  if (pressure_like && !adhesive)
+    for (const char* key : {"values", "unloading"})
+      for (double v : key == std::string("values") ? l.values : l.unloading)
+        if (v < 0.0) s.fail(key, "non-negative loads for a hard-wall (non-adhesive) contact");
+  if (l.control == LoadControl::MeanGap && !periodic)
+    s.fail("control", "\"force\" or \"penetration\": a mean gap needs a periodic grid");
+  l.max_halvings = int(s.integer("max_halvings", l.max_halvings, "a non-negative number of halvings", 0));
+  l.jump_fraction = s.number("jump_fraction", l.jump_fraction, "a relative change that counts as a jump", true);
+  l.jump_pressure_floor = s.number("jump_pressure_floor", l.jump_pressure_floor,
+                                   "a pressure in Pa (0: the largest |mean pressure| so far)", false, true);
+  l.refine_pulloff = int(s.integer("refine_pulloff", l.refine_pulloff, "a non-negative number of extra solves", 0));
+  s.finish();
+}
+
+// "auto" picks the solver that can solve the interaction; a solver that cannot is an
+// error naming the key. The resolved case records the solver that runs.
+void parse_solver(Section s, bool adhesive, SolverSpec& sv) {
+  sv.kind = s.choice<SolverKind>("kind", sv.kind);
+  if (sv.kind == SolverKind::Auto) sv.kind = adhesive ? SolverKind::AdhesiveCg : SolverKind::PolonskyKeer;
+  if (adhesive && sv.kind == SolverKind::PolonskyKeer)
+    s.fail("kind", "\"adhesive_cg\" or \"auto\" with an adhesive interaction (Polonsky-Keer solves hard-wall contact "
+                   "only)");
+  s.resolve("kind", std::string(kind_name(sv.kind)));
+  const bool pk = sv.kind == SolverKind::PolonskyKeer;
+  sv.tolerance = s.number("tolerance", pk ? SolverSpec::kPolonskyKeerTolerance : SolverSpec::kAdhesiveTolerance,
+                          "a relative residual", true);
+  sv.max_iterations = int(s.integer("max_iterations", sv.max_iterations, "a positive iteration cap", 1));
+  sv.recompute_every = int(s.integer("recompute_every", sv.recompute_every, "a positive number of iterations", 1));
+  s.finish();
+}
+
+void parse_observables(Section s, double size_x, ObservablesSpec& o) {
+  o.enabled = s.boolean("enabled", o.enabled);
+  o.cross_section_x = s.number("cross_section_x", ObservablesSpec::kCrossSectionFraction * size_x,
+                               "the x of the cross-section in m", false, true);
+  o.stress_bins = int(s.integer("stress_bins", o.stress_bins, "a positive number of bins", 1));
+  o.gap_bins_per_decade = int(s.integer("gap_bins_per_decade", o.gap_bins_per_decade, "a positive number of bins", 1));
+  o.patch_bins_per_decade = int(s.integer("patch_bins_per_decade", o.patch_bins_per_decade, "a positive number of bins", 1));
+  o.contact_gap_threshold = s.number("contact_gap_threshold", o.contact_gap_threshold,
+                                     "a gap in m (a point is in contact where g <= this)", false, true);
+  s.finish();
+}
+
+RefinementSpec parse_refinement(Section rs) {
+  RefinementSpec ref;
+  for (double g : rs.numbers("grids", "an increasing array of at least 2 grid sizes", 2)) {
+    if (g < 2 || g != std::floor(g) || (!ref.grids.empty() && g <= ref.grids.back()))
+      rs.fail("grids", "an increasing array of at least 2 grid sizes");
+    ref.grids.push_back(int(g));
+  }
+  ref.quantity = rs.choice<ValidationQuantity>("quantity");
+  ref.min_order = rs.number("min_order", {}, "the smallest accepted observed order of convergence", true);
+  rs.finish();
+  return ref;
+}
+
+ValidationSpec parse_validation(Section s, const std::string& file) {
+  ValidationSpec v;
+  v.reference = s.choice<ValidationReference>("reference");
+  if (auto* a = s.array("check")) {
+    int i = 0;
+    for (auto& e : *a) {
+      if (!e.is_table()) s.fail("check", "an array of tables [[validation.check]]");
+      Section cs(*e.as_table(), "validation.check #" + std::to_string(++i), file);
+      ValidationCheck ch;
+      ch.quantity = cs.choice<ValidationQuantity>("quantity");
+      ch.tolerance = cs.number("tolerance", {}, "the largest accepted error", true);
+      cs.finish();
+      v.checks.push_back(ch);
+    }
+  }
+  if (auto* r = s.subtable("refinement")) v.refinement = parse_refinement(Section(*r, "validation.refinement", file));
+  if (v.checks.empty() && !v.refinement) s.fail("check", "at least one [[validation.check]] or a [validation.refinement]");
+  s.finish();
+  return v;
+}
+
+}  // namespace
+
 Case parse_case(const toml::table& input, const std::string& file) {
   Case c;
   c.file = file;
@@ -214,184 +405,115 @@ Case parse_case(const toml::table& input, const std::string& file) {
       throw CaseError(file + ": [" + std::string(k.str()) + "]: unknown section" + where(&v) +
                       " (expected one of [case] [grid] [material] [surface] [interaction] [loading] [solver] "
                       "[output] [observables] [validation])");
-
   {
     Section s(t, "case", file, true);
     c.name = s.string("name");
-    c.description = s.string("description", std::string());
+    c.description = s.string("description", c.description);
     s.finish();
   }
-  {
-    Section s(t, "grid", file, true);
-    if (s.has("n")) {
-      if (s.has("nx") || s.has("ny")) s.fail("n", "either n or nx/ny, not both");
-      c.grid.nx = c.grid.ny = int(s.integer("n", {}, "a positive number of points per side", 1));
-    } else {
-      c.grid.nx = int(s.integer("nx", {}, "a positive number of points along x (or give n)", 1));
-      c.grid.ny = int(s.integer("ny", {}, "a positive number of points along y (1 for a 1-D problem)", 1));
-    }
-    c.grid.size_x = s.number("size", {}, "the side length along x in m", true);
-    c.grid.size_y = s.number("size_y", c.grid.size_x, "the side length along y in m", true);
-    c.grid.periodic = s.string("boundary", std::string("periodic"), {"periodic", "free"}) == "periodic";
-    const double points = double(c.grid.nx) * c.grid.ny;
-    // A periodic solve holds about 8 fields of N doubles; free-boundary ones work on a
-    // grid 4x larger. Refuse what cannot fit rather than failing deep in an allocation.
-    const double bytes = points * 8.0 * (c.grid.periodic ? 8.0 : 20.0);
-    if (bytes > 64e9) s.fail(c.grid.nx == c.grid.ny ? "n" : "nx", "a grid that fits in memory (this one needs about " +
-                                                       std::to_string(int(bytes / 1e9)) + " GB)");
-    if (!c.grid.periodic && c.grid.ny < 2) s.fail("ny", "at least 2 points: a free boundary needs a 2-D grid");
-    s.finish();
-  }
+  parse_grid(Section(t, "grid", file, true), c.grid);
   {
     Section s(t, "material", file, true);
     c.contact_modulus = s.number("contact_modulus", {}, "the contact modulus E* in Pa", true);
     s.finish();
   }
-  {
-    Section s(t, "surface", file, true);
-    auto& sf = c.surface;
-    sf.kind = s.string("kind", {}, {"sphere", "wavy1d", "wavy2d", "flat", "self_affine", "file"});
-    if (sf.kind == "sphere") {
-      sf.radius = s.number("radius", {}, "the sphere radius in m", true);
-      if (s.has("center")) {
-        auto v = s.numbers("center", "[x, y] in m", 2);
-        if (v.size() != 2) s.fail("center", "[x, y] in m");
-        sf.center = v;
-      }
-    } else if (sf.kind == "wavy1d" || sf.kind == "wavy2d") {
-      sf.amplitude = s.number("amplitude", {}, "the amplitude a in m of h = a (1 - cos(2 pi x / wavelength))", true);
-      sf.wavelength = s.number("wavelength", c.grid.size_x, "the wavelength in m", true);
-      const double periods = c.grid.size_x / sf.wavelength;
-      if (c.grid.periodic && std::abs(periods - std::round(periods)) > 1e-9)
-        s.fail("wavelength", "a wavelength that divides the periodic grid size " + std::to_string(c.grid.size_x));
-    } else if (sf.kind == "self_affine") {
-      if (c.grid.size_x != c.grid.size_y) s.fail("kind", "a square grid (size_y = size) for a self-affine surface");
-      sf.hurst = s.number("hurst", 0.8, "the Hurst exponent H in (0, 1]", true);
-      if (sf.hurst > 1.0) s.fail("hurst", "the Hurst exponent H in (0, 1]");
-      sf.rolloff_wavelength = s.number("rolloff_wavelength", 0.2 * c.grid.size_x, "the roll-off wavelength in m", true);
-      sf.cutoff_wavelength = s.number("cutoff_wavelength", 1e-3 * c.grid.size_x, "the short-wavelength cutoff in m", true);
-      if (!(sf.cutoff_wavelength < sf.rolloff_wavelength) || sf.rolloff_wavelength > c.grid.size_x)
-        s.fail("cutoff_wavelength", "cutoff_wavelength < rolloff_wavelength <= grid size");
-      sf.rms_gradient = s.number("rms_gradient", 1.0, "the rms gradient of the surface", true);
-      sf.seed = s.integer("seed", 28, "a non-negative random seed", 0);
-    } else if (sf.kind == "file") {
-      sf.path = s.string("path");
-      sf.format = s.string("format", {}, {"challenge_hdf5", "challenge_ascii", "fourier", "hdf5", "ascii"});
-      sf.dataset = s.string("dataset", std::string("surface"));
-      // The challenge's own files hold heights in units of L; generic files say what they hold.
-      const bool challenge = sf.format.rfind("challenge", 0) == 0 || sf.format == "fourier";
-      sf.height_unit = s.number("height_unit", challenge ? c.grid.size_x : 1.0, "metres per height unit of the file", true);
-    }
-    s.finish();
-  }
-  {
-    Section s(t, "interaction", file, false);
-    auto& in = c.interaction;
-    in.kind = s.string("kind", std::string("hard_wall"), {"hard_wall", "exponential", "dugdale"});
-    if (in.kind != "hard_wall") {
-      in.work_of_adhesion = s.number("work_of_adhesion", {}, "the work of adhesion in J/m^2", true);
-      const bool sphere = c.surface.kind == "sphere", rough = c.surface.kind == "self_affine" || c.surface.kind == "file";
-      int given = 0;
-      if (s.has("range")) in.range = s.number("range", {}, "the interaction range in m", true), ++given;
-      if (in.kind == "exponential" && s.has("tabor")) {
-        if (!sphere && !rough) s.fail("tabor", "a sphere or rough surface (a radius of curvature to define mu_T); give range");
-        in.tabor = s.number("tabor", {}, "the Tabor parameter mu_T", true), ++given;
-      }
-      if (in.kind == "dugdale" && s.has("maugis_lambda")) {
-        if (!sphere) s.fail("maugis_lambda", "a sphere (Maugis' lambda needs its radius); give range");
-        in.maugis_lambda = s.number("maugis_lambda", {}, "Maugis' parameter lambda", true), ++given;
-      }
-      if (given != 1)
-        s.fail("range", in.kind == "exponential" ? "exactly one of range (m) or tabor"
-                                                 : "exactly one of range (h0, m) or maugis_lambda");
-      if (in.kind == "dugdale") in.smoothing = s.number("smoothing", 0.0, "a smoothing width in m", false, true);
-    }
-    s.finish();
-  }
-  {
-    Section s(t, "loading", file, true);
-    c.loading.control = s.string("control", {}, {"force", "mean_pressure", "penetration", "mean_gap"});
-    const bool pressure_like = c.loading.control == "force" || c.loading.control == "mean_pressure";
-    const std::string what = pressure_like ? "a non-empty array of loads (N or Pa)" : "a non-empty array of lengths in m";
-    c.loading.values = s.numbers("values", what);
-    if (s.has("unloading")) c.loading.unloading = s.numbers("unloading", what);
-    if (pressure_like && c.interaction.kind == "hard_wall")
-      for (const char* key : {"values", "unloading"})
-        for (double v : key == std::string("values") ? c.loading.values : c.loading.unloading)
-          if (v < 0.0) s.fail(key, "non-negative loads for a hard-wall (non-adhesive) contact");
-    if (c.loading.control == "mean_gap" && !c.grid.periodic)
-      s.fail("control", "\"force\" or \"penetration\": a mean gap needs a periodic grid");
-    c.loading.max_halvings = int(s.integer("max_halvings", 5, "a non-negative number of halvings", 0));
-    c.loading.jump_fraction = s.number("jump_fraction", 0.5, "a relative change that counts as a jump", true);
-    c.loading.jump_pressure_floor =
-        s.number("jump_pressure_floor", 0.0, "a pressure in Pa (0: the largest |mean pressure| so far)", false, true);
-    c.loading.refine_pulloff = int(s.integer("refine_pulloff", 0, "a non-negative number of extra solves", 0));
-    s.finish();
-  }
-  {
-    Section s(t, "solver", file, false);
-    const bool adhesive = c.interaction.kind != "hard_wall";
-    c.solver.kind = s.string("kind", std::string(adhesive ? "adhesive_cg" : "polonsky_keer"), {"polonsky_keer", "adhesive_cg"});
-    if (adhesive && c.solver.kind == "polonsky_keer")
-      s.fail("kind", "\"adhesive_cg\": Polonsky-Keer solves hard-wall contact only");
-    c.solver.tolerance = s.number("tolerance", c.solver.kind == "polonsky_keer" ? 1e-10 : 1e-8, "a relative residual", true);
-    c.solver.max_iterations = int(s.integer("max_iterations", 2000, "a positive iteration cap", 1));
-    c.solver.recompute_every = int(s.integer("recompute_every", 32, "a positive number of iterations", 1));
-    s.finish();
-  }
+  parse_surface(Section(t, "surface", file, true), c.grid, c.surface);
+  parse_interaction(Section(t, "interaction", file, false), c.surface.kind, c.interaction);
+  const bool adhesive = c.interaction.kind != InteractionKind::HardWall;
+  parse_loading(Section(t, "loading", file, true), adhesive, c.grid.periodic, c.loading);
+  parse_solver(Section(t, "solver", file, false), adhesive, c.solver);
   {
     Section s(t, "output", file, false);
-    c.write_fields = s.boolean("fields", true);
+    c.write_fields = s.boolean("fields", c.write_fields);
     s.finish();
   }
-  {
-    Section s(t, "observables", file, false);
-    auto& o = c.observables;
-    o.enabled = s.boolean("enabled", false);
-    o.cross_section_x = s.number("cross_section_x", 0.5 * c.grid.size_x, "the x of the cross-section in m", false, true);
-    o.stress_bins = int(s.integer("stress_bins", 100, "a positive number of bins", 1));
-    o.gap_bins_per_decade = int(s.integer("gap_bins_per_decade", 10, "a positive number of bins", 1));
-    o.patch_bins_per_decade = int(s.integer("patch_bins_per_decade", 5, "a positive number of bins", 1));
-    o.contact_gap_threshold = s.number("contact_gap_threshold", 0.0, "a gap in m (0: contact where p > 0)", false, true);
-    s.finish();
-  }
-  if (t.contains("validation")) {
-    Section s(t, "validation", file, false);
-    ValidationSpec v;
-    v.reference = s.string("reference", {}, {"hertz", "hertz_periodic", "westergaard", "jkr", "maugis_dugdale",
-                                             "johnson"});
-    const std::set<std::string> quantities = {"penetration", "pressure_profile", "mean_pressure", "mean_gap", "force",
-                                              "pulloff"};
-    if (auto* a = s.array("check")) {
-      int i = 0;
-      for (auto& e : *a) {
-        if (!e.is_table()) s.fail("check", "an array of tables [[validation.check]]");
-        Section cs(*e.as_table(), "validation.check #" + std::to_string(++i), file);
-        ValidationCheck ch;
-        ch.quantity = cs.string("quantity", {}, quantities);
-        ch.tolerance = cs.number("tolerance", {}, "the largest accepted error", true);
-        cs.finish();
-        v.checks.push_back(ch);
-      }
-    }
-    if (auto* r = s.subtable("refinement")) {
-      Section rs(*r, "validation.refinement", file);
-      RefinementSpec ref;
-      for (double g : rs.numbers("grids", "an increasing array of at least 2 grid sizes", 2)) {
-        if (g < 2 || g != std::floor(g) || (!ref.grids.empty() && g <= ref.grids.back()))
-          rs.fail("grids", "an increasing array of at least 2 grid sizes");
-        ref.grids.push_back(int(g));
-      }
-      ref.quantity = rs.string("quantity", {}, quantities);
-      ref.min_order = rs.number("min_order", {}, "the smallest accepted observed order of convergence", true);
-      rs.finish();
-      v.refinement = ref;
-    }
-    if (v.checks.empty() && !v.refinement) s.fail("check", "at least one [[validation.check]] or a [validation.refinement]");
-    s.finish();
-    c.validation = v;
-  }
+  parse_observables(Section(t, "observables", file, false), c.grid.size_x, c.observables);
+  if (t.contains("validation")) c.validation = parse_validation(Section(t, "validation", file, false), file);
   return c;
+}
+
+namespace {
+// A number as cases/README.md writes it: the shortest form that reads back the same.
+std::string number_text(double v) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  std::string t(buf, r.ptr);
+  // 1e-08 -> 1e-8: exponents without leading zeros, as a person writes them.
+  const auto e = t.find('e');
+  if (e != std::string::npos) {
+    const std::size_t digits = t[e + 1] == '-' || t[e + 1] == '+' ? e + 2 : e + 1;
+    while (t.size() > digits + 1 && t[digits] == '0') t.erase(digits, 1);
+  }
+  return t;
+}
+std::string quoted(std::string_view word) {
+  std::string q(1, '"');
+  q.append(word).push_back('"');
+  return q;
+}
+}  // namespace
+
+std::vector<DocumentedDefault> case_defaults() {
+  const GridSpec g;
+  const SurfaceSpec sf;
+  const InteractionSpec in;
+  const LoadingSpec l;
+  const SolverSpec sv;
+  const ObservablesSpec o;
+  const Case c;
+  const auto n = [](double v) { return number_text(v); };
+  const auto b = [](bool v) { return std::string(v ? "true" : "false"); };
+  const std::string req = "required";
+  return {
+      {"case", "name", req},
+      {"case", "description", quoted(c.description)},
+      {"grid", "n", "—"},
+      {"grid", "nx", "—"},
+      {"grid", "ny", "—"},
+      {"grid", "size", req},
+      {"grid", "size_y", "size"},
+      {"grid", "boundary", quoted(g.periodic ? "periodic" : "free")},
+      {"material", "contact_modulus", req},
+      {"surface", "kind", req},
+      {"surface", "radius", "required for sphere"},
+      {"surface", "center", "box centre"},
+      {"surface", "amplitude", "required for wavy*"},
+      {"surface", "wavelength", "grid.size"},
+      {"surface", "hurst", n(sf.hurst)},
+      {"surface", "rolloff_wavelength", n(SurfaceSpec::kRolloffFraction) + " size"},
+      {"surface", "cutoff_wavelength", n(SurfaceSpec::kCutoffFraction) + " size"},
+      {"surface", "rms_gradient", n(sf.rms_gradient)},
+      {"surface", "seed", n(double(sf.seed))},
+      {"surface", "path", "required for file"},
+      {"surface", "format", "required for file"},
+      {"surface", "dataset", quoted(sf.dataset)},
+      {"surface", "height_unit", "size for challenge formats, else 1"},
+      {"interaction", "kind", quoted(kind_name(in.kind))},
+      {"interaction", "work_of_adhesion", "required for adhesion"},
+      {"interaction", "range", "one of three"},
+      {"interaction", "tabor", "one of three"},
+      {"interaction", "maugis_lambda", "one of three"},
+      {"interaction", "smoothing", n(in.smoothing)},
+      {"loading", "control", req},
+      {"loading", "values", req},
+      {"loading", "unloading", "[]"},
+      {"loading", "max_halvings", n(l.max_halvings)},
+      {"loading", "jump_fraction", n(l.jump_fraction)},
+      {"loading", "jump_pressure_floor", n(l.jump_pressure_floor)},
+      {"loading", "refine_pulloff", n(l.refine_pulloff)},
+      {"solver", "kind", quoted(kind_name(sv.kind))},
+      {"solver", "tolerance",
+       n(SolverSpec::kPolonskyKeerTolerance) + " PK, " + n(SolverSpec::kAdhesiveTolerance) + " adhesive"},
+      {"solver", "max_iterations", n(sv.max_iterations)},
+      {"solver", "recompute_every", n(sv.recompute_every)},
+      {"output", "fields", b(c.write_fields)},
+      {"observables", "enabled", b(o.enabled)},
+      {"observables", "cross_section_x", n(ObservablesSpec::kCrossSectionFraction) + " size"},
+      {"observables", "stress_bins", n(o.stress_bins)},
+      {"observables", "gap_bins_per_decade", n(o.gap_bins_per_decade)},
+      {"observables", "patch_bins_per_decade", n(o.patch_bins_per_decade)},
+      {"observables", "contact_gap_threshold", n(o.contact_gap_threshold)},
+  };
 }
 
 Case load_case(const std::string& path, const std::vector<std::string>& overrides) {

@@ -13,12 +13,17 @@
 
 #include <toml++/toml.h>
 
+#include "cmc/input/Kinds.hpp"
+
 namespace cmc {
 
 struct CaseError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Defaults: the default member initialisers below are the case defaults; the parser
+// starts from a default-constructed spec and case_defaults() lists them in the form
+// cases/README.md documents (tests/test_defaults.cpp compares the two).
 struct GridSpec {
   int nx = 0, ny = 0;
   double size_x = 0.0, size_y = 0.0;  // m
@@ -26,33 +31,37 @@ struct GridSpec {
 };
 
 struct SurfaceSpec {
-  std::string kind;  // sphere | wavy1d | wavy2d | flat | self_affine | file
+  SurfaceKind kind = SurfaceKind::Flat;  // required in a case file
   double radius = 0.0;                    // m (sphere)
   std::optional<std::vector<double>> center;  // m (sphere apex), default: box centre
   double amplitude = 0.0;                 // m (wavy)
   double wavelength = 0.0;                // m (wavy), default: the grid size
   // self_affine (the challenge's spectrum; Müser & Dapp, section "Surface Topography")
   double hurst = 0.8;
-  double rolloff_wavelength = 0.0;        // m
-  double cutoff_wavelength = 0.0;         // m
+  double rolloff_wavelength = 0.0;        // m, default: kRolloffFraction x grid size
+  double cutoff_wavelength = 0.0;         // m, default: kCutoffFraction x grid size
+  static constexpr double kRolloffFraction = 0.2, kCutoffFraction = 1e-3;
   double rms_gradient = 1.0;
   long long seed = 28;
   // file
-  std::string path, format, dataset;      // format: challenge_hdf5 | challenge_ascii | fourier | hdf5 | ascii
+  std::string path;
+  SurfaceFormat format = SurfaceFormat::ChallengeHdf5;  // required for a file
+  std::string dataset = "surface";
   double height_unit = 0.0;               // m per height unit in the file (0: the format's own)
 };
 
 struct ObservablesSpec {
   bool enabled = false;
-  double cross_section_x = 0.0;  // m
+  double cross_section_x = 0.0;  // m, default: kCrossSectionFraction x grid size
+  static constexpr double kCrossSectionFraction = 0.5;
   int stress_bins = 100;
   int gap_bins_per_decade = 10;
   int patch_bins_per_decade = 5;
-  double contact_gap_threshold = 0.0;  // m; 0: contact is where p > 0
+  double contact_gap_threshold = 0.0;  // m: a point is in contact where g <= this (contact/ContactRule.hpp)
 };
 
 struct InteractionSpec {
-  std::string kind = "hard_wall";  // hard_wall | exponential | dugdale
+  InteractionKind kind = InteractionKind::HardWall;
   double work_of_adhesion = 0.0;   // J/m^2
   // Exactly one of: range (m; rho of the exponential law, h0 of Dugdale's), tabor
   // (Müser's mu_T = R^{1/3} (w/E*)^{2/3} / rho with R the sphere radius or the surface's
@@ -62,7 +71,7 @@ struct InteractionSpec {
 };
 
 struct LoadingSpec {
-  std::string control;         // force | mean_pressure | penetration | mean_gap
+  LoadControl control = LoadControl::Force;  // required in a case file
   std::vector<double> values;  // N | Pa | m | m: the loading branch
   std::vector<double> unloading;  // same units: steps after `values`, on the unloading branch
   int max_halvings = 5;        // a step that fails or jumps is halved up to this often
@@ -72,25 +81,28 @@ struct LoadingSpec {
 };
 
 struct SolverSpec {
-  std::string kind = "polonsky_keer";  // polonsky_keer | adhesive_cg
-  double tolerance = 1e-10;
+  SolverKind kind = SolverKind::Auto;  // resolved by the parser: never Auto in a parsed Case
+  // Default tolerance: each solver's own residual (see PolonskyKeer.hpp, AdhesiveSolver.hpp).
+  static constexpr double kPolonskyKeerTolerance = 1e-10, kAdhesiveTolerance = 1e-8;
+  double tolerance = kPolonskyKeerTolerance;
   int max_iterations = 2000;
+  // The case default for both solvers: the driver passes it to whichever it runs.
   int recompute_every = 32;
 };
 
 struct ValidationCheck {
-  std::string quantity;
+  ValidationQuantity quantity = ValidationQuantity::Penetration;
   double tolerance = 0.0;
 };
 
 struct RefinementSpec {
   std::vector<int> grids;  // points per side, increasing
-  std::string quantity;
+  ValidationQuantity quantity = ValidationQuantity::Penetration;
   double min_order = 0.0;  // the observed order must be at least this
 };
 
 struct ValidationSpec {
-  std::string reference;  // hertz | hertz_periodic | westergaard | jkr | maugis_dugdale | johnson
+  ValidationReference reference = ValidationReference::Hertz;
   std::vector<ValidationCheck> checks;
   std::optional<RefinementSpec> refinement;
 };
@@ -104,7 +116,7 @@ struct Case {
   InteractionSpec interaction;
   LoadingSpec loading;
   SolverSpec solver;
-  bool write_fields = true;
+  bool write_fields = true;  // [output] fields
   ObservablesSpec observables;
   std::optional<ValidationSpec> validation;
   toml::table resolved;  // the case as run: overrides applied, defaults filled in
@@ -114,6 +126,16 @@ struct Case {
 void apply_override(toml::table& t, const std::string& assignment);
 
 Case parse_case(const toml::table& t, const std::string& file);
+
+// The default of every key of the sections that cases/README.md documents with a
+// default column, written as that column writes it ("required", "0.8", "0.2 size",
+// "\"periodic\"" ...). Numbers come from the spec structs above, so the docs can be
+// checked against the code (tests/test_defaults.cpp).
+struct DocumentedDefault {
+  std::string section, key, text;
+};
+std::vector<DocumentedDefault> case_defaults();
+
 // Read, apply overrides, validate.
 Case load_case(const std::string& path, const std::vector<std::string>& overrides = {});
 

@@ -23,14 +23,15 @@ void require_size(const Grid& g, std::size_t n, const char* what) {
 }
 
 // Calls visit(k_contact, face_length) once for every face between 4-neighbours
-// (periodic) of which exactly one is in contact. x-neighbours share a face of length
-// dy, y-neighbours one of length dx. With ny == 1 (or nx == 1) the neighbour across
-// that axis is the point itself and never differs.
+// (periodic) of which exactly one is in contact, for the faces to the right of and above
+// the points of rows [row_begin, row_end). x-neighbours share a face of length dy,
+// y-neighbours one of length dx. With ny == 1 (or nx == 1) the neighbour across that
+// axis is the point itself and never differs.
 template <class Visit>
-void for_each_contact_face(const Grid& g, const Mask& m, Visit&& visit) {
+void for_each_contact_face(const Grid& g, const Mask& m, Visit&& visit, std::size_t row_begin, std::size_t row_end) {
   const std::size_t nx = g.nx, ny = g.ny;
   const double dx = g.dx(), dy = g.dy();
-  for (std::size_t iy = 0; iy < ny; ++iy) {
+  for (std::size_t iy = row_begin; iy < row_end; ++iy) {
     const std::size_t row = iy * nx, up = ((iy + 1) % ny) * nx;
     for (std::size_t ix = 0; ix < nx; ++ix) {
       const std::size_t k = row + ix, kr = row + (ix + 1 == nx ? 0 : ix + 1), ku = up + ix;
@@ -39,6 +40,16 @@ void for_each_contact_face(const Grid& g, const Mask& m, Visit&& visit) {
     }
   }
 }
+
+template <class Visit>
+void for_each_contact_face(const Grid& g, const Mask& m, Visit&& visit) {
+  for_each_contact_face(g, m, visit, 0, std::size_t(g.ny));
+}
+
+struct Count {
+  long long n = 0;
+  void merge(const Count& o) { n += o.n; }
+};
 
 // Union-find with links from the larger root to the smaller, so every pointer goes to
 // a smaller index and a component's root is its first point in scan order.
@@ -78,30 +89,12 @@ double yastrebov_corrected(const Grid& g, double raw, long long edges) {
 
 }  // namespace
 
-Mask contact_mask(const Field& gap, const Field& pressure, const ContactRule& rule) {
-  const bool by_gap = rule.kind == ContactRule::Kind::GapBelow;
-  const Field& f = by_gap ? gap : pressure;
-  Mask m(f.size());
-  const double t = rule.gap_threshold;
-  for (std::size_t k = 0; k < f.size(); ++k) m[k] = by_gap ? (f[k] <= t) : (f[k] > 0.0);
-  return m;
-}
-
-double mask_fraction(const Mask& mask) {
-  long long n = 0;
-  for (auto v : mask) n += v;
-  double s[2] = {double(n), double(mask.size())};
-  Grid::allreduce_sum(s);
-  return s[1] > 0 ? s[0] / s[1] : 0.0;
-}
-
 long long contact_edges(const Grid& grid, const Mask& mask) {
   require_size(grid, mask.size(), "contact_edges");
-  long long n = 0;
-  for_each_contact_face(grid, mask, [&](std::size_t, double) { ++n; });
-  double s[1] = {double(n)};
-  Grid::allreduce_sum(s);
-  return (long long)s[0];
+  const auto rows = [&](std::size_t b, std::size_t e, Count& c) {
+    for_each_contact_face(grid, mask, [&](std::size_t, double) { ++c.n; }, b, e);
+  };
+  return Grid::parallel_reduce<Count>(std::size_t(grid.ny), rows, grid.size()).n;
 }
 
 double corrected_contact_fraction(const Grid& grid, const Mask& mask) {
@@ -166,9 +159,15 @@ Bins Bins::per_decade(double lo, double hi, int per_decade) {
   return logarithmic(lo, lo * std::pow(10.0, double(n) / per_decade), n);
 }
 Bins Bins::spanning(std::span<const double> v, int n, bool log, double min_ratio) {
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  for (double x : v)
-    if (std::isfinite(x) && (!log || x > 0)) lo = std::min(lo, x), hi = std::max(hi, x);
+  struct Range {
+    double lo = std::numeric_limits<double>::infinity(), hi = -std::numeric_limits<double>::infinity();
+    void merge(const Range& o) { lo = std::min(lo, o.lo), hi = std::max(hi, o.hi); }
+  };
+  const Range r = Grid::parallel_reduce<Range>(v.size(), [&](std::size_t b, std::size_t e, Range& acc) {
+    for (std::size_t k = b; k < e; ++k)
+      if (std::isfinite(v[k]) && (!log || v[k] > 0)) acc.lo = std::min(acc.lo, v[k]), acc.hi = std::max(acc.hi, v[k]);
+  });
+  double lo = r.lo, hi = r.hi;
   if (!(hi >= lo)) throw std::invalid_argument("Bins::spanning: no usable values");
   if (log) lo = std::max(lo, hi * min_ratio);
   if (hi == lo) hi = log ? lo * 2.0 : lo + 1.0;  // a single value still gets a bin
@@ -185,18 +184,34 @@ double Bins::center(int i) const {
 int Bins::index(double v) const { return BinIndex(*this)(v); }
 
 Histogram histogram(std::span<const double> values, const Bins& bins, bool exclude_zero) {
+  // Per-chunk tallies, merged by the grid layer (integer counts: any order gives the same).
+  struct Tally {
+    std::vector<long long> counts;
+    long long below = 0, above = 0, excluded = 0;
+    void merge(const Tally& o) {
+      counts.resize(std::max(counts.size(), o.counts.size()), 0);
+      for (std::size_t i = 0; i < o.counts.size(); ++i) counts[i] += o.counts[i];
+      below += o.below, above += o.above, excluded += o.excluded;
+    }
+  };
+  const BinIndex index(bins);
+  Tally t = Grid::parallel_reduce<Tally>(values.size(), [&](std::size_t b, std::size_t e, Tally& acc) {
+    acc.counts.assign(bins.n, 0);
+    for (std::size_t k = b; k < e; ++k) {
+      const double v = values[k];
+      if (!std::isfinite(v) || (exclude_zero && v == 0.0)) { ++acc.excluded; continue; }
+      const int i = index(v);
+      if (i < 0) ++acc.below;
+      else if (i == bins.n) ++acc.above;
+      else ++acc.counts[i];
+    }
+  });
   Histogram h;
   h.bins = bins;
-  h.counts.assign(bins.n, 0);
+  h.counts = std::move(t.counts);
+  h.counts.resize(bins.n, 0);
+  h.below = t.below, h.above = t.above, h.excluded = t.excluded;
   h.total = (long long)values.size();
-  const BinIndex index(bins);
-  for (double v : values) {
-    if (!std::isfinite(v) || (exclude_zero && v == 0.0)) { ++h.excluded; continue; }
-    const int i = index(v);
-    if (i < 0) ++h.below;
-    else if (i == bins.n) ++h.above;
-    else ++h.counts[i];
-  }
   h.density.resize(bins.n);
   for (int i = 0; i < bins.n; ++i)
     h.density[i] = h.total ? double(h.counts[i]) / (double(h.total) * bins.width(i)) : 0.0;
@@ -224,33 +239,48 @@ Histogram patch_size_distribution(const Grid& grid, const Patches& patches, int 
 RadialSpectrum radial_spectrum(const Grid& g, Fourier& fourier, const Field& f, const Bins& qbins) {
   require_size(g, f.size(), "radial_spectrum");
   if (fourier.nx() != g.nx || fourier.ny() != g.ny) throw std::invalid_argument("radial_spectrum: Fourier/grid mismatch");
-  RadialSpectrum r;
-  r.bins = qbins;
-  r.q.assign(qbins.n, 0.0);
-  r.power.assign(qbins.n, 0.0);
-  r.psd.assign(qbins.n, 0.0);
-  r.modes.assign(qbins.n, 0);
+  // Per-bin sums over the modes of a range of rows, merged by the grid layer.
+  struct Sums {
+    std::vector<double> q, power;
+    std::vector<long long> modes;
+    double variance = 0.0, outside = 0.0;
+    void merge(const Sums& o) {
+      if (q.empty()) q.assign(o.q.size(), 0.0), power.assign(o.q.size(), 0.0), modes.assign(o.q.size(), 0);
+      for (std::size_t b = 0; b < o.q.size(); ++b) q[b] += o.q[b], power[b] += o.power[b], modes[b] += o.modes[b];
+      variance += o.variance, outside += o.outside;
+    }
+  };
   fourier.forward(f);
   const Spectrum& s = fourier.spectrum();
   const double inv_n2 = 1.0 / (double(g.size()) * double(g.size()));  // forward() is unnormalised
   const int nqx = g.nqx();
-  for (int iy = 0; iy < g.ny; ++iy) {
-    const double qy2 = g.qy(iy) * g.qy(iy);
-    for (int ix = 0; ix < nqx; ++ix) {
-      if (ix == 0 && iy == 0) continue;
-      // r2c keeps half the plane: every mode with 0 < ix < nx/2 stands for itself and
-      // its conjugate (same |q|); ix == 0 and the even-nx Nyquist column stand alone.
-      const int w = (ix == 0 || 2 * ix == g.nx) ? 1 : 2;
-      const double pw = w * std::norm(s[std::size_t(iy) * nqx + ix]) * inv_n2;
-      const double q = std::sqrt(g.qx(ix) * g.qx(ix) + qy2);
-      r.variance += pw;
-      const int b = qbins.index(q);
-      if (b < 0 || b >= qbins.n) { r.outside += pw; continue; }
-      r.power[b] += pw;
-      r.modes[b] += w;
-      r.q[b] += w * q;
+  const auto rows = [&](std::size_t row_begin, std::size_t row_end, Sums& r) {
+    r.q.assign(qbins.n, 0.0), r.power.assign(qbins.n, 0.0), r.modes.assign(qbins.n, 0);
+    for (int iy = int(row_begin); iy < int(row_end); ++iy) {
+      const double qy2 = g.qy(iy) * g.qy(iy);
+      for (int ix = 0; ix < nqx; ++ix) {
+        if (ix == 0 && iy == 0) continue;
+        // r2c keeps half the plane: every mode with 0 < ix < nx/2 stands for itself and
+        // its conjugate (same |q|); ix == 0 and the even-nx Nyquist column stand alone.
+        const int w = (ix == 0 || 2 * ix == g.nx) ? 1 : 2;
+        const double pw = w * std::norm(s[std::size_t(iy) * nqx + ix]) * inv_n2;
+        const double q = std::sqrt(g.qx(ix) * g.qx(ix) + qy2);
+        r.variance += pw;
+        const int b = qbins.index(q);
+        if (b < 0 || b >= qbins.n) { r.outside += pw; continue; }
+        r.power[b] += pw;
+        r.modes[b] += w;
+        r.q[b] += w * q;
+      }
     }
-  }
+  };
+  Sums sums = Grid::parallel_reduce<Sums>(std::size_t(g.ny), rows, g.spectrum_size());
+  if (sums.q.empty()) rows(0, 0, sums);  // no rows: empty bins
+  RadialSpectrum r;
+  r.bins = qbins;
+  r.q = std::move(sums.q), r.power = std::move(sums.power), r.modes = std::move(sums.modes);
+  r.variance = sums.variance, r.outside = sums.outside;
+  r.psd.assign(qbins.n, 0.0);
   const double dens = g.ny == 1 ? g.lx / (2 * std::numbers::pi) : g.area() / (4 * std::numbers::pi * std::numbers::pi);
   for (int b = 0; b < qbins.n; ++b)
     if (r.modes[b]) {
@@ -317,48 +347,58 @@ std::vector<double> contact_stiffness(std::span<const double> g, std::span<const
 ScalarObservables scalar_observables(const Grid& grid, const Field& gap, const Field& pressure,
                                      const ContactRule& rule, Connectivity c, const Field* displacement) {
   require_size(grid, gap.size(), "scalar_observables (gap)");
+  const Mask m = contact_mask(gap, rule);
+  return scalar_observables(grid, gap, pressure, rule, m, label_patches(grid, m, c), displacement);
+}
+
+ScalarObservables scalar_observables(const Grid& grid, const Field& gap, const Field& pressure, const ContactRule& rule,
+                                     const Mask& mask, const Patches& patches, const Field* displacement) {
+  require_size(grid, gap.size(), "scalar_observables (gap)");
   require_size(grid, pressure.size(), "scalar_observables (pressure)");
+  // One fused pass for the pressure/gap sums, counts and extrema.
+  struct Sums {
+    double gap = 0.0, pressure = 0.0;
+    long long repulsive = 0, attractive = 0;
+    double pmax = -std::numeric_limits<double>::infinity(), pmin = std::numeric_limits<double>::infinity();
+    double gmax = -std::numeric_limits<double>::infinity();
+    void merge(const Sums& o) {
+      gap += o.gap, pressure += o.pressure, repulsive += o.repulsive, attractive += o.attractive;
+      pmax = std::max(pmax, o.pmax), pmin = std::min(pmin, o.pmin), gmax = std::max(gmax, o.gmax);
+    }
+  };
+  const Sums s = Grid::parallel_reduce<Sums>(grid.size(), [&](std::size_t b, std::size_t e, Sums& acc) {
+    for (std::size_t k = b; k < e; ++k) {
+      const double g = gap[k], p = pressure[k];
+      acc.gap += g;
+      acc.pressure += p;
+      acc.repulsive += rule.repulsive(p);
+      acc.attractive += rule.attractive(p);
+      acc.pmax = std::max(acc.pmax, p);
+      acc.pmin = std::min(acc.pmin, p);
+      acc.gmax = std::max(acc.gmax, g);
+    }
+  });
   ScalarObservables o;
-  // One fused pass for the pressure/gap sums and counts.
-  double s[4] = {0, 0, 0, 0};  // sum g, sum p, #(p > 0), #(p < 0)
-  double pmax = -std::numeric_limits<double>::infinity(), pmin = -pmax, gmax = pmax;
-  for (std::size_t k = 0; k < grid.size(); ++k) {
-    const double g = gap[k], p = pressure[k];
-    s[0] += g;
-    s[1] += p;
-    s[2] += p > 0.0;
-    s[3] += p < 0.0;
-    pmax = std::max(pmax, p);
-    pmin = std::min(pmin, p);
-    gmax = std::max(gmax, g);
-  }
-  Grid::allreduce_sum(s);
-  pmin = -pmin;
-  Grid::allreduce_max(pmax);
-  Grid::allreduce_max(pmin);
-  Grid::allreduce_max(gmax);
   const double n = double(grid.size());
-  o.mean_gap = s[0] / n;
-  o.mean_pressure = s[1] / n;
-  o.repulsive_fraction = s[2] / n;
-  o.attractive_fraction = s[3] / n;
-  o.max_pressure = pmax;
-  o.min_pressure = -pmin;
-  o.max_gap = gmax;
+  o.mean_gap = s.gap / n;
+  o.mean_pressure = s.pressure / n;
+  o.repulsive_fraction = double(s.repulsive) / n;
+  o.attractive_fraction = double(s.attractive) / n;
+  o.max_pressure = s.pmax;
+  o.min_pressure = s.pmin;
+  o.max_gap = s.gmax;
   o.mean_displacement = displacement ? Grid::mean(*displacement) : std::numeric_limits<double>::quiet_NaN();
 
-  const Mask m = contact_mask(gap, pressure, rule);
-  o.contact_fraction = mask_fraction(m);
-  o.contact_edges = contact_edges(grid, m);
+  o.contact_fraction = mask_fraction(mask);
+  o.contact_edges = contact_edges(grid, mask);
   o.contact_fraction_corrected = yastrebov_corrected(grid, o.contact_fraction, o.contact_edges);
-  const Patches P = label_patches(grid, m, c);
-  o.n_patches = (long long)P.count();
-  for (std::size_t i = 0; i < P.count(); ++i) {
-    o.largest_patch_area = std::max(o.largest_patch_area, P.area[i]);
-    o.contact_perimeter += P.perimeter[i];
+  o.n_patches = (long long)patches.count();
+  for (std::size_t i = 0; i < patches.count(); ++i) {
+    o.largest_patch_area = std::max(o.largest_patch_area, patches.area[i]);
+    o.contact_perimeter += patches.perimeter[i];
   }
   o.contact_perimeter /= grid.area();
-  o.mean_patch_area = P.count() ? o.contact_fraction * grid.area() / double(P.count()) : 0.0;
+  o.mean_patch_area = patches.count() ? o.contact_fraction * grid.area() / double(patches.count()) : 0.0;
   return o;
 }
 

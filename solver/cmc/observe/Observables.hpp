@@ -7,15 +7,11 @@
 // Grid point (ix, iy) sits at x = ix*dx, y = iy*dy (index iy*nx + ix); all
 // neighbourhoods are periodic.
 //
-// Contact mask. "g == 0" is not a reliable test on a converged but finite-precision
-// state, so the mask comes from a ContactRule:
-//   - repulsive (default): a point is in contact where p > 0. Right for hard-wall,
-//     non-adhesive contact, where p is exactly 0 outside the contact set.
-//   - gap_below(t): a point is in contact where g <= t. For adhesive runs (p < 0 in
-//     the cohesive zone, so "p > 0" excludes the adhesive part of the contact) the
-//     caller chooses t, e.g. a small fraction of the interaction range rho.
+// Contact: the mask, the fractions and what counts as repulsive or attractive come
+// from the one ContactRule of contact/ContactRule.hpp.
 #pragma once
 
+#include "cmc/contact/ContactRule.hpp"
 #include "cmc/grid/Grid.hpp"
 
 #include <cstdint>
@@ -25,20 +21,7 @@
 
 namespace cmc {
 
-using Mask = std::vector<std::uint8_t>;  // 1 = in contact, one entry per grid point
-
-struct ContactRule {
-  enum class Kind { Repulsive, GapBelow } kind = Kind::Repulsive;
-  double gap_threshold = 0.0;
-  static ContactRule repulsive() { return {}; }
-  static ContactRule gap_below(double t) { return {Kind::GapBelow, t}; }
-};
-
-Mask contact_mask(const Field& gap, const Field& pressure, const ContactRule& rule = {});
-
 // ---- Contact area ----------------------------------------------------------------
-// Number of set points / N.
-double mask_fraction(const Mask& mask);
 // Number of contact/non-contact faces between 4-neighbours (periodic), each counted
 // once. For ny == 1 only x-neighbours exist.
 long long contact_edges(const Grid& grid, const Mask& mask);
@@ -180,10 +163,10 @@ std::vector<double> contact_stiffness(std::span<const double> mean_gap, std::spa
 
 // ---- Scalars for summary.json ------------------------------------------------------
 struct ScalarObservables {
-  double contact_fraction = 0;            // mask points / N (mask from the ContactRule)
+  double contact_fraction = 0;            // points in contact / N (ContactRule)
   double contact_fraction_corrected = 0;  // Yastrebov et al. 2017 (see above)
-  double repulsive_fraction = 0;          // p > 0
-  double attractive_fraction = 0;         // p < 0
+  double repulsive_fraction = 0;          // ContactRule::repulsive
+  double attractive_fraction = 0;         // ContactRule::attractive
   double mean_gap = 0, mean_pressure = 0;
   double mean_displacement = 0;           // NaN when no displacement field is given
   double max_pressure = 0, min_pressure = 0, max_gap = 0;
@@ -195,5 +178,8 @@ struct ScalarObservables {
 ScalarObservables scalar_observables(const Grid& grid, const Field& gap, const Field& pressure,
                                      const ContactRule& rule = {}, Connectivity c = Connectivity::Four,
                                      const Field* displacement = nullptr);
+// The same from the contact mask of `rule` and its patches, computed by the caller.
+ScalarObservables scalar_observables(const Grid& grid, const Field& gap, const Field& pressure, const ContactRule& rule,
+                                     const Mask& mask, const Patches& patches, const Field* displacement = nullptr);
 
 }  // namespace cmc

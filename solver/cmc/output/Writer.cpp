@@ -33,6 +33,14 @@ std::string to_json(const toml::table& t) {
 }
 
 namespace {
+// Enum values as summary.json and result.h5 name them.
+const char* branch_name(Branch b) { return b == Branch::Loading ? "loading" : "unloading"; }
+Branch branch_named(const std::string& name, const std::string& file) {
+  if (name == branch_name(Branch::Loading)) return Branch::Loading;
+  if (name == branch_name(Branch::Unloading)) return Branch::Unloading;
+  throw CaseError(file + ": step branch '" + name + "': expected \"loading\" or \"unloading\"; run without --resume");
+}
+
 void check(long long status, const std::string& what) {
   if (status < 0) throw std::runtime_error("HDF5: " + what + " failed");
 }
@@ -129,7 +137,7 @@ void Writer::load_partial() {
       records_.push_back(r);
       StepRecord rec;
       rec.index = int(r["index"].value_or(0));
-      rec.branch = r["branch"].value_or(std::string("loading"));
+      rec.branch = branch_named(r["branch"].value_or(std::string("loading")), progress_.string());
       rec.mean_pressure = r["mean_pressure"].value_or(0.0);
       rec.force = r["force"].value_or(0.0);
       rec.penetration = r["penetration"].value_or(0.0);
@@ -145,7 +153,7 @@ void Writer::load_partial() {
       rec.jump = r["jump"].value_or(false);
       rec.halvings = int(r["halvings"].value_or(0));
       if (auto* o = r["observables"].as_table()) {
-        StepObservables so;
+        ObservablesRecord so;
         for (const auto& [k, v] : *o) so.scalars.emplace_back(std::string(k.str()), v.value_or(0.0));
         rec.observables = so;
       }
@@ -208,7 +216,7 @@ void Writer::add_step(const StepRecord& rec, const ContactState& st) {
   attr_double(grp, "mean_pressure", rec.mean_pressure);
   attr_double(grp, "penetration", rec.penetration);
   attr_double(grp, "mean_gap", rec.mean_gap);
-  attr_string(grp, "branch", rec.branch);
+  attr_string(grp, "branch", branch_name(rec.branch));
   if (rec.observables) {
     H5Handle og(H5Gcreate2(grp, "observables", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
     check(og, "group observables");
@@ -221,7 +229,7 @@ void Writer::add_step(const StepRecord& rec, const ContactState& st) {
 
 toml::table Writer::step_json(const StepRecord& r) {
   toml::table t{{"index", r.index},
-                     {"branch", r.branch},
+                     {"branch", branch_name(r.branch)},
                      {"mean_pressure", r.mean_pressure},
                      {"force", r.force},
                      {"penetration", r.penetration},
@@ -261,7 +269,7 @@ toml::table Writer::summary_base() const {
       {"surface", scene_.topography.description},
   };
   toml::table facts;
-  for (const auto& [k, v] : scene_.surface_facts) facts.insert(k, v);
+  for (const auto& [k, v] : surface_fact_entries(scene_.surface_facts)) facts.insert(k, v);
   if (!facts.empty()) base.insert("surface_facts", facts);
   toml::array warnings;
   for (const auto& w : scene_.warnings) warnings.push_back(w);
@@ -271,7 +279,7 @@ toml::table Writer::summary_base() const {
 
 void Writer::finish(const RunSummary& run, const toml::table& extra) {
   toml::table s = summary_base();
-  s.insert("status", run.status);
+  s.insert("status", status_name(run.status));
   s.insert("message", run.message);
   s.insert("timing", toml::table{{"wall_s", run.wall_s}, {"fft_pairs", run.fft_pairs}});
   toml::array steps;
@@ -280,7 +288,7 @@ void Writer::finish(const RunSummary& run, const toml::table& extra) {
   if (run.load_path)
     s.insert("load_path", toml::table{{"pulloff_mean_pressure", run.pulloff_mean_pressure},
                                       {"pulloff_force", run.pulloff_force},
-                                      {"pulloff_branch", run.pulloff_branch},
+                                      {"pulloff_branch", run.pulloff_branch ? branch_name(*run.pulloff_branch) : ""},
                                       {"halved_steps", run.halved_steps},
                                       {"jumps", run.jumps}});
   for (const auto& [k, v] : extra) s.insert_or_assign(k, v);
@@ -321,7 +329,7 @@ void Writer::fail(const std::string& message) {
   std::error_code ec;
   for (const char* f : {"result.h5", "result.xdmf"}) fs::remove(dir_ / f, ec);
   toml::table s = summary_base();
-  s.insert("status", "failed");
+  s.insert("status", status_name(RunStatus::Failed));
   s.insert("message", message + (records_.empty() ? "" : " (the finished steps can be continued with --resume)"));
   write_atomically(dir_ / "summary.json", to_json(s));
 }

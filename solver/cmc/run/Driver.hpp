@@ -3,8 +3,9 @@
 // what to do with each solved step (the Writer saves it).
 #pragma once
 
-#include "cmc/scene/Scene.hpp"
+#include "cmc/contact/LoadPath.hpp"
 #include "cmc/observe/StepObservables.hpp"
+#include "cmc/scene/Scene.hpp"
 
 #include <optional>
 
@@ -17,21 +18,26 @@ namespace cmc {
 // One load step in SI units, as written to summary.json.
 struct StepRecord {
   int index = 0;
-  std::string branch = "loading";
+  Branch branch = Branch::Loading;
   double mean_pressure = 0.0;    // Pa
   double force = 0.0;            // N (mean pressure x nominal area)
   double penetration = 0.0;      // m, rigid-body approach δ
   double mean_gap = 0.0;         // m
-  double contact_fraction = 0.0; // fraction of grid points carrying pressure
+  double contact_fraction = 0.0; // fraction of grid points in contact (Scene::contact_rule)
   double energy = 0.0;           // J: elastic energy plus interaction energy (adhesion), if any
   bool jump = false;             // an instability (jump in or out of contact) before this step
   int halvings = 0;              // how often the step had to be halved to get here
   SolveResult result;
-  std::optional<StepObservables> observables;  // when the case asks for them
+  std::optional<ObservablesRecord> observables;  // when the case asks for them
 };
 
+// How a run ended; status_name() gives the word summary.json uses ("converged",
+// "not_converged", "failed"): the Writer writes it, `cmc run` prints it.
+enum class RunStatus { Converged, NotConverged, Failed };
+const char* status_name(RunStatus s);
+
 struct RunSummary {
-  std::string status = "converged";  // converged | not_converged | failed
+  RunStatus status = RunStatus::Converged;
   std::string message;
   std::vector<StepRecord> steps;
   double wall_s = 0.0;
@@ -40,7 +46,7 @@ struct RunSummary {
   // solve, sub-steps included; steps that needed halving; steps after a jump.
   bool load_path = false;
   double pulloff_mean_pressure = 0.0, pulloff_force = 0.0;  // Pa, N
-  std::string pulloff_branch;
+  std::optional<Branch> pulloff_branch;  // none without a converged solve
   int halved_steps = 0, jumps = 0;
 };
 

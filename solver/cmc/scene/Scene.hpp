@@ -4,15 +4,37 @@
 
 #include "cmc/input/Case.hpp"
 #include "cmc/elastic/HalfSpace.hpp"
+#include "cmc/contact/ContactRule.hpp"
 #include "cmc/contact/Interaction.hpp"
 #include "cmc/contact/Solver.hpp"
 #include "cmc/surface/Topography.hpp"
 #include "cmc/input/Units.hpp"
 
 #include <memory>
+#include <optional>
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace cmc {
+
+// Facts about the surface and the resolution, in SI, for summary.json ("surface_facts")
+// and `cmc surface`. Each is present only where it applies.
+struct SurfaceFacts {
+  std::optional<double> modes_dropped;  // self-affine: Fourier modes beyond the grid's Nyquist
+  // Rough surfaces (self-affine or from a file): statistics of the heights.
+  std::optional<double> mean_height, max_height, rms_height;  // m
+  std::optional<double> rms_gradient;
+  std::optional<double> curvature_radius;           // m: R_c = 1/(rms line-scan curvature)
+  std::optional<double> dx_over_cutoff_wavelength;  // self-affine
+  // Adhesion: the range, the resolution of it, and single-point bistability.
+  std::optional<double> interaction_range;   // m
+  std::optional<double> dx_over_range;
+  std::optional<double> bistability_number;  // w dx / (E* range²)
+  std::optional<double> tabor_parameter;     // with a sphere or R_c
+};
+// The facts that are present, named as in summary.json.
+std::vector<std::pair<std::string, double>> surface_fact_entries(const SurfaceFacts& f);
 
 struct Scene {
   Units units;
@@ -28,9 +50,10 @@ struct Scene {
   double wave_amplitude = 0.0, wavelength = 0.0;
   // Observables to compute per step (lengths reduced).
   ObservablesSpec observables;
-  // Facts about the surface and the resolution for summary.json, in SI
-  // (e.g. rms_height, curvature_radius, dx_over_cutoff_wavelength), and warnings.
-  std::vector<std::pair<std::string, double>> surface_facts;
+  // What "in contact" means in this run (the interaction's noise cut, the case's
+  // contact gap threshold, reduced): used by the driver, load path and observables.
+  ContactRule contact_rule;
+  SurfaceFacts surface_facts;
   std::vector<std::string> warnings;
 };
 
