@@ -145,7 +145,6 @@ TEST(Interaction, HardWallAndParameterHelpers) {
   const HardWall hw;
   EXPECT_EQ(hw.evaluate(0.0).force, 0.0);
   EXPECT_EQ(peak_tension(Interaction{hw}), 0.0);
-  EXPECT_EQ(interaction_name(Interaction{ExponentialAdhesion(1, 1)}), "exponential");
   // μ_T = R^{1/3} (w/E*)^{2/3} / ρ and its inverse.
   const double Es = 2.0, R = 3.0, w = 0.01;
   const double rho = exponential_range_from_tabor(Es, R, w, 3.0);

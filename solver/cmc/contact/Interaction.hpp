@@ -35,7 +35,6 @@ struct HardWall {
   double peak_tension() const { return 0.0; }
   double range() const { return 0.0; }
   double cutoff() const { return 0.0; }  // φ = f = c = 0 exactly for g >= cutoff()
-  std::string name() const { return "hard_wall"; }
 };
 
 // The Contact Mechanics Challenge's law (Müser & Dapp, problem definition, §2):
@@ -62,7 +61,6 @@ struct ExponentialAdhesion {
   double peak_tension() const { return w / rho; }
   double range() const { return rho; }
   double cutoff() const { return cut_; }
-  std::string name() const { return "exponential"; }
 
  private:
   double inv_rho_ = 0.0, cut_ = 0.0;
@@ -102,7 +100,6 @@ struct DugdaleAdhesion {
   double stress() const { return sigma0_; }
   double range() const { return h0; }
   double cutoff() const { return hi_; }
-  std::string name() const { return "dugdale"; }
 
  private:
   double sigma0_ = 0.0, lo_ = 0.0, hi_ = 0.0, inv_eps_ = 0.0;
@@ -122,9 +119,6 @@ inline double peak_tension(const Interaction& i) {
 // The gap length over which the interaction acts (ρ, h0; 0 for the hard wall).
 inline double interaction_range(const Interaction& i) {
   return std::visit([](const auto& x) { return x.range(); }, i);
-}
-inline std::string interaction_name(const Interaction& i) {
-  return std::visit([](const auto& x) { return x.name(); }, i);
 }
 
 // ---------------------------------------------------------------- parameter helpers

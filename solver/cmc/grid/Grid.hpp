@@ -87,10 +87,6 @@ struct Grid {
   // Passes smaller than this many points of work run on one thread: OpenMP's fork/join
   // costs more than it saves below it (measured on 2 cores, wave 1).
   static constexpr std::size_t parallel_min = std::size_t(1) << 15;
-  // Old no-op hooks, being replaced by the reductions above (to be deleted).
-  template <std::size_t K>
-  static void allreduce_sum(double (&)[K]) {}
-  static void allreduce_max(double&) {}
 };
 
 // Real-to-complex and complex-to-real transforms of one grid shape. Plans are made
