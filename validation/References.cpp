@@ -392,6 +392,14 @@ Curve base(const std::string& name, const std::string& quantity, const std::stri
   c.extra.emplace_back("generator", "cmc reference " + name + " (validation/References.cpp, solver/cmc/analytic/Analytic.cpp)");
   return c;
 }
+// The same, with the units and sampling lines that most curves state next.
+Curve base(const std::string& name, const std::string& quantity, const std::string& title, const std::string& source,
+           const std::string& units, const std::string& sampling) {
+  Curve c = base(name, quantity, title, source,
+                 units,
+                 sampling);
+  return c;
+}
 
 const char* kRoundOff = "closed form evaluated in double precision, stored with 13 significant digits: "
                         "< 1e-12 relative";
@@ -399,9 +407,9 @@ const char* kRoundOff = "closed form evaluated in double precision, stored with 
 Curve hertz_penetration_force() {
   Curve c = base("hertz_penetration_force", "penetration_vs_force", "Hertz: penetration and contact radius vs force",
                  "Hertz (1882); Johnson, Contact Mechanics (1985) eqs. 4.22-4.23: a^3 = 3FR/(4E*), delta = a^2/R, "
-                 "i.e. F = (4/3) E* R^(1/2) delta^(3/2)");
-  c.extra.emplace_back("units", "reduced: force in E* R^2, lengths in R (R = sphere radius, E* = contact modulus)");
-  c.extra.emplace_back("sampling", "F/(E* R^2) = 10^(-9 + k/10), k = 0..60");
+                 "i.e. F = (4/3) E* R^(1/2) delta^(3/2)",
+                 "reduced: force in E* R^2, lengths in R (R = sphere radius, E* = contact modulus)",
+                 "F/(E* R^2) = 10^(-9 + k/10), k = 0..60");
   Column F{"F_over_EstarR2", "1", "F/(E* R^2)", {}}, d{"delta_over_R", "1", "penetration delta/R", {}},
       a{"a_over_R", "1", "contact radius a/R", {}};
   for (int k = 0; k <= 60; ++k) {
@@ -419,9 +427,9 @@ Curve hertz_penetration_force() {
 Curve hertz_pressure_profile() {
   Curve c = base("hertz_pressure_profile", "pressure_profile", "Hertz: pressure profile p(r)/p0 vs r/a",
                  "Hertz (1882); Johnson, Contact Mechanics (1985) eq. 4.22: p(r) = p0 sqrt(1 - r^2/a^2) for r < a, "
-                 "0 outside, p0 = 2 E* a/(pi R) = 3F/(2 pi a^2)");
-  c.extra.emplace_back("units", "reduced: r in the contact radius a, p in the peak pressure p0 (independent of load)");
-  c.extra.emplace_back("sampling", "r/a = k/100, k = 0..150");
+                 "0 outside, p0 = 2 E* a/(pi R) = 3F/(2 pi a^2)",
+                 "reduced: r in the contact radius a, p in the peak pressure p0 (independent of load)",
+                 "r/a = k/100, k = 0..150");
   Column r{"r_over_a", "1", "radial distance r/a", {}}, p{"p_over_p0", "1", "pressure p/p0", {}};
   const double a = 0.1;
   const double p0 = an::hertz_from_radius(1.0, 1.0, a).max_pressure;
@@ -442,9 +450,9 @@ const char* kWestergaardSource =
 
 Curve westergaard_mean_pressure() {
   Curve c = base("westergaard_mean_pressure", "mean_pressure_vs_half_width",
-                 "Westergaard wavy contact: mean pressure vs contact half-width", kWestergaardSource);
-  c.extra.emplace_back("units", "reduced: lengths in the wavelength lambda, pressure in p* = pi E* h/lambda");
-  c.extra.emplace_back("sampling", "a/lambda = k/200, k = 0..100");
+                 "Westergaard wavy contact: mean pressure vs contact half-width", kWestergaardSource,
+                 "reduced: lengths in the wavelength lambda, pressure in p* = pi E* h/lambda",
+                 "a/lambda = k/200, k = 0..100");
   Column a{"a_over_lambda", "1", "contact half-width a/lambda", {}}, p{"pbar_over_pstar", "1", "mean pressure pbar/p*", {}};
   const double pstar = an::westergaard_full_contact_pressure(1.0, 1.0, 1.0);
   for (int k = 0; k <= 100; ++k) {
@@ -460,9 +468,9 @@ Curve westergaard_mean_gap() {
   Curve c = base("westergaard_mean_gap", "mean_gap_vs_pressure", "Westergaard wavy contact: mean gap vs mean pressure",
                  std::string(kWestergaardSource) +
                      "; mean gap gbar = h (1 - t + t ln t), t = pbar/p* (Carbone & Mangialardi, JMPS 52, 1267 "
-                     "(2004) eq. 39)");
-  c.extra.emplace_back("units", "reduced: pressure in p* = pi E* h/lambda, gap in the amplitude h");
-  c.extra.emplace_back("sampling", "pbar/p* = 10^(-4 + k/10), k = 0..40");
+                     "(2004) eq. 39)",
+                 "reduced: pressure in p* = pi E* h/lambda, gap in the amplitude h",
+                 "pbar/p* = 10^(-4 + k/10), k = 0..40");
   Column p{"pbar_over_pstar", "1", "mean pressure pbar/p*", {}}, g{"mean_gap_over_h", "1", "mean gap / h", {}};
   const double pstar = an::westergaard_full_contact_pressure(1.0, 1.0, 1.0);
   for (int k = 0; k <= 40; ++k) {
@@ -476,9 +484,9 @@ Curve westergaard_mean_gap() {
 
 Curve westergaard_pressure_profile() {
   Curve c = base("westergaard_pressure_profile", "pressure_profile",
-                 "Westergaard wavy contact: pressure profiles at pbar/p* = 0.1, 0.3, 0.6, 0.9", kWestergaardSource);
-  c.extra.emplace_back("units", "reduced: x in the wavelength lambda (from the contact centre), pressure in p*");
-  c.extra.emplace_back("sampling", "x/lambda = k/200, k = -100..100");
+                 "Westergaard wavy contact: pressure profiles at pbar/p* = 0.1, 0.3, 0.6, 0.9", kWestergaardSource,
+                 "reduced: x in the wavelength lambda (from the contact centre), pressure in p*",
+                 "x/lambda = k/200, k = -100..100");
   const std::vector<double> loads = {0.1, 0.3, 0.6, 0.9};
   const double pstar = an::westergaard_full_contact_pressure(1.0, 1.0, 1.0);
   Column x{"x_over_lambda", "1", "position x/lambda from the contact centre", {}};
