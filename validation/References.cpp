@@ -395,9 +395,9 @@ Curve base(const std::string& name, const std::string& quantity, const std::stri
 // The same, with the units and sampling lines that most curves state next.
 Curve base(const std::string& name, const std::string& quantity, const std::string& title, const std::string& source,
            const std::string& units, const std::string& sampling) {
-  Curve c = base(name, quantity, title, source,
-                 units,
-                 sampling);
+  Curve c = base(name, quantity, title, source);
+  c.extra.emplace_back("units", units);
+  c.extra.emplace_back("sampling", sampling);
   return c;
 }
 
