@@ -5,6 +5,7 @@
 #include "cmc/analytic/Analytic.hpp"
 #include "cmc/output/Writer.hpp"
 
+#include <array>
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -401,6 +402,18 @@ Curve base(const std::string& name, const std::string& quantity, const std::stri
   return c;
 }
 
+// Samples a curve at x = k / div, k = k0..k1: x goes to `x`, the values f(x) returns (an
+// array, one per column) to `ys`.
+template <std::size_t K, class F>
+void sample(Column& x, const std::array<Column*, K>& ys, int k0, int k1, double div, F f) {
+  for (int k = k0; k <= k1; ++k) {
+    const double v = k / div;
+    const std::array<double, K> y = f(v);
+    x.values.push_back(v);
+    for (std::size_t i = 0; i < K; ++i) ys[i]->values.push_back(y[i]);
+  }
+}
+
 const char* kRoundOff = "closed form evaluated in double precision, stored with 13 significant digits: "
                         "< 1e-12 relative";
 
@@ -433,11 +446,7 @@ Curve hertz_pressure_profile() {
   Column r{"r_over_a", "1", "radial distance r/a", {}}, p{"p_over_p0", "1", "pressure p/p0", {}};
   const double a = 0.1;
   const double p0 = an::hertz_from_radius(1.0, 1.0, a).max_pressure;
-  for (int k = 0; k <= 150; ++k) {
-    const double x = k / 100.0;
-    r.values.push_back(x);
-    p.values.push_back(an::hertz_pressure(1.0, 1.0, a, x * a) / p0);
-  }
+  sample<1>(r, {&p}, 0, 150, 100.0, [&](double x) { return std::array{an::hertz_pressure(1.0, 1.0, a, x * a) / p0}; });
   // the validation suite's pressure_profile tolerance (in units of p0)
   return with_axes(std::move(c), {r, p}, r.name, p.name, "lin-lin",
                    kRoundOff, 1e-2, "max_abs");
@@ -455,11 +464,8 @@ Curve westergaard_mean_pressure() {
                  "a/lambda = k/200, k = 0..100");
   Column a{"a_over_lambda", "1", "contact half-width a/lambda", {}}, p{"pbar_over_pstar", "1", "mean pressure pbar/p*", {}};
   const double pstar = an::westergaard_full_contact_pressure(1.0, 1.0, 1.0);
-  for (int k = 0; k <= 100; ++k) {
-    const double x = k / 200.0;
-    a.values.push_back(x);
-    p.values.push_back(an::westergaard_mean_pressure(1.0, 1.0, 1.0, x) / pstar);
-  }
+  sample<1>(a, {&p}, 0, 100, 200.0,
+            [&](double x) { return std::array{an::westergaard_mean_pressure(1.0, 1.0, 1.0, x) / pstar}; });
   return with_axes(std::move(c), {a, p}, a.name, p.name, "lin-lin",
                    kRoundOff, 1e-3, "max_abs");
 }
@@ -528,12 +534,10 @@ Curve jkr_force_penetration() {
   c.extra.emplace_back("sampling", "A = k/50, k = 0..150");
   Column A{"A", "1", "reduced contact radius", {}}, P{"Pbar", "1", "reduced force F/(pi w R)", {}},
       D{"Delta", "1", "reduced penetration", {}};
-  for (int k = 0; k <= 150; ++k) {
-    const double x = k / 50.0;
-    A.values.push_back(x);
-    P.values.push_back(an::jkr_force(Es, R, w, x * s.radius) / s.force);
-    D.values.push_back(an::jkr_penetration(Es, R, w, x * s.radius) / s.penetration);
-  }
+  sample<2>(A, {&P, &D}, 0, 150, 50.0, [&](double x) {
+    return std::array{an::jkr_force(Es, R, w, x * s.radius) / s.force,
+                      an::jkr_penetration(Es, R, w, x * s.radius) / s.penetration};
+  });
   return with_axes(std::move(c), {A, P, D}, A.name, P.name, "lin-lin",
                    kRoundOff, 1e-2, "max_abs");
 }
@@ -589,12 +593,9 @@ Curve johnson_sinusoid(double alpha, const std::string& tag) {
   c.extra.emplace_back("sampling", "a/lambda = k/200, k = 1..99");
   Column a{"a_over_lambda", "1", "contact half-width a/lambda", {}}, p{"pbar_over_pstar", "1", "mean pressure pbar/p*", {}},
       g{"mean_gap_over_h", "1", "mean gap / h", {}};
-  for (int k = 1; k <= 99; ++k) {
-    const double x = k / 200.0;
-    a.values.push_back(x);
-    p.values.push_back(an::johnson_mean_pressure(Es, w, h, L, x * L) / pstar);
-    g.values.push_back(an::johnson_mean_gap(Es, w, h, L, x * L) / h);
-  }
+  sample<2>(a, {&p, &g}, 1, 99, 200.0, [&](double x) {
+    return std::array{an::johnson_mean_pressure(Es, w, h, L, x * L) / pstar, an::johnson_mean_gap(Es, w, h, L, x * L) / h};
+  });
   // mean pressure within 1e-2 p* (the ContactMechanics test suite's bound)
   return with_axes(std::move(c), {a, p, g}, a.name, p.name, "lin-lin",
                    kRoundOff, 1e-2, "max_abs");

@@ -75,6 +75,7 @@ struct LoadStep {
   int iterations = 0;  // their iterations, summed
   double fft_pairs = 0.0;  // their FFT pairs, summed
   double wall_s = 0.0;
+  SolveDiagnostics diagnostics;  // their diagnostics, summed
 };
 
 struct LoadPathResult {

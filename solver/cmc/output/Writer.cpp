@@ -150,6 +150,14 @@ void Writer::load_partial() {
       rec.result.wall_s = r["wall_s"].value_or(0.0);
       rec.result.fft_pairs = r["fft_pairs"].value_or(0.0);
       rec.result.message = r["message"].value_or(std::string());
+      SolveDiagnostics& d = rec.result.diagnostics;
+      const auto diag = r["diagnostics"];
+      d.restarts = int(diag["restarts"].value_or(0));
+      d.backtracks = int(diag["backtracks"].value_or(0));
+      d.negative_curvature = int(diag["negative_curvature"].value_or(0));
+      d.clipped_steps = int(diag["clipped_steps"].value_or(0));
+      d.exact_recomputes = int(diag["exact_recomputes"].value_or(0));
+      d.outer_iterations = int(diag["outer_iterations"].value_or(0));
       rec.jump = r["jump"].value_or(false);
       rec.halvings = int(r["halvings"].value_or(0));
       if (auto* o = r["observables"].as_table()) {
@@ -244,6 +252,13 @@ toml::table Writer::step_json(const StepRecord& r) {
                      {"jump", r.jump},
                      {"halvings", r.halvings},
                      {"message", r.result.message}};
+  const SolveDiagnostics& d = r.result.diagnostics;
+  t.insert("diagnostics", toml::table{{"restarts", d.restarts},
+                                      {"backtracks", d.backtracks},
+                                      {"negative_curvature", d.negative_curvature},
+                                      {"clipped_steps", d.clipped_steps},
+                                      {"exact_recomputes", d.exact_recomputes},
+                                      {"outer_iterations", d.outer_iterations}});
   if (r.observables) {
     toml::table o;
     for (const auto& [k, v] : r.observables->scalars) o.insert(k, v);

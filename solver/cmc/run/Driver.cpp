@@ -104,6 +104,7 @@ void run_adhesive_cg(const Case& c, const Scene& s, Run& run, std::size_t first,
       [&](const LoadStep& ls, const ContactState& st) {
         SolveResult r = ls.result;
         r.iterations = ls.iterations, r.fft_pairs = ls.fft_pairs, r.wall_s = ls.wall_s;  // all solves of the step
+        r.diagnostics = ls.diagnostics;
         StepRecord rec = run.record(k++, r, st);
         rec.jump = ls.jump;
         rec.halvings = ls.halvings;
