@@ -8,6 +8,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
+# FFT plans come from the wisdom built into cmc (the same bits on every run); with
+# CMC_FFTW_PLANNER=measure they are timed at run time and kept in this wisdom file.
 export CMC_FFTW_WISDOM="${CMC_FFTW_WISDOM:-$PWD/build/fftw-wisdom}"
 mkdir -p results
 run() {  # case, output folder

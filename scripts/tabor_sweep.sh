@@ -7,6 +7,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
+# FFT plans come from the wisdom built into cmc (the same bits on every run); with
+# CMC_FFTW_PLANNER=measure they are timed at run time and kept in this wisdom file.
 export CMC_FFTW_WISDOM="${CMC_FFTW_WISDOM:-$PWD/build/fftw-wisdom}"
 for mu in 0.1 0.178 0.316 0.562 1.0 1.78 3.0; do
   out="results/challenge-tabor-sweep/mu_T_$mu"

@@ -7,7 +7,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
-# FFTW plans: MEASURE, with wisdom kept in the build folder between runs.
+# FFT plans come from the wisdom built into cmc (the same bits on every run); with
+# CMC_FFTW_PLANNER=measure they are timed at run time and kept in this wisdom file.
 export CMC_FFTW_WISDOM="${CMC_FFTW_WISDOM:-$PWD/build/fftw-wisdom}"
 cd build
 # Tests run two at a time: one thread each (threads of two processes on two cores

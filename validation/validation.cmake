@@ -81,3 +81,13 @@ set_tests_properties(challenge.adhesive_256 PROPERTIES FIXTURES_REQUIRED challen
 set(CMC_RUN_CURVE_OUT ${CMAKE_BINARY_DIR}/cli-run-curve.csv)
 cmc_cli_test(cli.reference_run_curve "rm -f ${CMC_RUN_CURVE_OUT} && $<TARGET_FILE:cmc> reference --run-curve ${CMAKE_SOURCE_DIR}/tests/data/run_curve_spec.toml --out ${CMC_RUN_CURVE_OUT} && grep -q '^# source: cmc run$' ${CMC_RUN_CURVE_OUT} && grep -A1 '^# cmc_version: 0.1.0$' ${CMC_RUN_CURVE_OUT} | grep -q '^# case_file: ' && grep -q '^# sampling: two points$' ${CMC_RUN_CURVE_OUT} && grep -q '^2.500000000000e-09,0.000000000000e+00$' ${CMC_RUN_CURVE_OUT}")
 cmc_cli_test(cli.reference_run_curve_bad_spec "printf 'name = \"x\"\\n' > ${CMAKE_BINARY_DIR}/bad-spec.toml; $<TARGET_FILE:cmc> reference --run-curve ${CMAKE_BINARY_DIR}/bad-spec.toml --out ${CMAKE_BINARY_DIR}/bad-curve.csv; test $? -eq 2 && test ! -e ${CMAKE_BINARY_DIR}/bad-curve.csv")
+
+# Same bits on every rerun: the adhesive challenge at 256² (every grid point bistable, so
+# round-off picks among local minima) run twice on two threads into fresh folders, with
+# the FFTW wisdom file removed before each run and the planner left at its default (the
+# wisdom built in at build time). Every summary.json value and result.h5 dataset must be
+# identical (scripts/compare_runs.py). Fails with CMC_FFTW_PLANNER=measure whenever the
+# two plannings pick different algorithms.
+set(CMC_RERUN ${CMAKE_BINARY_DIR}/rerun)
+set(CMC_RERUN_ONE "rm -f ${CMC_RERUN}/wisdom && CMC_THREADS=2 CMC_FFTW_WISDOM=${CMC_RERUN}/wisdom $<TARGET_FILE:cmc> run ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load.toml --set grid.n=256 --quiet --out")
+cmc_cli_test(rerun.same_bits "rm -rf ${CMC_RERUN} && mkdir -p ${CMC_RERUN} && ${CMC_RERUN_ONE} ${CMC_RERUN}/a && ${CMC_RERUN_ONE} ${CMC_RERUN}/b && /usr/bin/python3 ${CMAKE_SOURCE_DIR}/scripts/compare_runs.py ${CMC_RERUN}/a ${CMC_RERUN}/b")

@@ -88,6 +88,8 @@ class HalfSpace {
 
   // FFT pairs done so far by this operator ((forward + inverse transforms) / 2).
   double fft_pairs() const { return 0.5 * double(fourier_.forward_count() + fourier_.inverse_count()); }
+  // Where the operator's FFT plans came from (Fourier::plan_source: "built-in wisdom", ...).
+  const char* plan_source() const { return fourier_.plan_source(); }
 
   // Displacement at (x, y) from unit pressure on one cell of size dx x dy centred at the
   // origin (Love 1929): the free boundary's influence coefficient.

@@ -18,6 +18,10 @@
 
 namespace cmc {
 
+namespace detail {
+extern const char* const kBuiltinWisdom;  // generated at build time (solver/tools/make_wisdom.cpp)
+}
+
 template <class T>
 T* FftwAllocator<T>::allocate(std::size_t n) {
   if (n > std::numeric_limits<std::size_t>::max() / sizeof(T)) throw std::bad_alloc();
@@ -88,7 +92,7 @@ int thread_count() {
 }
 
 namespace {
-std::mutex planner_mutex;  // the FFTW planner is not thread safe
+std::recursive_mutex planner_mutex;  // the FFTW planner is not thread safe (recursive: a plan may be freed while planning)
 bool fftw_ready = false;
 
 std::filesystem::path wisdom_path() {
@@ -97,26 +101,54 @@ std::filesystem::path wisdom_path() {
   return {};
 }
 
-unsigned planner_flags() {
+// How plans are made ($CMC_FFTW_PLANNER): "builtin" (default) uses only the wisdom
+// compiled in at build time (solver/tools/make_wisdom.cpp) and FFTW_ESTIMATE for the
+// transforms it lacks: no timing at run time, so every run of a build gets the same
+// plans. "measure" and "patient" time candidates at run time and keep wisdom in
+// $CMC_FFTW_WISDOM (faster for grids the build did not plan, e.g. 8192², but two
+// plannings may differ in round-off). "estimate": FFTW_ESTIMATE only.
+enum class Planner { Builtin, Estimate, Measure, Patient };
+Planner planner() {
   const char* s = std::getenv("CMC_FFTW_PLANNER");
-  const std::string p = s ? s : "measure";
-  if (p == "estimate") return FFTW_ESTIMATE;
-  if (p == "patient") return FFTW_PATIENT;
-  return FFTW_MEASURE;
+  const std::string p = s ? s : "builtin";
+  if (p == "estimate") return Planner::Estimate;
+  if (p == "measure") return Planner::Measure;
+  if (p == "patient") return Planner::Patient;
+  if (p == "builtin") return Planner::Builtin;
+  throw std::invalid_argument("CMC_FFTW_PLANNER: expected builtin, estimate, measure or patient, got '" + p + "'");
 }
+bool keeps_wisdom_file(Planner p) { return p == Planner::Measure || p == Planner::Patient; }
 
 void init_fftw() {
   if (fftw_ready) return;
   fftw_init_threads();
   fftw_plan_with_nthreads(thread_count());
   omp_set_num_threads(thread_count());
-  const auto w = wisdom_path();
-  if (!w.empty() && std::filesystem::exists(w)) fftw_import_wisdom_from_filename(w.c_str());
+  if (planner() == Planner::Builtin) {
+    fftw_import_wisdom_from_string(detail::kBuiltinWisdom);
+  } else if (keeps_wisdom_file(planner())) {
+    const auto w = wisdom_path();
+    if (!w.empty() && std::filesystem::exists(w)) fftw_import_wisdom_from_filename(w.c_str());
+  }
   fftw_ready = true;
+}
+
+// Plans r2c and c2r for one shape with `flags`; false if FFTW made none (with
+// FFTW_WISDOM_ONLY: no wisdom for it).
+bool make_plans(int nx, int ny, double* r, fftw_complex* c, unsigned flags, FftwPlan& f, FftwPlan& b) {
+  if (ny == 1) {
+    f.reset(fftw_plan_dft_r2c_1d(nx, r, c, flags));
+    b.reset(fftw_plan_dft_c2r_1d(nx, c, r, flags));
+  } else {
+    f.reset(fftw_plan_dft_r2c_2d(ny, nx, r, c, flags));
+    b.reset(fftw_plan_dft_c2r_2d(ny, nx, c, r, flags));
+  }
+  return f && b;
 }
 }  // namespace
 
 void save_fftw_wisdom() {
+  if (!keeps_wisdom_file(planner())) return;
   std::lock_guard lock(planner_mutex);
   const auto w = wisdom_path();
   if (w.empty()) return;
@@ -133,18 +165,27 @@ Fourier::Fourier(int nx, int ny) : nx_(nx), ny_(ny), spec_(std::size_t(nx / 2 + 
     std::lock_guard lock(planner_mutex);
     init_fftw();
     Field scratch(real_size());
-    const unsigned flags = planner_flags();
     // Threads only pay on large transforms: on small (e.g. 1-D) ones they cost 3-8x.
     fftw_plan_with_nthreads(real_size() < (std::size_t(1) << 16) ? 1 : thread_count());
     auto* c = reinterpret_cast<fftw_complex*>(spec_.data());
-    if (ny == 1) {
-      plan_forward_.reset(fftw_plan_dft_r2c_1d(nx, scratch.data(), c, flags));
-      plan_inverse_.reset(fftw_plan_dft_c2r_1d(nx, c, scratch.data(), flags));
-    } else {
-      plan_forward_.reset(fftw_plan_dft_r2c_2d(ny, nx, scratch.data(), c, flags));
-      plan_inverse_.reset(fftw_plan_dft_c2r_2d(ny, nx, c, scratch.data(), flags));
+    const Planner p = planner();
+    bool ok = false;
+    if (p == Planner::Builtin) {
+      ok = make_plans(nx, ny, scratch.data(), c, FFTW_MEASURE | FFTW_WISDOM_ONLY, plan_forward_, plan_inverse_);
+      plan_source_ = "built-in wisdom";
+      if (!ok) {
+        plan_forward_.reset(), plan_inverse_.reset();
+        plan_source_ = "estimate";
+      }
     }
-    if (!plan_forward_ || !plan_inverse_) throw std::runtime_error("FFTW could not plan a transform");
+    if (!ok) {
+      const unsigned flags = p == Planner::Measure ? FFTW_MEASURE : p == Planner::Patient ? FFTW_PATIENT : FFTW_ESTIMATE;
+      if (p == Planner::Measure) plan_source_ = "measure";
+      if (p == Planner::Patient) plan_source_ = "patient";
+      if (p == Planner::Estimate) plan_source_ = "estimate";
+      ok = make_plans(nx, ny, scratch.data(), c, flags, plan_forward_, plan_inverse_);
+    }
+    if (!ok) throw std::runtime_error("FFTW could not plan a transform");
   }
   save_fftw_wisdom();
 }

@@ -89,9 +89,15 @@ struct Grid {
   static constexpr std::size_t parallel_min = std::size_t(1) << 15;
 };
 
-// Real-to-complex and complex-to-real transforms of one grid shape. Plans are made
-// once (FFTW_MEASURE unless CMC_FFTW_PLANNER says otherwise), with wisdom kept in
-// $CMC_FFTW_WISDOM (default ~/.cache/cmc/fftw-wisdom), and reused for every call.
+// Real-to-complex and complex-to-real transforms of one grid shape, planned once and
+// reused for every call. By default ($CMC_FFTW_PLANNER unset or "builtin") the plans come
+// from wisdom made with FFTW_MEASURE at build time and compiled in (square grids of 2^k
+// points up to 4096 per side, 1-D lines up to 65536; solver/tools/make_wisdom.cpp), and
+// from FFTW_ESTIMATE for other shapes: nothing is timed at run time, so every run of a
+// build computes with the same plans (the same bits on a rerun) and a first run does not
+// wait for planning. CMC_FFTW_PLANNER=measure (or patient) times plans at run time and
+// keeps wisdom in $CMC_FFTW_WISDOM (default ~/.cache/cmc/fftw-wisdom): faster for shapes
+// the build did not plan, but not reproducible bit for bit. "estimate": ESTIMATE only.
 // forward() is unnormalised; inverse() is unnormalised too: callers fold 1/N into
 // their Fourier-space multiply so that no extra pass over the data is needed.
 // Owner of one FFTW plan (destroyed under the planner lock, FFTW's planner is not thread
@@ -128,11 +134,14 @@ class Fourier {
   // Number of forward and inverse transforms done so far (an FFT pair = one each).
   long forward_count() const { return n_forward_; }
   long inverse_count() const { return n_inverse_; }
+  // Where the plans came from: "built-in wisdom", "estimate", "measure" or "patient".
+  const char* plan_source() const { return plan_source_; }
 
  private:
   int nx_, ny_;
   Spectrum spec_;
   FftwPlan plan_forward_, plan_inverse_;
+  const char* plan_source_ = "";
   long n_forward_ = 0, n_inverse_ = 0;
 };
 

@@ -280,7 +280,8 @@ toml::table Writer::summary_base() const {
       {"grid", toml::table{{"nx", g.nx}, {"ny", g.ny}, {"size_x", u.to_m(g.lx)}, {"size_y", u.to_m(g.ly)},
                            {"dx", u.to_m(g.dx())}, {"dy", u.to_m(g.dy())},
                            {"boundary", scene_.half_space->periodic() ? "periodic" : "free"},
-                           {"fft_size", (long long)scene_.half_space->transform_size()}}},
+                           {"fft_size", (long long)scene_.half_space->transform_size()},
+                           {"fft_plans", std::string(scene_.half_space->plan_source())}}},
       {"surface", scene_.topography.description},
   };
   toml::table facts;
