@@ -125,3 +125,15 @@ TEST(HalfSpace, RejectsBadInput) {
   EXPECT_THROW(PeriodicHalfSpace(Grid{8, 8, 1, 1}, std::nan("")), std::invalid_argument);
   EXPECT_THROW(FreeHalfSpace(Grid{8, 1, 1, 1}, 1.0), std::invalid_argument);
 }
+
+// The operator times one of its own FFT pairs (the unit of a run's cost) and counts them.
+TEST(HalfSpace, TimesItsFftPair) {
+  for (bool periodic : {true, false}) {
+    const auto hs = make_half_space(Grid{32, 32, 1.0, 1.0}, 1.0, periodic);
+    const double before = hs->fft_pairs();  // the free kernel's transform counts half a pair
+    const double t = hs->time_fft_pair(0.0, 5);
+    EXPECT_GT(t, 0.0);
+    EXPECT_LT(t, 1.0);  // a 64² transform pair, even on a loaded machine
+    EXPECT_EQ(hs->fft_pairs() - before, 6.0);  // one untimed pair, then five timed
+  }
+}

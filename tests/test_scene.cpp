@@ -94,6 +94,27 @@ TEST(Scene, DriverRunsTheCasesSolver) {
   }
 }
 
+// Every run reports its cost against an FFT pair of its own operator, timed in the same
+// run: the ratios are the steps' solve time over (pairs x pair time) and over (iterations
+// x pair time), and an iteration costs at least one pair (PK: one pair per iteration).
+TEST(Scene, RunReportsCostInFftPairs) {
+  toml::table t = base();
+  t["grid"].as_table()->insert_or_assign("n", 64);
+  t["loading"].as_table()->insert_or_assign("values", toml::array{0.25, 0.5});
+  const Case c = parse_case(t, "mem");
+  Scene s = build_scene(c);
+  const RunSummary run = run_scene(c, s, {});
+  ASSERT_EQ(run.steps.size(), 2u);
+  EXPECT_GT(run.fft_pair_s, 0.0);
+  double solve_s = 0.0;
+  int iterations = 0;
+  for (const StepRecord& r : run.steps) solve_s += r.result.wall_s, iterations += r.result.iterations;
+  EXPECT_EQ(run.iterations, iterations);
+  EXPECT_GE(run.fft_pairs, double(iterations));
+  EXPECT_DOUBLE_EQ(run.time_per_fft_pair, solve_s / (run.fft_pairs * run.fft_pair_s));
+  EXPECT_DOUBLE_EQ(run.time_per_iteration, solve_s / (iterations * run.fft_pair_s));
+}
+
 // One contact rule: the step record's contact_fraction and the observables' are the same
 // number, with and without a contact gap threshold (which widens both).
 TEST(Scene, StepRecordAndObservablesShareTheContactRule) {

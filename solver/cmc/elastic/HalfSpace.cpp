@@ -1,6 +1,7 @@
 #include "cmc/elastic/HalfSpace.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -159,6 +160,24 @@ void HalfSpace::inverse(Field& out) {
   fourier_.inverse(padded_);
   const int nx = grid_.nx;
   for (int j = 0; j < grid_.ny; ++j) std::copy_n(&padded_[std::size_t(j) * mx_], nx, &out[std::size_t(j) * nx]);
+}
+
+double HalfSpace::time_fft_pair(double min_seconds, int min_repeats) {
+  Field in(transform_size(), 0.0), out(transform_size());
+  auto pair = [&] {
+    fourier_.forward(in.data());
+    fourier_.inverse(out.data());
+  };
+  pair();  // first touch of the buffers, not timed
+  const auto t0 = std::chrono::steady_clock::now();
+  double elapsed = 0.0;
+  int n = 0;
+  do {
+    pair();
+    ++n;
+    elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  } while (n < min_repeats || elapsed < min_seconds);
+  return elapsed / n;
 }
 
 // ---------------------------------------------------------------- contact grid

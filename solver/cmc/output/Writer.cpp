@@ -297,7 +297,12 @@ void Writer::finish(const RunSummary& run, const toml::table& extra) {
   toml::table s = summary_base();
   s.insert("status", status_name(run.status));
   s.insert("message", run.message);
-  s.insert("timing", toml::table{{"wall_s", run.wall_s}, {"fft_pairs", run.fft_pairs}});
+  s.insert("timing", toml::table{{"wall_s", run.wall_s},
+                                 {"fft_pairs", run.fft_pairs},
+                                 {"iterations", run.iterations},
+                                 {"fft_pair_s", run.fft_pair_s},
+                                 {"time_per_fft_pair", run.time_per_fft_pair},
+                                 {"time_per_iteration", run.time_per_iteration}});
   toml::array steps;
   for (const auto& r : run.steps) steps.push_back(step_json(r));
   s.insert("steps", steps);

@@ -126,6 +126,7 @@ void run_adhesive_cg(const Case& c, const Scene& s, Run& run, std::size_t first,
 
 RunSummary run_scene(const Case& c, Scene& s, const StepCallback& on_step, const Progress& progress,
                      const std::vector<StepRecord>* done, const ContactState* warm) {
+  const double pair_s = s.half_space->time_fft_pair();
   const auto t0 = std::chrono::steady_clock::now();
   Run run(s, on_step);
   ContactState state;
@@ -138,8 +139,14 @@ RunSummary run_scene(const Case& c, Scene& s, const StepCallback& on_step, const
     case SolverKind::AdhesiveCg: run_adhesive_cg(c, s, run, first, state, progress); break;
     case SolverKind::Auto: throw std::logic_error("run_scene: the case's solver kind was not resolved");
   }
-  run.summary.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return run.summary;
+  RunSummary& sum = run.summary;
+  sum.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  sum.fft_pair_s = pair_s;
+  double solve_s = 0.0;
+  for (const StepRecord& r : sum.steps) solve_s += r.result.wall_s, sum.iterations += r.result.iterations;
+  if (sum.fft_pairs > 0.0) sum.time_per_fft_pair = solve_s / (sum.fft_pairs * pair_s);
+  if (sum.iterations > 0) sum.time_per_iteration = solve_s / (sum.iterations * pair_s);
+  return sum;
 }
 
 }  // namespace cmc

@@ -42,6 +42,13 @@ struct RunSummary {
   std::vector<StepRecord> steps;
   double wall_s = 0.0;
   double fft_pairs = 0.0;
+  // Cost against the FFT floor: one FFT pair of the run's operator timed at its start,
+  // the steps' solver time over (their FFT pairs x that time) and over (their iterations
+  // x that time): 1.0 would be nothing but transforms; the target is 1.3 per iteration.
+  int iterations = 0;
+  double fft_pair_s = 0.0;
+  double time_per_fft_pair = 0.0;   // in units of fft_pair_s
+  double time_per_iteration = 0.0;  // in units of fft_pair_s
   // Load path (adhesive runs): pull-off = the most negative load of every converged
   // solve, sub-steps included; steps that needed halving; steps after a jump.
   bool load_path = false;
