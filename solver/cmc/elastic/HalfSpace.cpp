@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <vector>
 
 namespace cmc {
 
@@ -165,19 +166,18 @@ void HalfSpace::inverse(Field& out) {
 double HalfSpace::time_fft_pair(double min_seconds, int min_repeats) {
   Field in(transform_size(), 0.0), out(transform_size());
   auto pair = [&] {
+    const auto t0 = std::chrono::steady_clock::now();
     fourier_.forward(in.data());
     fourier_.inverse(out.data());
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
-  pair();  // first touch of the buffers, not timed
-  const auto t0 = std::chrono::steady_clock::now();
-  double elapsed = 0.0;
-  int n = 0;
-  do {
-    pair();
-    ++n;
-    elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  } while (n < min_repeats || elapsed < min_seconds);
-  return elapsed / n;
+  pair();  // first touch of the buffers and threads, not timed
+  std::vector<double> t;
+  double total = 0.0;
+  while (int(t.size()) < min_repeats || total < min_seconds) total += t.emplace_back(pair());
+  // The median: robust against a pair slowed by another process.
+  std::nth_element(t.begin(), t.begin() + t.size() / 2, t.end());
+  return t[t.size() / 2];
 }
 
 // ---------------------------------------------------------------- contact grid
