@@ -89,7 +89,7 @@ class HalfSpace {
   // FFT pairs done so far by this operator ((forward + inverse transforms) / 2).
   double fft_pairs() const { return 0.5 * double(fourier_.forward_count() + fourier_.inverse_count()); }
   // Seconds of one FFT pair (forward + inverse on the transform grid), timed here and now:
-  // the median over at least `min_repeats` pairs and `min_seconds`, after one untimed
+  // the fastest of at least `min_repeats` pairs taking `min_seconds`, after one untimed
   // pair. The unit a run's cost is reported in, measured in the same run. Counts in
   // fft_pairs().
   double time_fft_pair(double min_seconds = 0.25, int min_repeats = 5);
