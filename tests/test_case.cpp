@@ -152,7 +152,7 @@ TEST(Case, HardWallSolverWithAdhesionIsAnError) {
   const std::string adhesive = std::string(kGood) +
                                "\n[interaction]\nkind = \"exponential\"\nwork_of_adhesion = 0.05\nrange = 2e-9\n";
   const auto m = error_of(adhesive + "\n[solver]\nkind = \"polonsky_keer\"\n");
-  EXPECT_NE(m.find("[solver] kind: expected \"adhesive_cg\" or \"auto\" with an adhesive interaction"), std::string::npos)
+  EXPECT_NE(m.find("[solver] kind: expected \"adhesive_cg\", \"quasi_static\" or \"auto\" with an adhesive interaction"), std::string::npos)
       << m;
   EXPECT_NE(m.find("'polonsky_keer'"), std::string::npos) << m;  // what was given
   // The same through --set, and for Dugdale's law.
@@ -162,18 +162,33 @@ TEST(Case, HardWallSolverWithAdhesionIsAnError) {
   EXPECT_NE(error_of(dugdale).find("[solver] kind"), std::string::npos);
   // An unknown solver is an error that lists the known ones.
   const auto u = error_of(std::string(kGood) + "\n[solver]\nkind = \"newton\"\n");
-  EXPECT_NE(u.find("[solver] kind: expected one of \"adhesive_cg\" \"auto\" \"polonsky_keer\""), std::string::npos) << u;
+  EXPECT_NE(u.find("[solver] kind: expected one of \"adhesive_cg\" \"auto\" \"polonsky_keer\" \"quasi_static\""),
+            std::string::npos)
+      << u;
 }
 
 TEST(Case, SolverKindAutoAndExplicit) {
   const std::string adhesive = std::string(kGood) +
                                "\n[interaction]\nkind = \"exponential\"\nwork_of_adhesion = 0.05\nrange = 2e-9\n";
-  // auto (the default): Polonsky-Keer for a hard wall, the adhesive CG with adhesion,
-  // each with its own default tolerance; the resolved case names the solver that runs.
+  // auto (the default): Polonsky-Keer for a hard wall; with exponential adhesion on a
+  // loading path the quasi-static loading-branch solver, and the adhesive CG when the path
+  // unloads; each with its default tolerance. The resolved case names the solver that runs.
   Case c = load_case(write(adhesive));
-  EXPECT_EQ(c.solver.kind, SolverKind::AdhesiveCg);
+  EXPECT_EQ(c.solver.kind, SolverKind::QuasiStatic);
   EXPECT_DOUBLE_EQ(c.solver.tolerance, 1e-8);
+  EXPECT_DOUBLE_EQ(c.solver.tension_tolerance, 1e-3);
+  EXPECT_EQ(c.resolved["solver"]["kind"].value<std::string>(), "quasi_static");
+  const std::string unloads = replace(adhesive, "values = [1e-4]", "values = [1e-4]\nunloading = [0.0]");
+  c = load_case(write(unloads));
+  EXPECT_EQ(c.solver.kind, SolverKind::AdhesiveCg);
   EXPECT_EQ(c.resolved["solver"]["kind"].value<std::string>(), "adhesive_cg");
+  // A decreasing force is unloading too.
+  c = load_case(write(replace(adhesive, "values = [1e-4]", "values = [2e-4, 1e-4]")));
+  EXPECT_EQ(c.solver.kind, SolverKind::AdhesiveCg);
+  // ... while a decreasing mean gap is loading.
+  c = load_case(write(replace(replace(adhesive, "control = \"force\"", "control = \"mean_gap\""), "values = [1e-4]",
+                              "values = [2e-6, 1e-6]")));
+  EXPECT_EQ(c.solver.kind, SolverKind::QuasiStatic);
   c = load_case(write(std::string(kGood) + "\n[solver]\nkind = \"auto\"\n"));
   EXPECT_EQ(c.solver.kind, SolverKind::PolonskyKeer);
   EXPECT_EQ(c.resolved["solver"]["kind"].value<std::string>(), "polonsky_keer");
@@ -181,6 +196,15 @@ TEST(Case, SolverKindAutoAndExplicit) {
   c = load_case(write(std::string(kGood) + "\n[solver]\nkind = \"adhesive_cg\"\n"));
   EXPECT_EQ(c.solver.kind, SolverKind::AdhesiveCg);
   EXPECT_DOUBLE_EQ(c.solver.tolerance, 1e-8);
+  // quasi_static where it cannot run: an error naming the key and what to use instead.
+  auto e = error_of(unloads + "[solver]\nkind = \"quasi_static\"\n");
+  EXPECT_NE(e.find("[solver] kind"), std::string::npos) << e;
+  EXPECT_NE(e.find("loading path only"), std::string::npos) << e;
+  e = error_of(std::string(kGood) + "\n[interaction]\nkind = \"dugdale\"\nwork_of_adhesion = 0.05\nrange = 2e-9\n"
+               "[solver]\nkind = \"quasi_static\"\n");
+  EXPECT_NE(e.find("needs [interaction] kind = \"exponential\""), std::string::npos) << e;
+  e = error_of(adhesive + "[solver]\ntension_tolerance = -1\n");
+  EXPECT_NE(e.find("[solver] tension_tolerance"), std::string::npos) << e;
 }
 
 TEST(Case, KindsAreTyped) {

@@ -330,20 +330,43 @@ void parse_loading(Section s, bool adhesive, bool periodic, LoadingSpec& l) {
   s.finish();
 }
 
-// "auto" picks the solver that can solve the interaction; a solver that cannot is an
-// error naming the key. The resolved case records the solver that runs.
-void parse_solver(Section s, bool adhesive, SolverSpec& sv) {
+// A loading path: the load grows (the mean gap shrinks) from each value to the next, and
+// nothing is unloaded. The quasi-static solver follows only such paths.
+bool loading_only(const LoadingSpec& l) {
+  if (!l.unloading.empty()) return false;
+  for (std::size_t k = 1; k < l.values.size(); ++k) {
+    const bool grows = l.control == LoadControl::MeanGap ? l.values[k] <= l.values[k - 1] : l.values[k] >= l.values[k - 1];
+    if (!grows) return false;
+  }
+  return true;
+}
+
+// "auto" picks the solver that can solve the interaction and the path; a solver that
+// cannot is an error naming the key. The resolved case records the solver that runs.
+void parse_solver(Section s, const InteractionSpec& in, const LoadingSpec& l, SolverSpec& sv) {
+  const bool adhesive = in.kind != InteractionKind::HardWall;
+  const bool exponential = in.kind == InteractionKind::Exponential;
   sv.kind = s.choice<SolverKind>("kind", sv.kind);
-  if (sv.kind == SolverKind::Auto) sv.kind = adhesive ? SolverKind::AdhesiveCg : SolverKind::PolonskyKeer;
+  if (sv.kind == SolverKind::Auto)
+    sv.kind = !adhesive                         ? SolverKind::PolonskyKeer
+              : exponential && loading_only(l) ? SolverKind::QuasiStatic
+                                               : SolverKind::AdhesiveCg;
   if (adhesive && sv.kind == SolverKind::PolonskyKeer)
-    s.fail("kind", "\"adhesive_cg\" or \"auto\" with an adhesive interaction (Polonsky-Keer solves hard-wall contact "
-                   "only)");
+    s.fail("kind", "\"adhesive_cg\", \"quasi_static\" or \"auto\" with an adhesive interaction (Polonsky-Keer solves "
+                   "hard-wall contact only)");
+  if (sv.kind == SolverKind::QuasiStatic && !exponential)
+    s.fail("kind", "\"adhesive_cg\" or \"auto\": \"quasi_static\" needs [interaction] kind = \"exponential\"");
+  if (sv.kind == SolverKind::QuasiStatic && !loading_only(l))
+    s.fail("kind", "\"adhesive_cg\" or \"auto\": \"quasi_static\" follows a loading path only ([loading] values in "
+                   "the loading direction, no unloading)");
   s.resolve("kind", std::string(kind_name(sv.kind)));
   const bool pk = sv.kind == SolverKind::PolonskyKeer;
   sv.tolerance = s.number("tolerance", pk ? SolverSpec::kPolonskyKeerTolerance : SolverSpec::kAdhesiveTolerance,
                           "a relative residual", true);
   sv.max_iterations = int(s.integer("max_iterations", sv.max_iterations, "a positive iteration cap", 1));
   sv.recompute_every = int(s.integer("recompute_every", sv.recompute_every, "a positive number of iterations", 1));
+  sv.tension_tolerance = s.number("tension_tolerance", sv.tension_tolerance,
+                                  "a relative change of the adhesive tension (quasi_static)", true);
   s.finish();
 }
 
@@ -421,7 +444,7 @@ Case parse_case(const toml::table& input, const std::string& file) {
   parse_interaction(Section(t, "interaction", file, false), c.surface.kind, c.interaction);
   const bool adhesive = c.interaction.kind != InteractionKind::HardWall;
   parse_loading(Section(t, "loading", file, true), adhesive, c.grid.periodic, c.loading);
-  parse_solver(Section(t, "solver", file, false), adhesive, c.solver);
+  parse_solver(Section(t, "solver", file, false), c.interaction, c.loading, c.solver);
   {
     Section s(t, "output", file, false);
     c.write_fields = s.boolean("fields", c.write_fields);

@@ -88,6 +88,8 @@ struct SolverSpec {
   int max_iterations = 2000;
   // The case default for both solvers: the driver passes it to whichever it runs.
   int recompute_every = 32;
+  // quasi_static only: outer convergence on the adhesive tension (QuasiStaticAdhesion.hpp).
+  double tension_tolerance = 1e-3;
 };
 
 struct ValidationCheck {

@@ -12,9 +12,10 @@ namespace cmc {
 enum class SurfaceKind { Sphere, Wavy1d, Wavy2d, Flat, SelfAffine, File };
 enum class SurfaceFormat { ChallengeHdf5, ChallengeAscii, Fourier, Hdf5, Ascii };
 enum class InteractionKind { HardWall, Exponential, Dugdale };
-// Auto: Polonsky-Keer for a hard wall, the adhesive CG with adhesion. The parser
-// resolves it, so a parsed Case never holds Auto.
-enum class SolverKind { Auto, PolonskyKeer, AdhesiveCg };
+// Auto: Polonsky-Keer for a hard wall; with exponential adhesion on a loading path
+// (increasing load, no unloading) the quasi-static loading-branch solver; the adhesive CG
+// otherwise. The parser resolves it, so a parsed Case never holds Auto.
+enum class SolverKind { Auto, PolonskyKeer, AdhesiveCg, QuasiStatic };
 enum class LoadControl { Force, MeanPressure, Penetration, MeanGap };
 enum class ValidationReference { Hertz, HertzPeriodic, Westergaard, Jkr, MaugisDugdale, Johnson };
 enum class ValidationQuantity { Penetration, PressureProfile, MeanPressure, MeanGap, Force, Pulloff };
@@ -40,9 +41,9 @@ constexpr std::array<KindName<InteractionKind>, 3> kind_names(InteractionKind) {
   using enum InteractionKind;
   return {{{HardWall, "hard_wall"}, {Exponential, "exponential"}, {Dugdale, "dugdale"}}};
 }
-constexpr std::array<KindName<SolverKind>, 3> kind_names(SolverKind) {
+constexpr std::array<KindName<SolverKind>, 4> kind_names(SolverKind) {
   using enum SolverKind;
-  return {{{Auto, "auto"}, {PolonskyKeer, "polonsky_keer"}, {AdhesiveCg, "adhesive_cg"}}};
+  return {{{Auto, "auto"}, {PolonskyKeer, "polonsky_keer"}, {AdhesiveCg, "adhesive_cg"}, {QuasiStatic, "quasi_static"}}};
 }
 constexpr std::array<KindName<LoadControl>, 4> kind_names(LoadControl) {
   using enum LoadControl;

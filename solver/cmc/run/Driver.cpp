@@ -2,6 +2,7 @@
 
 #include "cmc/contact/AdhesiveSolver.hpp"
 #include "cmc/contact/PolonskyKeer.hpp"
+#include "cmc/contact/QuasiStaticAdhesion.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -85,6 +86,19 @@ void run_polonsky_keer(const Case& c, const Scene& s, Run& run, std::size_t firs
   }
 }
 
+// Quasi-static adhesion: the loading branch, each step starting from the previous one
+// (a smaller load), which is the start from above that the solver needs.
+void run_quasi_static(const Case& c, const Scene& s, Run& run, std::size_t first, ContactState& state,
+                      const Progress& progress) {
+  auto o = solver_options<QuasiStaticAdhesion::Options>(c.solver, progress);
+  o.tension_tolerance = c.solver.tension_tolerance;
+  QuasiStaticAdhesion solver(*s.half_space, s.topography.heights, std::get<ExponentialAdhesion>(s.interaction), o);
+  for (std::size_t k = first; k < s.targets.size(); ++k) {
+    const SolveResult r = solver.solve(s.targets[k], state);
+    run.keep(run.record(k, r, state), state);
+  }
+}
+
 // Adhesive CG: a load path that halves steps which fail or jump (LoadPath.hpp).
 void run_adhesive_cg(const Case& c, const Scene& s, Run& run, std::size_t first, ContactState& state,
                      const Progress& progress) {
@@ -137,6 +151,7 @@ RunSummary run_scene(const Case& c, Scene& s, const StepCallback& on_step, const
   switch (c.solver.kind) {
     case SolverKind::PolonskyKeer: run_polonsky_keer(c, s, run, first, state, progress); break;
     case SolverKind::AdhesiveCg: run_adhesive_cg(c, s, run, first, state, progress); break;
+    case SolverKind::QuasiStatic: run_quasi_static(c, s, run, first, state, progress); break;
     case SolverKind::Auto: throw std::logic_error("run_scene: the case's solver kind was not resolved");
   }
   RunSummary& sum = run.summary;

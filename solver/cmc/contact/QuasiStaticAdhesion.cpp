@@ -1,0 +1,264 @@
+#include "cmc/contact/QuasiStaticAdhesion.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace cmc {
+
+namespace {
+
+// Newton steps of the jump prediction: from the right on a concave function, each step
+// lands between the root and the previous point, so a few suffice; the cap only guards
+// against a pathological start.
+constexpr int kMaxNewton = 60;
+
+// The next tension of one point (see the header, "Jump prediction"): the tension at the
+// largest x <= g with k (g − x) = A(x) − t, A(x) = (w/ρ) exp(−x/ρ) the adhesive tension
+// of gap x; A(0) when there is no such x (the point jumps into contact).
+struct JumpPrediction {
+  double k, w_rho, rho, inv_rho, x_peak, cutoff;
+
+  JumpPrediction(double self_stiffness, const ExponentialAdhesion& a)
+      : k(self_stiffness), w_rho(a.peak_tension()), rho(a.range()), inv_rho(1.0 / a.range()), cutoff(a.cutoff()) {
+    // f(x) = k (g − x) − (A(x) − t) is concave with its maximum where A(x) = k ρ.
+    x_peak = std::max(0.0, rho * std::log(w_rho / (k * rho)));
+  }
+  double tension(double x) const { return x >= cutoff ? 0.0 : w_rho * std::exp(-x * inv_rho); }
+
+  // The predicted gap of a point at gap g under tension t, with the extra pull c (the
+  // change of the elastic force from neighbours that moved; c >= 0 pulls in): the largest
+  // x <= g with k (g − x) = A(x) − t + c, or 0 (into contact) if there is none. Returns g
+  // itself when the point is not pulled further in.
+  double gap(double g, double t, double c) const {
+    if (g <= 0.0) return 0.0;
+    if (g >= cutoff && c <= 0.0) return g;
+    auto f = [&](double x) { return k * (g - x) - (tension(x) - t + c); };
+    if (f(g) >= 0.0) return g;
+    if (x_peak >= g || f(x_peak) < 0.0) return 0.0;  // no equilibrium below g: into contact
+    double x = g;
+    for (int i = 0; i < kMaxNewton; ++i) {
+      const double fx = f(x);
+      if (fx >= 0.0) break;
+      const double fp = -k + (x >= cutoff ? 0.0 : w_rho * inv_rho * std::exp(-x * inv_rho));  // < 0 on (x_peak, g]
+      const double nx = x - fx / fp;
+      if (!(nx < x) || nx <= x_peak) break;  // round-off floor reached
+      x = nx;
+    }
+    return x;
+  }
+};
+
+// Jumps that trigger jumps, within one outer step: a point that closes its gap by Δ pulls
+// its neighbour m with the extra force K_mi Δ (K_mi < 0 off the diagonal), which may make
+// m jump in turn. The cascade follows this with every other gap held (nonlinear
+// Gauss-Seidel on the points near contact), over the exact real-space stiffness within
+// `kRadius` points; the far field of K is negative (−E*/(4π r³)), so leaving it out pulls
+// less than the truth and keeps the prediction above the maximal equilibrium. It runs
+// point by point from a first-in-first-out queue, in index order: the same sequence on
+// every run and thread count.
+constexpr int kRadius = 4;
+constexpr double kMoveFloor = 1e-3;  // in ρ: smaller predicted moves are not propagated
+
+class Cascade {
+ public:
+  // `k_response`: K applied to a unit displacement at index 0 of the transform grid.
+  Cascade(const HalfSpace& hs, const Field& k_response) : nx_(hs.grid().nx), ny_(hs.grid().ny), periodic_(hs.periodic()) {
+    const int mx = hs.transform_nx(), my = hs.transform_ny();
+    for (int dy = -kRadius; dy <= kRadius; ++dy)
+      for (int dx = -kRadius; dx <= kRadius; ++dx) {
+        if (dx == 0 && dy == 0) continue;
+        const std::size_t j = std::size_t((dy + my) % my) * std::size_t(mx) + std::size_t((dx + mx) % mx);
+        stencil_.push_back({dx, dy, k_response[j]});
+      }
+  }
+
+  // x: on entry the gaps g, on exit the predicted gaps. Returns the number of points moved.
+  long run(const Field& g, const Field& t, const JumpPrediction& jp, Field& x, double move_floor) {
+    const std::size_t n = g.size();
+    pull_.assign(n, 0.0);
+    applied_ = g;
+    queued_.assign(n, 0);
+    std::vector<std::size_t> queue;
+    for (std::size_t i = 0; i < n; ++i) {
+      x[i] = jp.gap(g[i], t[i], 0.0);
+      if (x[i] < g[i] - move_floor) queue.push_back(i), queued_[i] = 1;
+    }
+    long moved = 0;
+    for (std::size_t q = 0; q < queue.size(); ++q) {
+      const std::size_t i = queue[q];
+      queued_[i] = 0;
+      const double d = x[i] - applied_[i];  // not yet passed on (< 0)
+      applied_[i] = x[i];
+      ++moved;
+      const int ix = int(i % std::size_t(nx_)), iy = int(i / std::size_t(nx_));
+      for (const auto& s : stencil_) {
+        int jx = ix + s.dx, jy = iy + s.dy;
+        if (periodic_) {
+          jx = (jx + nx_) % nx_, jy = (jy + ny_) % ny_;
+        } else if (jx < 0 || jy < 0 || jx >= nx_ || jy >= ny_) {
+          continue;
+        }
+        const std::size_t m = std::size_t(jy) * std::size_t(nx_) + std::size_t(jx);
+        if (g[m] <= 0.0) continue;  // in contact: held by the wall
+        pull_[m] += s.k * d;
+        const double xm = std::min(x[m], jp.gap(g[m], t[m], pull_[m]));
+        if (xm < applied_[m] - move_floor && !queued_[m]) queue.push_back(m), queued_[m] = 1;
+        x[m] = xm;
+      }
+    }
+    return moved;
+  }
+
+ private:
+  struct Entry {
+    int dx, dy;
+    double k;
+  };
+  int nx_, ny_;
+  bool periodic_;
+  std::vector<Entry> stencil_;
+  Field pull_, applied_;
+  std::vector<unsigned char> queued_;
+};
+
+struct MaxReduction {
+  double v = 0.0;
+  void merge(const MaxReduction& o) { v = std::max(v, o.v); }
+};
+
+}  // namespace
+
+QuasiStaticAdhesion::QuasiStaticAdhesion(HalfSpace& hs, const Field& heights, ExponentialAdhesion adhesion,
+                                         Options o)
+    : hs_(hs), h_(heights), adh_(adhesion), opt_(std::move(o)) {
+  if (heights.size() != hs.grid().size())
+    throw std::invalid_argument("QuasiStaticAdhesion: heights do not match the grid");
+  if (!(opt_.tension_tolerance > 0.0)) throw std::invalid_argument("QuasiStaticAdhesion: tension_tolerance must be > 0");
+  // The diagonal of K: the pressure at a point that holds a unit displacement there and
+  // zero everywhere else (the same at every point of a translation-invariant grid).
+  Field delta(hs.transform_size(), 0.0), response(hs.transform_size(), 0.0);
+  delta[0] = 1.0;
+  hs.apply(delta.data(), response.data(), hs.stiffness());
+  k_self_ = response[0];
+  k_response_ = std::move(response);
+  if (!(k_self_ > 0.0)) throw std::logic_error("QuasiStaticAdhesion: the half-space's self-stiffness is not positive");
+}
+
+SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st) {
+  const SolveClock clock(hs_);
+  SolveResult res;
+  auto finish = [&](bool converged, std::string msg) { return clock.finish(res, converged, std::move(msg)); };
+  const std::size_t n = h_.size();
+  const JumpPrediction jump(k_self_, adh_);
+
+  // Polonsky-Keer on the shifted heights h − G t (hp), warm-started from its own state.
+  Field hp = h_, t(n, 0.0), gt(n, 0.0), next(n, 0.0), predicted(n, 0.0);
+  Cascade cascade(hs_, k_response_);
+  PolonskyKeer::Options po;
+  po.tolerance = opt_.tolerance;
+  po.max_iterations = opt_.max_iterations;
+  po.recompute_every = opt_.recompute_every;
+  PolonskyKeer pk(hs_, hp, po);  // its residual scale is that of h (hp == h here)
+  ContactState inner;
+  const bool warm = st.gap.size() == n && st.pressure.size() == n;
+  if (warm) {
+    // Start from the previous (smaller) load's state: its tension, and its repulsive
+    // pressure p + t as Polonsky-Keer's warm start.
+    const double* g = st.gap.data();
+    Grid::parallel_for(n, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i) t[i] = jump.tension(g[i]);
+    });
+    inner.pressure.resize(n);
+    Grid::parallel_for(n, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i) inner.pressure[i] = std::max(0.0, st.pressure[i] + t[i]);
+    });
+    inner.displacement = st.displacement;
+    inner.penetration = st.penetration;
+  }
+
+  double residual = 1.0;
+  bool pk_ok = true;
+  std::string pk_message;
+  int outer = 0;
+  for (;; ++outer) {
+    if (outer > 0 || warm) {
+      hs_.displacement(t, gt);
+      Grid::parallel_for(n, [&](std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i) hp[i] = h_[i] - gt[i];
+      });
+    }
+    Target tk = target;
+    if (target.control == Control::MeanPressure) tk.value = target.value + Grid::mean(t);
+    const SolveResult r = pk.solve(tk, inner);
+    res.iterations += r.iterations;
+    res.diagnostics += r.diagnostics;
+    if (!r.converged) {
+      pk_ok = false;
+      pk_message = "outer step " + std::to_string(outer) + ": " + r.message;
+      break;
+    }
+    // The next tension (with jump prediction and cascade) and how much it changes.
+    const double* g = inner.gap.data();
+    if (opt_.predict_jumps) {
+      cascade.run(inner.gap, t, jump, predicted, opt_.cascade ? kMoveFloor * adh_.range() : HUGE_VAL);
+    } else {
+      predicted = inner.gap;
+    }
+    const double* x = predicted.data();
+    double* tp = t.data();
+    double* tn = next.data();
+    residual = Grid::parallel_reduce<MaxReduction>(n, [&](std::size_t b, std::size_t e, MaxReduction& acc) {
+                 double m = 0.0;
+                 for (std::size_t i = b; i < e; ++i) {
+                   tn[i] = g[i] <= 0.0 ? jump.w_rho : jump.tension(x[i]);
+                   m = std::max(m, std::abs(tn[i] - tp[i]));
+                 }
+                 acc.v = std::max(acc.v, m);
+               }).v / adh_.peak_tension();
+    if (opt_.progress) opt_.progress(res.iterations, residual);
+    if (!std::isfinite(residual)) {
+      pk_ok = false;
+      pk_message = "the adhesive tension became non-finite at outer step " + std::to_string(outer);
+      break;
+    }
+    if (residual <= opt_.tension_tolerance || outer + 1 >= opt_.max_outer) break;
+    t.swap(next);
+  }
+  res.diagnostics.outer_iterations += outer + 1;
+  res.residual = residual;
+
+  // The solved state: total pressure p − t, displacement G (p − t), the gap of the solve.
+  // (t and gt are those of the last Polonsky-Keer solve, so the fields are consistent.)
+  if (!inner.empty()) {
+    st.pressure.resize(n);
+    st.displacement.resize(n);
+    Grid::parallel_for(n, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i) {
+        st.pressure[i] = inner.pressure[i] - t[i];
+        st.displacement[i] = inner.displacement[i] - gt[i];
+      }
+    });
+    st.gap = inner.gap;
+    st.penetration = inner.penetration;
+    st.mean_pressure = Grid::mean(st.pressure);
+    const double* g = st.gap.data();
+    const double adhesion = Grid::parallel_reduce<SumReduction>(n, [&](std::size_t b, std::size_t e, SumReduction& acc) {
+                              double s = 0.0;
+                              for (std::size_t i = b; i < e; ++i) s += adh_.evaluate(g[i]).energy;
+                              acc.v += s;
+                            }).v;
+    res.energy = hs_.energy(st.pressure, st.displacement) + adhesion * hs_.grid().cell_area();
+  }
+  if (!pk_ok) return finish(false, pk_message);
+  if (residual > opt_.tension_tolerance) {
+    std::ostringstream s;
+    s << "quasi-static adhesion stopped after " << outer + 1 << " outer steps at tension change " << residual
+      << " > tension_tolerance " << opt_.tension_tolerance;
+    return finish(false, s.str());
+  }
+  return finish(true, "");
+}
+
+}  // namespace cmc
