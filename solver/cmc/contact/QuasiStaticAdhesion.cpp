@@ -224,6 +224,15 @@ SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st) {
       break;
     }
     if (residual <= opt_.tension_tolerance || outer + 1 >= opt_.max_outer) break;
+    // Warm start of the next solve: keep the total pressure p − t of the points in contact,
+    // i.e. raise their repulsion by the change of their tension. The first solve after the
+    // hard-wall one then starts from the hard-wall state itself instead of a rescaled
+    // pressure (measured at 512²: 119 -> 51 iterations for that solve).
+    double* pr = inner.pressure.data();
+    Grid::parallel_for(n, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i)
+        if (pr[i] > 0.0) pr[i] = std::max(0.0, pr[i] + tn[i] - tp[i]);
+    });
     t.swap(next);
   }
   res.diagnostics.outer_iterations += outer + 1;
