@@ -152,6 +152,10 @@ SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st) {
   auto finish = [&](bool converged, std::string msg) { return clock.finish(res, converged, std::move(msg)); };
   const std::size_t n = h_.size();
   const JumpPrediction jump(k_self_, adh_);
+  if (target.control == Control::MeanPressure && !(target.value > 0.0))
+    return finish(false, "quasi-static loading from out of contact reaches no contact at a mean pressure <= 0 (the "
+                         "surfaces stay apart); tensile loads are on an unloading path: use [solver] kind = "
+                         "\"adhesive_cg\"");
 
   // Polonsky-Keer on the shifted heights h − G t (hp), warm-started from its own state.
   Field hp = h_, t(n, 0.0), gt(n, 0.0), next(n, 0.0), predicted(n, 0.0);
