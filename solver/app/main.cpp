@@ -1,6 +1,8 @@
 // cmc: the command-line program. Dispatches to one file per command (cmd_*.cpp).
 #include "commands.hpp"
 
+#include "cmc/run/TestPoints.hpp"
+
 #include <cstdio>
 #include <cstring>
 #include <new>
@@ -50,6 +52,7 @@ int main(int argc, char** argv) {
   if (cmd == "-h" || cmd == "--help" || cmd == "help") return std::fputs(kHelp, stdout), kOk;
   if (cmd == "--version" || cmd == "version") return std::printf("cmc %s\n", CMC_VERSION), kOk;
   try {
+    cmc::check_test_points();  // a malformed CMC_TEST_* variable is bad input, before anything runs
     if (cmd == "run") return cmd_run(argc, argv);
     if (cmd == "validate") return cmd_validate(argc, argv);
     if (cmd == "refine") return cmd_refine(argc, argv);

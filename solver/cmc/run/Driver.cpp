@@ -2,6 +2,7 @@
 
 #include "cmc/contact/AdhesiveSolver.hpp"
 #include "cmc/contact/PolonskyKeer.hpp"
+#include "cmc/run/TestPoints.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -80,8 +81,10 @@ void run_polonsky_keer(const Case& c, const Scene& s, Run& run, std::size_t firs
                        const Progress& progress) {
   PolonskyKeer solver(*s.half_space, s.topography.heights, solver_options<PolonskyKeer::Options>(c.solver, progress));
   for (std::size_t k = first; k < s.targets.size(); ++k) {
+    test_point("solve");
     const SolveResult r = solver.solve(s.targets[k], state);
     run.keep(run.record(k, r, state), state);
+    test_point("step");
   }
 }
 
@@ -100,7 +103,11 @@ void run_adhesive_cg(const Case& c, const Scene& s, Run& run, std::size_t first,
   const std::vector<Target> rest(s.targets.begin() + long(first), s.targets.end());
   std::size_t k = first;
   const LoadPathResult lp = run_load_path(
-      [&](const Target& t, ContactState& st) { return solver.solve(t, st); }, rest, state, lo,
+      [&](const Target& t, ContactState& st) {
+        test_point("solve");
+        return solver.solve(t, st);
+      },
+      rest, state, lo,
       [&](const LoadStep& ls, const ContactState& st) {
         SolveResult r = ls.result;
         r.iterations = ls.iterations, r.fft_pairs = ls.fft_pairs, r.wall_s = ls.wall_s;  // all solves of the step
@@ -109,6 +116,7 @@ void run_adhesive_cg(const Case& c, const Scene& s, Run& run, std::size_t first,
         rec.jump = ls.jump;
         rec.halvings = ls.halvings;
         run.keep(rec, st);
+        test_point("step");
       });
   RunSummary& sum = run.summary;
   sum.load_path = true;
@@ -126,6 +134,7 @@ void run_adhesive_cg(const Case& c, const Scene& s, Run& run, std::size_t first,
 
 RunSummary run_scene(const Case& c, Scene& s, const StepCallback& on_step, const Progress& progress,
                      const std::vector<StepRecord>* done, const ContactState* warm) {
+  check_test_points();
   const double pair_s = s.half_space->time_fft_pair();
   const auto t0 = std::chrono::steady_clock::now();
   Run run(s, on_step);
