@@ -1,16 +1,24 @@
 // Resume that loses nothing (issue 12): a load path continued from any of its checkpoints
-// makes exactly the solves of the uninterrupted path.
+// makes exactly the solves of the uninterrupted path, and a checkpoint written by the
+// Writer gives back every piece of path state bit for bit. (The whole program, killed and
+// resumed: tests/resume_test.py.)
 #include "cmc/contact/LoadPath.hpp"
+#include "cmc/output/Writer.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <bit>
 #include <cmath>
 #include <cstdint>
-#include <functional>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
 #include <vector>
 
 using namespace cmc;
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -115,4 +123,140 @@ TEST(Resume, LoadPathContinuesExactlyFromEveryCheckpoint) {
     EXPECT_TRUE(same_bits(rest.pulloff_target.value, whole.pulloff_target.value));
     EXPECT_EQ(rest.pulloff_branch, whole.pulloff_branch);
   }
+}
+
+namespace {
+Case small_case() {
+  return parse_case(toml::parse(R"(
+[case]
+name = "r"
+[grid]
+n = 8
+size = 1e-3
+boundary = "free"
+[material]
+contact_modulus = 1e6
+[surface]
+kind = "sphere"
+radius = 1e-2
+[loading]
+control = "penetration"
+values = [1e-6, 2e-6]
+)"),
+                    "mem");
+}
+ContactState state_of(std::size_t n, double seed) {
+  ContactState s;
+  for (std::size_t i = 0; i < n; ++i) {
+    s.pressure.push_back(seed * std::sin(double(i) + 0.1));
+    s.displacement.push_back(seed / (1.0 + double(i)));
+    s.gap.push_back(i % 3 ? 0.0 : 1.0 / 3.0 + double(i));
+  }
+  s.penetration = 0.1 + 0.2;  // not a short decimal
+  s.mean_pressure = -std::numeric_limits<double>::denorm_min();
+  return s;
+}
+}  // namespace
+
+// Every field of the path state and both states come back bit for bit (NaN, −0, a
+// denormal, a value with 17 significant digits included).
+TEST(Resume, CheckpointKeepsEveryPieceOfPathStateBitForBit) {
+  const Case c = small_case();
+  Scene s = build_scene(c);
+  const auto dir = fs::temp_directory_path() / ("cmc_resume_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const std::size_t n = s.grid.size();
+  PathState p;
+  p.started = true;
+  p.next = 0;
+  p.have_prev = true;
+  p.value = 1.0 / 3.0;
+  p.contact_fraction = 0.1 + 0.7;
+  p.mean_pressure = -0.0;
+  p.pressure_scale = 1e-300;
+  p.branch = Branch::Unloading;
+  p.pulloff_mean_pressure = -std::nextafter(1.0, 2.0);
+  p.pulloff_value = 2.0 / 7.0;
+  p.pulloff_branch = Branch::Unloading;
+  p.pulloff_before = std::numeric_limits<double>::quiet_NaN();
+  p.pulloff_after = 5e-324;
+  p.pulloff_is_last = true;
+  p.have_last = true;
+  p.last_value = -1.0 / 9.0;
+  p.pulloff_state = state_of(n, 2.5);
+  p.failed_steps = 1, p.halved_steps = 2, p.jumps = 3, p.max_halvings = 4;
+  p.refinement = PathState::Refinement::Running;
+  p.lo = 0.1, p.hi = 0.7, p.x1 = 0.1 + 0.6 * 0.381966, p.x2 = 0.7 - 0.6 * 0.381966, p.f1 = -1.0 / 3.0, p.f2 = 1e308;
+  p.have_f1 = true, p.have_f2 = false;
+  p.refinement_solves = 5;
+  const ContactState st = state_of(n, -1.25);
+  {
+    Writer w(dir, c, s);
+    w.checkpoint(st, &p);
+  }
+  Writer w(dir, c, s, /*resume=*/true);
+  ASSERT_TRUE(w.resuming());
+  const RunPoint& r = w.resume_point();
+  const PathState& q = r.path;
+  EXPECT_TRUE(r.done.empty());
+  EXPECT_EQ(q.started, p.started);
+  EXPECT_EQ(q.next, p.next);
+  EXPECT_EQ(q.have_prev, p.have_prev);
+  EXPECT_EQ(q.branch, p.branch);
+  EXPECT_EQ(q.pulloff_branch, p.pulloff_branch);
+  EXPECT_EQ(q.pulloff_is_last, p.pulloff_is_last);
+  EXPECT_EQ(q.have_last, p.have_last);
+  EXPECT_EQ(q.failed_steps, p.failed_steps);
+  EXPECT_EQ(q.halved_steps, p.halved_steps);
+  EXPECT_EQ(q.jumps, p.jumps);
+  EXPECT_EQ(q.max_halvings, p.max_halvings);
+  EXPECT_EQ(q.refinement, p.refinement);
+  EXPECT_EQ(q.have_f1, p.have_f1);
+  EXPECT_EQ(q.have_f2, p.have_f2);
+  EXPECT_EQ(q.refinement_solves, p.refinement_solves);
+  const std::pair<double, double> scalars[] = {
+      {q.value, p.value},
+      {q.contact_fraction, p.contact_fraction},
+      {q.mean_pressure, p.mean_pressure},
+      {q.pressure_scale, p.pressure_scale},
+      {q.pulloff_mean_pressure, p.pulloff_mean_pressure},
+      {q.pulloff_value, p.pulloff_value},
+      {q.pulloff_after, p.pulloff_after},
+      {q.last_value, p.last_value},
+      {q.lo, p.lo}, {q.hi, p.hi}, {q.x1, p.x1}, {q.x2, p.x2}, {q.f1, p.f1}, {q.f2, p.f2},
+      {q.pulloff_state.penetration, p.pulloff_state.penetration},
+      {q.pulloff_state.mean_pressure, p.pulloff_state.mean_pressure},
+      {r.state.penetration, st.penetration},
+      {r.state.mean_pressure, st.mean_pressure}};
+  for (std::size_t i = 0; i < std::size(scalars); ++i)
+    EXPECT_TRUE(same_bits(scalars[i].first, scalars[i].second))
+        << "scalar " << i << ": " << scalars[i].first << " != " << scalars[i].second;
+  EXPECT_TRUE(std::isnan(q.pulloff_before));
+  for (const auto& [got, want] : {std::pair{&r.state, &st}, {&q.pulloff_state, &p.pulloff_state}}) {
+    ASSERT_EQ(got->pressure.size(), n);
+    for (std::size_t i = 0; i < n; ++i) {
+      EXPECT_TRUE(same_bits(got->pressure[i], want->pressure[i]));
+      EXPECT_TRUE(same_bits(got->displacement[i], want->displacement[i]));
+      EXPECT_TRUE(same_bits(got->gap[i], want->gap[i]));
+    }
+  }
+  fs::remove_all(dir);
+}
+
+// A checkpoint that does not fit the case is bad input naming the file, not a crash.
+TEST(Resume, DamagedCheckpointIsAClearError) {
+  const Case c = small_case();
+  Scene s = build_scene(c);
+  const auto dir = fs::temp_directory_path() / ("cmc_resume_bad_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir / ".partial");
+  { std::ofstream(dir / ".partial" / "checkpoint.h5") << "not HDF5"; }
+  try {
+    Writer w(dir, c, s, true);
+    FAIL() << "no error";
+  } catch (const CaseError& e) {
+    EXPECT_NE(std::string(e.what()).find("checkpoint.h5"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("without --resume"), std::string::npos) << e.what();
+  }
+  fs::remove_all(dir);
 }

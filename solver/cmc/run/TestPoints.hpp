@@ -11,7 +11,8 @@
 //                              (to choose where to stop it).
 // The points (run/Driver.cpp):
 //   solve   before every solve (a load step's solves, sub-steps, pull-off refinement);
-//   step    after a load step's checkpoint (between two steps).
+//   step    after a load step's checkpoint (between two steps);
+//   refine  after the checkpoint of a pull-off refinement solve.
 #pragma once
 
 namespace cmc {
