@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """Interruption tests of `cmc run` (issue 12): a run killed anywhere and resumed with
---resume gives the same results, bit for bit, as a run that was not interrupted.
+--resume gives the same results, bit for bit, as a run that was not interrupted; an
+unfinished folder says so.
 
 usage: tests/resume_test.py CMC WORKDIR TEST
 
@@ -16,6 +17,8 @@ TEST is one of
                     uninterrupted run's pull-off
   D2_jump_scale     killed between steps: the resumed steps are the uninterrupted ones
                     (the jump test's running max of |p| is carried on)
+  D8_stale_summary  a run killed before its first checkpoint leaves no earlier run's
+                    summary.json (nor result.h5) behind, and an INCOMPLETE marker
 
 Runs are stopped deterministically by cmc's test points (solver/cmc/run/TestPoints.hpp:
 CMC_TEST_KILL_AT=NAME:N, CMC_TEST_TRACE), not by timers, so the test
@@ -97,20 +100,24 @@ def points(trace):
     return steps, current
 
 
-def interrupted(cmc, case, out, point, *args, resume=False):
-    """A run (or a resumed run) killed at `point`: True if it died of SIGKILL."""
+def interrupted(cmc, case, out, point, *args, resume=False, marker=True):
+    """A run (or a resumed run) killed at `point`: True if it died of SIGKILL. With `marker`,
+    also checks that the folder says it is unfinished (D8; the D1-D3 tests leave it out,
+    so that each fails for its own defect only)."""
     p = cmc_run(cmc, case, out, *args, resume=resume, CMC_TEST_KILL_AT=point)
     ok = check(killed(p), f"kill at {point}: expected the run to die of SIGKILL, got exit {p.returncode}:\n{p.stderr}")
-    if ok:
+    if ok and marker:
         check(not os.path.exists(os.path.join(out, "summary.json")),
               f"kill at {point}: {out}/summary.json exists in an unfinished folder")
+        check(os.path.exists(os.path.join(out, "INCOMPLETE")), f"kill at {point}: {out}/INCOMPLETE is missing")
     return ok
 
 
 def resume(cmc, case, out, *args):
     p = cmc_run(cmc, case, out, *args, resume=True)
     check(p.returncode == 0, f"resume of {out}: exit {p.returncode}:\n{p.stderr}")
-    check(not os.path.exists(os.path.join(out, ".partial")), f"resume of {out}: .partial/ left in a finished folder")
+    check(not os.path.exists(os.path.join(out, "INCOMPLETE")) and not os.path.exists(os.path.join(out, ".partial")),
+          f"resume of {out}: INCOMPLETE or .partial/ left in a finished folder")
     return p
 
 
@@ -166,7 +173,7 @@ def test_D1_pulloff(cmc, work):
     ref, steps, refinement = path_points(cmc, work)
     out = os.path.join(work, "d1")
     shutil.rmtree(out, ignore_errors=True)
-    if interrupted(cmc, PATH_CASE, out, f"solve:{refinement[2]}"):
+    if interrupted(cmc, PATH_CASE, out, f"solve:{refinement[2]}", marker=False):
         resume(cmc, PATH_CASE, out)
         got, want = summary(out).get("load_path", {}), summary(ref)["load_path"]
         for key in ("pulloff_force", "pulloff_mean_pressure", "pulloff_branch"):
@@ -184,11 +191,28 @@ def test_D2_jump_scale(cmc, work):
     # Killed after step 3: on unloading, where |p| has fallen below its running max.
     out = os.path.join(work, "d2")
     shutil.rmtree(out, ignore_errors=True)
-    if interrupted(cmc, PATH_CASE, out, "step:4"):
+    if interrupted(cmc, PATH_CASE, out, "step:4", marker=False):
         resume(cmc, PATH_CASE, out)
         for want, got in zip(steps_after(ref, 4), steps_after(out, 4)):
             check(want == got, f"killed after step 3, resumed: step {want['index']} differs:\n"
                                f"  uninterrupted {want}\n  resumed       {got}")
+
+
+def test_D8_stale_summary(cmc, work):
+    out = os.path.join(work, "d8")
+    shutil.rmtree(out, ignore_errors=True)
+    p = cmc_run(cmc, PATH_CASE, out)
+    check(p.returncode == 0 and os.path.exists(os.path.join(out, "summary.json")), f"first run: exit {p.returncode}")
+    # Another run in the same folder, killed before its first checkpoint.
+    args = ["--set", "solver.tolerance=1e-5"]
+    p = cmc_run(cmc, PATH_CASE, out, *args, CMC_TEST_KILL_AT="solve:1")
+    check(killed(p), f"second run: expected SIGKILL, got exit {p.returncode}")
+    for f in ("summary.json", "result.h5", "result.xdmf"):
+        check(not os.path.exists(os.path.join(out, f)),
+              f"a run killed before its first checkpoint left the earlier run's {f} in {out}")
+    marker = os.path.join(out, "INCOMPLETE")
+    check(os.path.exists(marker) and "--resume" in open(marker).read(),
+          f"{marker}: missing, or it does not say how to continue the run")
 
 
 def main(argv):

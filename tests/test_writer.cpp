@@ -86,6 +86,7 @@ TEST(Writer, ResumesAnInterruptedRun) {
               [&](const ContactState& st, const PathState* p) { w.checkpoint(st, p); });
   }
   EXPECT_FALSE(fs::exists(dir / "summary.json"));
+  EXPECT_TRUE(fs::exists(dir / "INCOMPLETE"));
   // Resumed: skips the finished steps and warm-starts from the checkpoint.
   Scene s = build_scene(c);
   Writer w(dir, c, s, true);
@@ -100,6 +101,7 @@ TEST(Writer, ResumesAnInterruptedRun) {
   EXPECT_EQ(run.status, RunStatus::Converged);
   // Bit for bit: the resumed run goes on from the exact state the interrupted one stopped at.
   for (int k = 0; k < 3; ++k) EXPECT_EQ(run.steps[k].penetration, full.steps[k].penetration);
+  EXPECT_FALSE(fs::exists(dir / "INCOMPLETE"));
   EXPECT_FALSE(fs::exists(dir / ".partial"));
   // A different case (another --set) does not resume from these files.
   Case other = small_case();

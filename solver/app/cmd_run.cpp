@@ -15,10 +15,11 @@ Solves every load step of CASE.toml and writes, atomically:
 --set overrides any case key, e.g. --set grid.n=512 --set solver.tolerance=1e-8
 (the value is TOML: numbers, "strings" or bare words, [arrays]).
 Progress goes to stderr when it is a terminal; --quiet silences it.
-A checkpoint is kept in DIR (DIR/.partial/) after every load step and every pull-off
-refinement solve; --resume continues an interrupted run of the same case (same file and
---set values) from its last checkpoint, with the same results, bit for bit, as a run
-that was not interrupted.
+Until the run finishes DIR holds no summary.json (an earlier run's results are removed
+when it starts) but a file DIR/INCOMPLETE, and checkpoints (DIR/.partial/): after every
+load step and every pull-off refinement solve. --resume continues an interrupted run of
+the same case (same file and --set values) from its last checkpoint, with the same
+results, bit for bit, as a run that was not interrupted.
 Exit codes: 0 converged, 2 bad input, 3 not converged (results are still written,
 with "status": "not_converged"), 4 failed.
 )";

@@ -210,6 +210,7 @@ Writer::Writer(fs::path dir, const Case& c, const Scene& s, bool resume) : dir_(
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   partial_ = dir_ / ".partial";
   checkpoint_ = partial_ / "checkpoint.h5";
+  marker_ = dir_ / "INCOMPLETE";
   if (resume) {
     if (fs::exists(checkpoint_)) {
       load_partial();
@@ -219,12 +220,21 @@ Writer::Writer(fs::path dir, const Case& c, const Scene& s, bool resume) : dir_(
                 "cannot be continued exactly: starting afresh";
     }
   }
+  // An earlier run's results must not pass for this run's.
+  for (const char* f : {"summary.json", "result.h5", "result.xdmf"}) fs::remove(dir_ / f, ec);
   if (!resuming_) {
     for (const char* f : {".progress.toml", ".checkpoint.h5", ".result.h5.partial"}) fs::remove(dir_ / f, ec);
     fs::remove_all(partial_, ec);
     fs::create_directories(partial_, ec);
     if (ec || !fs::is_directory(partial_)) throw std::runtime_error(partial_.string() + ": cannot create the folder");
   }
+  std::ostringstream m;
+  m << "This folder holds an unfinished cmc run of case '" << c.name << "' (" << c.file
+    << "): still running, interrupted or failed.\n"
+    << "Its results (summary.json, result.h5, result.xdmf) are written only when it finishes.\n"
+    << "To continue it from its last checkpoint (with the same --set options as the run that started it):\n"
+    << "  cmc run " << c.file << " --out " << dir_.string() << " --resume\n";
+  write_atomically(marker_, m.str());
 }
 
 fs::path Writer::step_file(int index) const {
@@ -515,6 +525,7 @@ void Writer::finish(const RunSummary& run, const toml::table& extra) {
   write_atomically(dir_ / "summary.json", to_json(s));
   // The run is complete: its partial files go.
   std::error_code ec;
+  fs::remove(marker_, ec);
   fs::remove_all(partial_, ec);
 }
 

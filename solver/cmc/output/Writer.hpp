@@ -3,9 +3,10 @@
 // attributes, for h5py) and DIR/result.xdmf (a pointer file so ParaView can open the
 // HDF5 fields). They are written only when the run finishes, each under a temporary name
 // renamed into place when complete, so an interrupted run never leaves a half-written
-// result.
+// result, nor an earlier run's (they are removed when a run starts).
 //
 // While a run is unfinished its folder holds:
+//   DIR/INCOMPLETE               says so, and how to continue it (removed when it finishes);
 //   DIR/.partial/step_NNNN.h5    each finished step's fields, written atomically;
 //   DIR/.partial/checkpoint.h5   where the run stands (a RunPoint: the finished steps'
 //                                records, the state to go on from and the load path's
@@ -26,6 +27,7 @@ class Writer {
  public:
   // With `resume`, a partial run of the same case in `dir` is continued (see
   // resume_point()); without, or when there is none, any partial run there is discarded.
+  // An earlier run's results are removed.
   Writer(std::filesystem::path dir, const Case& c, const Scene& s, bool resume = false);
   ~Writer();  // keeps the partial files of an unfinished run, so it can be resumed
   // Where the interrupted run stood (nothing done, and an empty state, without --resume).
@@ -55,7 +57,7 @@ class Writer {
   toml::table summary_base() const;
   void load_partial();
   std::filesystem::path step_file(int index) const;
-  std::filesystem::path dir_, partial_, checkpoint_;
+  std::filesystem::path dir_, partial_, checkpoint_, marker_;
   RunPoint resume_;
   bool resuming_ = false;
   std::string notice_;
