@@ -17,6 +17,9 @@ TEST is one of
                     uninterrupted run's pull-off
   D2_jump_scale     killed between steps: the resumed steps are the uninterrupted ones
                     (the jump test's running max of |p| is carried on)
+  D3_counters       killed between steps: the path's counters (halved steps, jumps) are
+                    the whole path's, and progress lines on a terminal number the steps
+                    from where the run resumed
   D8_stale_summary  a run killed before its first checkpoint leaves no earlier run's
                     summary.json (nor result.h5) behind, and an INCOMPLETE marker
 
@@ -26,6 +29,7 @@ is reliable on a loaded machine. Exits 0 on success, 1 with the reasons on failu
 """
 import json
 import os
+import pty
 import re
 import shutil
 import signal
@@ -196,6 +200,43 @@ def test_D2_jump_scale(cmc, work):
         for want, got in zip(steps_after(ref, 4), steps_after(out, 4)):
             check(want == got, f"killed after step 3, resumed: step {want['index']} differs:\n"
                                f"  uninterrupted {want}\n  resumed       {got}")
+
+
+def run_on_terminal(cmd, environment):
+    """Runs cmd with stderr on a pseudo-terminal (cmc prints progress only to one)."""
+    master, slave = pty.openpty()
+    p = subprocess.Popen(cmd, env=environment, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=slave)
+    os.close(slave)
+    chunks = []
+    while True:
+        try:
+            data = os.read(master, 4096)
+        except OSError:  # EIO: the child closed the terminal
+            break
+        if not data:
+            break
+        chunks.append(data)
+    os.close(master)
+    p.wait()
+    return p.returncode, b"".join(chunks).decode(errors="replace")
+
+
+def test_D3_counters(cmc, work):
+    ref, steps, _ = path_points(cmc, work)
+    out = os.path.join(work, "d3")
+    shutil.rmtree(out, ignore_errors=True)
+    if not interrupted(cmc, PATH_CASE, out, "step:2", marker=False):
+        return
+    rc, text = run_on_terminal([cmc, "run", PATH_CASE, "--out", out, "--resume"], env())
+    check(rc == 0, f"resume of {out} on a terminal: exit {rc}:\n{text}")
+    want, got = summary(ref)["load_path"], summary(out).get("load_path", {})
+    for key in ("halved_steps", "jumps"):
+        check(got.get(key) == want[key], f"killed after step 1, resumed: load_path.{key} = {got.get(key)!r}, "
+                                         f"uninterrupted {want[key]!r}")
+    shown = [int(k) for k in re.findall(r"\bstep (\d+)/\d+ +iteration", text)]
+    check(bool(shown), f"no progress lines on the terminal:\n{text}")
+    check(shown and min(shown) == 2, f"killed after step 1, resumed: progress lines show steps {sorted(set(shown))}, "
+                                     "expected them to start at step 2")
 
 
 def test_D8_stale_summary(cmc, work):

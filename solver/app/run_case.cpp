@@ -19,7 +19,9 @@ RunSummary run_case_to(const Case& c, Scene& scene, const std::string& out, bool
       std::fprintf(stderr, ", %d pull-off refinement solves done", rp.path.refinement_solves);
     std::fputc('\n', stderr);
   }
-  int step = 0;
+  // The step being solved, numbered as in summary.json (a resumed run goes on from its
+  // first unfinished step).
+  int step = int(rp.done.size());
   const auto t0 = std::chrono::steady_clock::now();
   const bool tty = !quiet && isatty(STDERR_FILENO);
   RunSummary run;
@@ -36,7 +38,7 @@ RunSummary run_case_to(const Case& c, Scene& scene, const std::string& out, bool
                          r.result.residual, r.result.wall_s, r.mean_pressure, r.contact_fraction);
           step = r.index + 1;
         },
-        make_progress(quiet, &step, t0, int(scene.targets.size())), writer.resuming() ? &rp : nullptr,
+        make_progress(quiet, &step, t0, int(scene.targets.size()), step), writer.resuming() ? &rp : nullptr,
         [&](const ContactState& st, const PathState* path) { writer.checkpoint(st, path); });
     writer.finish(run);
   } catch (const std::exception& e) {
