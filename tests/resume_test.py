@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Interruption tests of `cmc run` (issue 12): a run killed anywhere and resumed with
 --resume gives the same results, bit for bit, as a run that was not interrupted; an
-unfinished folder says so.
+unfinished folder says so; one process at a time writes into a folder.
 
 usage: tests/resume_test.py CMC WORKDIR TEST
 
@@ -22,9 +22,12 @@ TEST is one of
                     from where the run resumed
   D8_stale_summary  a run killed before its first checkpoint leaves no earlier run's
                     summary.json (nor result.h5) behind, and an INCOMPLETE marker
+  D7_lock           a second cmc run / validate / refine on a folder in use stops at once
+                    with exit code 4, naming the folder and the first run's process id,
+                    and the first run's results are intact
 
 Runs are stopped deterministically by cmc's test points (solver/cmc/run/TestPoints.hpp:
-CMC_TEST_KILL_AT=NAME:N, CMC_TEST_TRACE), not by timers, so the test
+CMC_TEST_KILL_AT=NAME:N, CMC_TEST_PAUSE_AT, CMC_TEST_TRACE), not by timers, so the test
 is reliable on a loaded machine. Exits 0 on success, 1 with the reasons on failure.
 """
 import json
@@ -254,6 +257,46 @@ def test_D8_stale_summary(cmc, work):
     marker = os.path.join(out, "INCOMPLETE")
     check(os.path.exists(marker) and "--resume" in open(marker).read(),
           f"{marker}: missing, or it does not say how to continue the run")
+
+
+def test_D7_lock(cmc, work):
+    ref, _ = reference(cmc, work)
+    out = os.path.join(work, "d7")
+    shutil.rmtree(out, ignore_errors=True)
+    go = os.path.join(work, "d7-continue")
+    if os.path.exists(go):
+        os.remove(go)
+    first = subprocess.Popen([cmc, "run", PATH_CASE, "--out", out, "--quiet"], stderr=subprocess.PIPE, text=True,
+                             env=env(CMC_TEST_PAUSE_AT="step:2", CMC_TEST_CONTINUE=go))
+    try:
+        line = first.stderr.readline()  # blocks until the first run holds the folder, paused
+        m = re.match(r"cmc: test point step:2: paused, pid (\d+)", line)
+        if not check(m is not None, f"the first run did not pause: {line!r}"):
+            return
+        pid = m.group(1)
+        before = {f: os.path.getmtime(os.path.join(out, f)) for f in os.listdir(out)}
+        validation_case = os.path.join(ROOT, "cases", "validation", "maugis-dugdale-lambda1.toml")
+        seconds = []
+        for cmd in ([cmc, "run", PATH_CASE, "--out", out],
+                    [cmc, "run", PATH_CASE, "--out", out, "--resume"],
+                    [cmc, "validate", validation_case, "--set", "grid.n=64", "--out", out],
+                    [cmc, "refine", HARDWALL_CASE, "--grids", "32", "64", "--out", out]):
+            t = time.monotonic()
+            p = subprocess.run(cmd, env=env(), capture_output=True, text=True, timeout=120)
+            seconds.append(time.monotonic() - t)
+            label = " ".join(os.path.basename(c) for c in cmd[1:3])
+            check(p.returncode == 4, f"{label} on a folder in use: exit {p.returncode}, expected 4:\n{p.stderr}")
+            check(out in p.stderr and f"pid {pid}" in p.stderr,
+                  f"{label} on a folder in use: the message does not name {out} and pid {pid}:\n{p.stderr}")
+        check(max(seconds) < 30, f"a second run took {max(seconds):.1f} s to stop (expected at once)")
+        after = {f: os.path.getmtime(os.path.join(out, f)) for f in os.listdir(out)}
+        check(before == after, f"the second runs changed the first's folder:\n  before {before}\n  after  {after}")
+    finally:
+        open(go, "w").close()
+        rest = first.stderr.read()
+        first.wait(timeout=300)
+    check(first.returncode == 0, f"the first run, continued: exit {first.returncode}:\n{rest}")
+    compare(ref, out, "the first run, after the second ones were turned away")
 
 
 def main(argv):

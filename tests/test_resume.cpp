@@ -3,6 +3,7 @@
 // Writer gives back every piece of path state bit for bit. (The whole program, killed and
 // resumed: tests/resume_test.py.)
 #include "cmc/contact/LoadPath.hpp"
+#include "cmc/output/OutputLock.hpp"
 #include "cmc/output/Writer.hpp"
 
 #include <gtest/gtest.h>
@@ -259,4 +260,30 @@ TEST(Resume, DamagedCheckpointIsAClearError) {
     EXPECT_NE(std::string(e.what()).find("without --resume"), std::string::npos) << e.what();
   }
   fs::remove_all(dir);
+}
+
+// One owner per output folder (D7; across processes: ctest lock.D7_one_owner). Within a
+// process the holds of one folder are shared; the lock file names the process; a folder
+// the lock made and nobody wrote into goes when the last hold does (bad input leaves
+// nothing behind), one that held anything stays.
+TEST(OutputLock, SharedWithinAProcessNamesItAndCleansUpAnEmptyFolder) {
+  const auto dir = fs::temp_directory_path() / ("cmc_lock_" + std::to_string(::getpid())) / "out";
+  fs::remove_all(dir.parent_path());
+  {
+    const OutputLock a(dir);
+    const OutputLock b(dir / "." / "");  // the same folder, spelled differently
+    EXPECT_TRUE(a.held() && b.held());
+    std::ifstream in(dir / OutputLock::file_name());
+    long pid = 0;
+    in >> pid;
+    EXPECT_EQ(pid, long(::getpid()));
+  }
+  EXPECT_FALSE(fs::exists(dir)) << "an empty folder made by the lock was left behind";
+  {
+    const OutputLock a(dir);
+    std::ofstream(dir / "result.txt") << "x";
+  }
+  EXPECT_TRUE(fs::exists(dir / "result.txt"));
+  EXPECT_EQ(fs::file_size(dir / OutputLock::file_name()), 0u);  // nobody holds it
+  fs::remove_all(dir.parent_path());
 }

@@ -37,7 +37,8 @@ options:
   --version      print the version
 
 exit codes: 0 ok, 2 bad input (case file or arguments), 3 a solve did not reach its
-tolerance, 4 run failed (I/O, memory), 5 a validation check failed.
+tolerance, 4 run failed (I/O, memory, output folder in use by another cmc process),
+5 a validation check failed.
 Case files: see cases/README.md. Units: SI in case files and outputs.
 )";
 

@@ -203,14 +203,13 @@ PathState path_from(const toml::table& t, const std::string& file) {
 
 }  // namespace
 
-Writer::Writer(fs::path dir, const Case& c, const Scene& s, bool resume) : dir_(std::move(dir)), case_(c), scene_(s) {
-  std::error_code ec;
-  fs::create_directories(dir_, ec);
-  if (ec || !fs::is_directory(dir_)) throw std::runtime_error(dir_.string() + ": cannot create the output folder");
+Writer::Writer(fs::path dir, const Case& c, const Scene& s, bool resume)
+    : lock_(dir), dir_(std::move(dir)), case_(c), scene_(s) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   partial_ = dir_ / ".partial";
   checkpoint_ = partial_ / "checkpoint.h5";
   marker_ = dir_ / "INCOMPLETE";
+  std::error_code ec;
   if (resume) {
     if (fs::exists(checkpoint_)) {
       load_partial();

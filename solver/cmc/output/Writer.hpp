@@ -11,9 +11,11 @@
 //   DIR/.partial/checkpoint.h5   where the run stands (a RunPoint: the finished steps'
 //                                records, the state to go on from and the load path's
 //                                walk), replaced atomically at every checkpoint; --resume
-//                                continues from it exactly as if the run had not stopped.
+//                                continues from it exactly as if the run had not stopped;
+//   DIR/.cmc.lock                the lock of the process writing there (OutputLock.hpp).
 #pragma once
 
+#include "cmc/output/OutputLock.hpp"
 #include "cmc/run/Driver.hpp"
 
 #include <filesystem>
@@ -25,9 +27,9 @@ namespace cmc {
 
 class Writer {
  public:
-  // With `resume`, a partial run of the same case in `dir` is continued (see
-  // resume_point()); without, or when there is none, any partial run there is discarded.
-  // An earlier run's results are removed.
+  // Locks `dir` (OutputBusy when another process writes there). With `resume`, a partial
+  // run of the same case in `dir` is continued (see resume_point()); without, or when
+  // there is none, any partial run there is discarded. An earlier run's results are removed.
   Writer(std::filesystem::path dir, const Case& c, const Scene& s, bool resume = false);
   ~Writer();  // keeps the partial files of an unfinished run, so it can be resumed
   // Where the interrupted run stood (nothing done, and an empty state, without --resume).
@@ -57,6 +59,7 @@ class Writer {
   toml::table summary_base() const;
   void load_partial();
   std::filesystem::path step_file(int index) const;
+  OutputLock lock_;
   std::filesystem::path dir_, partial_, checkpoint_, marker_;
   RunPoint resume_;
   bool resuming_ = false;
