@@ -3,11 +3,12 @@
 
 usage: scripts/compare_runs.py A B [--ignore KEY ...]
 
-Every number and string of each summary.json (timing and wall-clock keys are left out:
-they differ on every run) and every dataset of each result.h5 must be identical. Prints
-each difference and exits 1 if there is one, 0 if everything is identical. A folder
-holding summary.json is one run; otherwise each subfolder holding one is compared with
-its namesake in B.
+Every number and string of each summary.json (the wall-clock keys are left out: they
+differ on every run; the counts in "timing", iterations and FFT pairs, are compared) and
+every dataset and attribute of each result.h5 must be identical, and present in both.
+Prints each difference and exits 1 if there is one, 0 if everything is identical. A
+folder holding summary.json is one run; otherwise each subfolder holding one is compared
+with its namesake in B. A run in A whose namesake in B has no summary.json is a difference.
 """
 import json
 import os
@@ -16,7 +17,8 @@ import sys
 import h5py
 import numpy as np
 
-ALWAYS_IGNORED = {"wall_s", "timing"}
+# Wall-clock times and what is derived from them (timing.fft_pair_s is timed at run start).
+ALWAYS_IGNORED = {"wall_s", "fft_pair_s", "time_per_fft_pair", "time_per_iteration"}
 
 
 def runs(top):
@@ -38,22 +40,47 @@ def compare_json(x, y, path, ignored, out):
     elif isinstance(x, list) and isinstance(y, list) and len(x) == len(y):
         for i, (u, v) in enumerate(zip(x, y)):
             compare_json(u, v, f"{path}[{i}]", ignored, out)
-    elif x != y or type(x) is not type(y):
+    elif not same(x, y):
         out.append(f"{path}: {x!r} != {y!r}")
+
+
+def same(x, y):
+    """Identical values (NaN is identical to NaN)."""
+    if isinstance(x, np.ndarray) or isinstance(y, np.ndarray):
+        if np.shape(x) != np.shape(y):
+            return False
+        try:
+            return np.array_equal(np.asarray(x), np.asarray(y), equal_nan=True)
+        except TypeError:  # not numbers
+            return np.array_equal(np.asarray(x), np.asarray(y))
+    if type(x) is not type(y):
+        return False
+    if isinstance(x, (float, np.floating)) and np.isnan(x) and np.isnan(y):
+        return True
+    return x == y
 
 
 def compare_h5(a, b, out):
     with h5py.File(a) as fa, h5py.File(b) as fb:
-        def visit(name, obj):
-            if not isinstance(obj, h5py.Dataset):
-                return
-            if name not in fb:
-                out.append(f"result.h5/{name}: present in one run only")
-                return
-            x, y = obj[()], fb[name][()]
-            if np.shape(x) != np.shape(y) or not np.array_equal(x, y):
+        def objects(f):
+            names = {"/": f}
+            f.visititems(lambda name, obj: names.setdefault(name, obj) and None)
+            return names
+        oa, ob = objects(fa), objects(fb)
+        for name in sorted(set(oa) ^ set(ob)):
+            out.append(f"result.h5/{name}: present in one run only")
+        for name in sorted(set(oa) & set(ob)):
+            x, y = oa[name], ob[name]
+            if isinstance(x, h5py.Dataset) != isinstance(y, h5py.Dataset):
+                out.append(f"result.h5/{name}: a dataset in one run only")
+                continue
+            if isinstance(x, h5py.Dataset) and not same(x[()], y[()]):
                 out.append(f"result.h5/{name}: differs")
-        fa.visititems(visit)
+            for k in sorted(set(x.attrs) | set(y.attrs)):
+                if k not in x.attrs or k not in y.attrs:
+                    out.append(f"result.h5/{name} attribute {k}: present in one run only")
+                elif not same(x.attrs[k], y.attrs[k]):
+                    out.append(f"result.h5/{name} attribute {k}: {x.attrs[k]!r} != {y.attrs[k]!r}")
 
 
 def main(argv):
@@ -72,10 +99,15 @@ def main(argv):
         if name and name not in rb:
             diffs.append(f"{name}: missing in {b}")
             continue
+        if not os.path.exists(os.path.join(pb, "summary.json")):
+            diffs.append(f"{name + ': ' if name else ''}{pb}/summary.json: missing")
+            continue
         out = []
         compare_json(json.load(open(os.path.join(pa, "summary.json"))),
                      json.load(open(os.path.join(pb, "summary.json"))), "summary.json", ignored, out)
-        if os.path.exists(os.path.join(pa, "result.h5")):
+        if os.path.exists(os.path.join(pa, "result.h5")) != os.path.exists(os.path.join(pb, "result.h5")):
+            out.append("result.h5: present in one run only")
+        elif os.path.exists(os.path.join(pa, "result.h5")):
             compare_h5(os.path.join(pa, "result.h5"), os.path.join(pb, "result.h5"), out)
         diffs += [f"{name + ': ' if name else ''}{d}" for d in out]
     for d in diffs:

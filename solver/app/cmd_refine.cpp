@@ -3,6 +3,7 @@
 #include "commands.hpp"
 
 #include "Refine.hpp"
+#include "cmc/output/OutputLock.hpp"
 #include "cmc/output/Writer.hpp"
 
 #include <cstdio>
@@ -29,7 +30,8 @@ two finest is the estimated discretisation error of the finest), the observed or
 the changes (three or more grids), and each grid's spacing relative to the surface's
 short cutoff and the modes it drops.
 Exit codes: 0 every grid converged, 2 bad input, 3 a grid did not converge (the
-table is still written), 4 failed.
+table is still written), 4 failed (I/O, memory, or DIR in use by another cmc process:
+one process at a time writes into a folder).
 )";
 
 // --grids takes every following whole number; the rest goes to parse_args.
@@ -100,6 +102,7 @@ int cmd_refine(int argc, char** argv) {
   if (a.positional.size() != 1) throw CaseError("cmc refine takes exactly one case file (see cmc refine --help)");
   const std::string file = a.positional[0];
   const fs::path out = a.out.empty() ? fs::path("results") / "refine" / fs::path(file).stem() : fs::path(a.out);
+  const OutputLock lock(out);  // one study per folder (each grid's run locks its own too)
   std::vector<RefinementGrid> done;
   bool all_converged = true;
   for (int n : grids) {

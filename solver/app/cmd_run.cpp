@@ -1,6 +1,8 @@
 // cmc run: solve one case and write its results.
 #include "commands.hpp"
 
+#include "cmc/output/OutputLock.hpp"
+
 #include <cstdio>
 
 namespace cmc::app {
@@ -15,11 +17,15 @@ Solves every load step of CASE.toml and writes, atomically:
 --set overrides any case key, e.g. --set grid.n=512 --set solver.tolerance=1e-8
 (the value is TOML: numbers, "strings" or bare words, [arrays]).
 Progress goes to stderr when it is a terminal; --quiet silences it.
-After every load step a checkpoint is kept in DIR (hidden files); --resume continues
-an interrupted run of the same case (same file and --set values) from its last
-finished step instead of starting afresh.
+Until the run finishes DIR holds no summary.json (an earlier run's results are removed
+when it starts) but a file DIR/INCOMPLETE, and checkpoints (DIR/.partial/): after every
+load step and every pull-off refinement solve. --resume continues an interrupted run of
+the same case (same file and --set values) from its last checkpoint, with the same
+results, bit for bit, as a run that was not interrupted.
+One cmc process at a time writes into DIR: a second one stops at once (exit code 4)
+naming the process that holds DIR/.cmc.lock.
 Exit codes: 0 converged, 2 bad input, 3 not converged (results are still written,
-with "status": "not_converged"), 4 failed.
+with "status": "not_converged"), 4 failed (I/O, memory, DIR in use).
 )";
 
 }  // namespace
@@ -30,6 +36,7 @@ int cmd_run(int argc, char** argv) {
   if (a.positional.size() != 1) throw CaseError("cmc run takes exactly one case file (see cmc run --help)");
   if (a.out.empty()) throw CaseError("cmc run needs --out DIR (see cmc run --help)");
   const Case c = load_case(a.positional[0], a.overrides);
+  const OutputLock lock(a.out);  // before the scene is built: a second run on DIR stops at once
   Scene scene = build_scene(c);
   const RunSummary run = run_case_to(c, scene, a.out, a.resume, a.quiet);
   if (run.status != RunStatus::Converged) {

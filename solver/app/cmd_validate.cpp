@@ -3,6 +3,7 @@
 
 #include "Profiles.hpp"
 #include "Validate.hpp"
+#include "cmc/output/OutputLock.hpp"
 #include "cmc/output/Writer.hpp"
 
 #include <cstdio>
@@ -21,7 +22,8 @@ DIR/<case name>/summary.json (with a "validation" entry: every check's error, an
 refinement study's errors, observed order and fitted line), the fields, and, for
 hertz, hertz_periodic and westergaard, DIR/<case name>/profiles.csv: the solved
 pressure and gap beside the analytic ones at every grid point near the contact.
-Exit code 5 when any check fails.
+Exit code 5 when any check fails; 4 when DIR is in use by another cmc process (one
+process at a time writes into a folder).
 )";
 
 }  // namespace
@@ -30,11 +32,17 @@ int cmd_validate(int argc, char** argv) {
   const Args a = parse_args(argc, argv, 2);
   if (a.help) return std::fputs(kValidateHelp, stdout), kOk;
   if (a.positional.empty()) throw CaseError("cmc validate needs at least one case file (see cmc validate --help)");
+  // Every case file is read (bad input stops the command) before anything is written.
+  std::vector<Case> cases;
+  for (const auto& file : a.positional) {
+    cases.push_back(load_case(file, a.overrides));
+    if (!cases.back().validation) throw CaseError(file + ": no [validation] section: nothing to compare with");
+  }
+  // One owner per output folder, from the start (the results are written after the solves).
+  const OutputLock lock = a.out.empty() ? OutputLock() : OutputLock(a.out);
   bool all_pass = true;
   std::printf("%-28s %-18s %12s %12s %6s %8s\n", "case", "quantity", "error", "tolerance", "result", "time_s");
-  for (const auto& file : a.positional) {
-    const Case c = load_case(file, a.overrides);
-    if (!c.validation) throw CaseError(file + ": no [validation] section: nothing to compare with");
+  for (const Case& c : cases) {
     const auto t0 = std::chrono::steady_clock::now();
     int step = 0;
     SolvedCase sc = solve_case(c, {}, make_progress(a.quiet, &step, t0));

@@ -29,10 +29,12 @@ struct Args {
 // error (CaseError, exit code 2).
 Args parse_args(int argc, char** argv, int first, const std::vector<std::string>& valued = {});
 
-// Progress on stderr, only for a terminal and without --quiet: step, iteration,
-// residual, elapsed time and, once a step has finished, the estimated time left
-// (elapsed per finished step x steps left).
-Progress make_progress(bool quiet, int* step, std::chrono::steady_clock::time_point t0, int total_steps = 0);
+// Progress on stderr, only for a terminal and without --quiet: step (*step, numbered as
+// in summary.json), iteration, residual, elapsed time and, once a step has finished, the
+// estimated time left (elapsed per step finished since `first_step` x steps left; a
+// resumed run starts at its first unfinished step).
+Progress make_progress(bool quiet, int* step, std::chrono::steady_clock::time_point t0, int total_steps = 0,
+                       int first_step = 0);
 
 // Solve `c` on `scene` into the folder `out` (summary.json, result.h5, result.xdmf),
 // continuing a partial run there when `resume` is set (run_case.cpp; `cmc run` and

@@ -36,13 +36,15 @@ Args parse_args(int argc, char** argv, int first, const std::vector<std::string>
   return a;
 }
 
-Progress make_progress(bool quiet, int* step, std::chrono::steady_clock::time_point t0, int total_steps) {
+Progress make_progress(bool quiet, int* step, std::chrono::steady_clock::time_point t0, int total_steps,
+                       int first_step) {
   if (quiet || !isatty(STDERR_FILENO)) return {};
-  return [step, t0, total_steps](int it, double residual) {
+  return [step, t0, total_steps, first_step](int it, double residual) {
     const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::fprintf(stderr, "\r  step %d%s%s  iteration %5d  residual %.3e  elapsed %7.1f s", *step,
                  total_steps ? "/" : "", total_steps ? std::to_string(total_steps).c_str() : "", it, residual, el);
-    if (total_steps && *step > 0) std::fprintf(stderr, "  left ~%7.0f s", el / *step * (total_steps - *step));
+    const int solved = *step - first_step;  // steps finished by this process, in el
+    if (total_steps && solved > 0) std::fprintf(stderr, "  left ~%7.0f s", el / solved * (total_steps - *step));
     std::fputs("  ", stderr);
     std::fflush(stderr);
   };

@@ -1,6 +1,8 @@
 // cmc: the command-line program. Dispatches to one file per command (cmd_*.cpp).
 #include "commands.hpp"
 
+#include "cmc/run/TestPoints.hpp"
+
 #include <cstdio>
 #include <cstring>
 #include <new>
@@ -35,7 +37,8 @@ options:
   --version      print the version
 
 exit codes: 0 ok, 2 bad input (case file or arguments), 3 a solve did not reach its
-tolerance, 4 run failed (I/O, memory), 5 a validation check failed.
+tolerance, 4 run failed (I/O, memory, output folder in use by another cmc process),
+5 a validation check failed.
 Case files: see cases/README.md. Units: SI in case files and outputs.
 )";
 
@@ -50,6 +53,7 @@ int main(int argc, char** argv) {
   if (cmd == "-h" || cmd == "--help" || cmd == "help") return std::fputs(kHelp, stdout), kOk;
   if (cmd == "--version" || cmd == "version") return std::printf("cmc %s\n", CMC_VERSION), kOk;
   try {
+    cmc::check_test_points();  // a malformed CMC_TEST_* variable is bad input, before anything runs
     if (cmd == "run") return cmd_run(argc, argv);
     if (cmd == "validate") return cmd_validate(argc, argv);
     if (cmd == "refine") return cmd_refine(argc, argv);

@@ -11,10 +11,17 @@ namespace cmc::app {
 
 RunSummary run_case_to(const Case& c, Scene& scene, const std::string& out, bool resume, bool quiet) {
   Writer writer(out, c, scene, resume);
-  const ResumePoint& rp = writer.resume_point();
-  if (!rp.done.empty() && !quiet)
-    std::fprintf(stderr, "resuming %s after step %d of %zu\n", c.name.c_str(), rp.done.back().index, scene.targets.size());
-  int step = 0;
+  const RunPoint& rp = writer.resume_point();
+  if (!writer.notice().empty()) std::fprintf(stderr, "cmc: warning: %s\n", writer.notice().c_str());
+  if (writer.resuming() && !quiet) {
+    std::fprintf(stderr, "resuming %s: %zu of %zu steps finished", c.name.c_str(), rp.done.size(), scene.targets.size());
+    if (rp.path.refinement != PathState::Refinement::NotStarted)
+      std::fprintf(stderr, ", %d pull-off refinement solves done", rp.path.refinement_solves);
+    std::fputc('\n', stderr);
+  }
+  // The step being solved, numbered as in summary.json (a resumed run goes on from its
+  // first unfinished step).
+  int step = int(rp.done.size());
   const auto t0 = std::chrono::steady_clock::now();
   const bool tty = !quiet && isatty(STDERR_FILENO);
   RunSummary run;
@@ -31,7 +38,8 @@ RunSummary run_case_to(const Case& c, Scene& scene, const std::string& out, bool
                          r.result.residual, r.result.wall_s, r.mean_pressure, r.contact_fraction);
           step = r.index + 1;
         },
-        make_progress(quiet, &step, t0, int(scene.targets.size())), &rp.done, rp.done.empty() ? nullptr : &rp.state);
+        make_progress(quiet, &step, t0, int(scene.targets.size()), step), writer.resuming() ? &rp : nullptr,
+        [&](const ContactState& st, const PathState* path) { writer.checkpoint(st, path); });
     writer.finish(run);
   } catch (const std::exception& e) {
     writer.fail(e.what());

@@ -36,7 +36,9 @@
 #include "cmc/contact/ContactRule.hpp"
 #include "cmc/contact/Solver.hpp"
 
+#include <cstddef>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -93,12 +95,59 @@ struct LoadPathResult {
   int pulloff_refinement_solves = 0;  // extra solves spent by refine_pulloff
 };
 
+// Where a walk along a path stands between two solves, besides the state it continues
+// from: what the next jump test compares with, the branch, the pull-off and its
+// refinement, and the path's counters. A walk continued from a copy of it and of the
+// state, with the same targets and options, makes exactly the solves the uninterrupted
+// walk makes (this is what a run's checkpoint holds: output/Writer.cpp).
+struct PathState {
+  bool started = false;   // false: nothing solved yet; the walk starts from the state it is given
+  std::size_t next = 0;   // targets recorded so far: the next one to reach
+  // The last accepted solve (have_prev false: none, the next solve starts cold).
+  bool have_prev = false;
+  double value = 0.0;             // its target value
+  double contact_fraction = 0.0;  // a
+  double mean_pressure = 0.0;     // p
+  double pressure_scale = 0.0;    // the largest |p| accepted so far (the jump test's floor)
+  Branch branch = Branch::Loading;
+  // Pull-off: the most negative mean pressure of every converged solve (NaN: none yet),
+  // its target value and branch, and the accepted values just before and after it.
+  double pulloff_mean_pressure = std::numeric_limits<double>::quiet_NaN();
+  double pulloff_value = 0.0;
+  Branch pulloff_branch = Branch::Loading;
+  double pulloff_before = std::numeric_limits<double>::quiet_NaN();
+  double pulloff_after = std::numeric_limits<double>::quiet_NaN();
+  bool pulloff_is_last = false;  // the best solve is the last converged one (its right neighbour to come)
+  bool have_last = false;        // a converged solve was accepted; last_value is its target value
+  double last_value = 0.0;
+  ContactState pulloff_state;    // the state at the best solve (kept only with refine_pulloff)
+  // Counters over the recorded steps.
+  int failed_steps = 0, halved_steps = 0, jumps = 0, max_halvings = 0;
+  // Pull-off refinement: a golden-section search on [lo, hi] with inner points x1 < x2
+  // and their mean pressures f1, f2 (have_f*: solved); `solves` spent so far.
+  enum class Refinement { NotStarted, Running, Done };
+  Refinement refinement = Refinement::NotStarted;
+  double lo = 0.0, hi = 0.0, x1 = 0.0, x2 = 0.0, f1 = 0.0, f2 = 0.0;
+  bool have_f1 = false, have_f2 = false;
+  int refinement_solves = 0;
+};
+
 using LoadStepCallback = std::function<void(const LoadStep&, const ContactState&)>;
+// Called wherever a walk can be continued from: the path's state and the state it continues from.
+using PathCheckpoint = std::function<void(const PathState&, const ContactState&)>;
 
 // Run `targets` in order from `state` (empty: the first target starts cold). On return
 // `state` holds the last accepted solution. All targets must share one Control.
 LoadPathResult run_load_path(const StepSolver& solve, const std::vector<Target>& targets, ContactState& state,
                              const LoadPathOptions& options = {}, const LoadStepCallback& on_step = {});
+// The same, continuing from `path` (a PathState{}: from the start) and keeping it up to
+// date; `on_checkpoint` gets it after every recorded step (after on_step) and after every
+// pull-off refinement solve: copies of `path` and `state` taken there, handed back here
+// with the same targets and options, continue the walk exactly. The result's steps are
+// those recorded by this call; its counters and pull-off are the whole path's.
+LoadPathResult run_load_path(const StepSolver& solve, const std::vector<Target>& targets, ContactState& state,
+                             PathState& path, const LoadPathOptions& options, const LoadStepCallback& on_step = {},
+                             const PathCheckpoint& on_checkpoint = {});
 
 // ---- target sequences
 // n + 1 equally spaced values from `from` to `to` (both included); n >= 1.

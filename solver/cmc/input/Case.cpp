@@ -529,6 +529,7 @@ std::vector<DocumentedDefault> case_defaults() {
        n(SolverSpec::kPolonskyKeerTolerance) + " PK, " + n(SolverSpec::kAdhesiveTolerance) + " adhesive"},
       {"solver", "max_iterations", n(sv.max_iterations)},
       {"solver", "recompute_every", n(sv.recompute_every)},
+      {"solver", "tension_tolerance", n(sv.tension_tolerance)},
       {"output", "fields", b(c.write_fields)},
       {"observables", "enabled", b(o.enabled)},
       {"observables", "cross_section_x", n(ObservablesSpec::kCrossSectionFraction) + " size"},

@@ -5,9 +5,11 @@
 #include <hdf5.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <type_traits>
 #include <utility>
 
 namespace cmc {
@@ -83,61 +85,191 @@ void vector_dataset(hid_t where, const std::string& name, const std::vector<doub
   if (!v.empty()) check(H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), "writing " + name);
   attr_string(d, "units", unit);
 }
+// A text as a scalar string dataset (no size limit, unlike an attribute).
+void text_dataset(hid_t where, const char* name, const std::string& text) {
+  H5Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
+  H5Tset_size(type, text.size() + 1);
+  H5Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+  H5Handle d(H5Dcreate2(where, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose);
+  check(d, std::string("dataset ") + name);
+  check(H5Dwrite(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, text.c_str()), std::string("writing ") + name);
+}
+bool read_text(hid_t where, const char* name, std::string& text) {
+  H5Handle d(H5Dopen2(where, name, H5P_DEFAULT), H5Dclose);
+  if (!d.ok()) return false;
+  H5Handle type(H5Dget_type(d), H5Tclose);
+  if (!type.ok() || H5Tget_class(type) != H5T_STRING) return false;
+  const std::size_t n = H5Tget_size(type);
+  std::string buf(n, '\0');
+  if (n == 0 || H5Dread(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf.data()) < 0) return false;
+  text = buf.substr(0, buf.find('\0'));
+  return true;
+}
+// A (ny, nx) field of reduced values, exactly as the solver holds them.
+void write_state(hid_t where, const char* group, const Grid& g, const ContactState& st) {
+  H5Handle grp(H5Gcreate2(where, group, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+  check(grp, std::string("group ") + group);
+  dataset(grp, "pressure", g, st.pressure, 1.0, "E*", "reduced pressure");
+  dataset(grp, "displacement", g, st.displacement, 1.0, "L", "reduced displacement");
+  dataset(grp, "gap", g, st.gap, 1.0, "L", "reduced gap");
+}
+bool read_state(hid_t where, const char* group, std::size_t n, ContactState& st) {
+  H5Handle grp(H5Gopen2(where, group, H5P_DEFAULT), H5Gclose);
+  if (!grp.ok()) return false;
+  for (auto [name, field] : {std::pair{"pressure", &st.pressure}, {"displacement", &st.displacement}, {"gap", &st.gap}}) {
+    H5Handle d(H5Dopen2(grp, name, H5P_DEFAULT), H5Dclose);
+    if (!d.ok()) return false;
+    H5Handle space(H5Dget_space(d), H5Sclose);
+    if (!space.ok() || H5Sget_simple_extent_npoints(space) != hssize_t(n)) return false;
+    field->resize(n);
+    if (H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, field->data()) < 0) return false;
+  }
+  return true;
+}
+
+const char* refinement_name(PathState::Refinement r) {
+  switch (r) {
+    case PathState::Refinement::NotStarted: return "not_started";
+    case PathState::Refinement::Running: return "running";
+    case PathState::Refinement::Done: return "done";
+  }
+  return "?";
+}
+
+// Every scalar of a PathState with its name in the checkpoint (its fields are in
+// `pulloff` of the checkpoint file): one list for writing and reading.
+template <class P, class F>
+void path_scalars(P& p, F&& f) {
+  f("started", p.started), f("next", p.next), f("have_prev", p.have_prev), f("value", p.value);
+  f("contact_fraction", p.contact_fraction), f("mean_pressure", p.mean_pressure);
+  f("pressure_scale", p.pressure_scale), f("branch", p.branch);
+  f("pulloff_mean_pressure", p.pulloff_mean_pressure), f("pulloff_value", p.pulloff_value);
+  f("pulloff_branch", p.pulloff_branch), f("pulloff_before", p.pulloff_before), f("pulloff_after", p.pulloff_after);
+  f("pulloff_is_last", p.pulloff_is_last), f("have_last", p.have_last), f("last_value", p.last_value);
+  f("pulloff_state_penetration", p.pulloff_state.penetration);
+  f("pulloff_state_mean_pressure", p.pulloff_state.mean_pressure);
+  f("failed_steps", p.failed_steps), f("halved_steps", p.halved_steps), f("jumps", p.jumps);
+  f("max_halvings", p.max_halvings), f("refinement", p.refinement), f("lo", p.lo), f("hi", p.hi), f("x1", p.x1);
+  f("x2", p.x2), f("f1", p.f1), f("f2", p.f2), f("have_f1", p.have_f1), f("have_f2", p.have_f2);
+  f("refinement_solves", p.refinement_solves);
+}
+
+toml::table path_table(const PathState& p) {
+  toml::table t;
+  path_scalars(p, [&](const char* key, const auto& v) {
+    using T = std::decay_t<decltype(v)>;
+    if constexpr (std::is_same_v<T, Branch>) t.insert(key, branch_name(v));
+    else if constexpr (std::is_same_v<T, PathState::Refinement>) t.insert(key, refinement_name(v));
+    else if constexpr (std::is_same_v<T, bool> || std::is_same_v<T, double>) t.insert(key, v);
+    else t.insert(key, (long long)v);
+  });
+  t.insert("pulloff_state", !p.pulloff_state.empty());
+  return t;
+}
+
+PathState path_from(const toml::table& t, const std::string& file) {
+  PathState p;
+  path_scalars(p, [&](const char* key, auto& v) {
+    using T = std::decay_t<decltype(v)>;
+    auto bad = [&](const char* expected) {
+      return CaseError(file + ": key 'path." + key + "': expected " + expected +
+                       " (a damaged checkpoint); run without --resume to start afresh");
+    };
+    const auto node = t[key];
+    if constexpr (std::is_same_v<T, Branch>) {
+      v = branch_named(node.value_or(std::string()), file);
+    } else if constexpr (std::is_same_v<T, PathState::Refinement>) {
+      const std::string name = node.value_or(std::string());
+      bool found = false;
+      for (auto r : {PathState::Refinement::NotStarted, PathState::Refinement::Running, PathState::Refinement::Done})
+        if (name == refinement_name(r)) v = r, found = true;
+      if (!found) throw bad("\"not_started\", \"running\" or \"done\"");
+    } else if constexpr (std::is_same_v<T, bool>) {
+      const auto b = node.template value<bool>();
+      if (!b) throw bad("true or false");
+      v = *b;
+    } else if constexpr (std::is_same_v<T, double>) {
+      const auto* d = node.as_floating_point();
+      if (!d) throw bad("a floating-point number");
+      v = d->get();
+    } else {
+      const auto* i = node.as_integer();
+      if (!i || i->get() < 0) throw bad("a non-negative integer");
+      v = T(i->get());
+    }
+  });
+  return p;
+}
+
 }  // namespace
 
-Writer::Writer(fs::path dir, const Case& c, const Scene& s, bool resume) : dir_(std::move(dir)), case_(c), scene_(s) {
-  std::error_code ec;
-  fs::create_directories(dir_, ec);
-  if (ec || !fs::is_directory(dir_)) throw std::runtime_error(dir_.string() + ": cannot create the output folder");
+Writer::Writer(fs::path dir, const Case& c, const Scene& s, bool resume)
+    : lock_(dir), dir_(std::move(dir)), case_(c), scene_(s) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  progress_ = dir_ / ".progress.toml";
-  checkpoint_ = dir_ / ".checkpoint.h5";
-  h5_tmp_ = dir_ / ".result.h5.partial";
-  if (resume && fs::exists(progress_)) {
-    load_partial();
-    if (!resume_.done.empty()) return;
+  partial_ = dir_ / ".partial";
+  checkpoint_ = partial_ / "checkpoint.h5";
+  marker_ = dir_ / "INCOMPLETE";
+  std::error_code ec;
+  if (resume) {
+    if (fs::exists(checkpoint_)) {
+      load_partial();
+      resuming_ = true;
+    } else if (fs::exists(dir_ / ".progress.toml")) {
+      notice_ = dir_.string() + " held a partial run written by an earlier version of cmc (.progress.toml), which "
+                "cannot be continued exactly: starting afresh";
+    }
   }
-  for (const auto& f : {progress_, checkpoint_, h5_tmp_}) fs::remove(f, ec);
-  if (!c.write_fields) {
-    h5_tmp_.clear();
-    return;
+  // An earlier run's results must not pass for this run's.
+  for (const char* f : {"summary.json", "result.h5", "result.xdmf"}) fs::remove(dir_ / f, ec);
+  if (!resuming_) {
+    for (const char* f : {".progress.toml", ".checkpoint.h5", ".result.h5.partial"}) fs::remove(dir_ / f, ec);
+    fs::remove_all(partial_, ec);
+    fs::create_directories(partial_, ec);
+    if (ec || !fs::is_directory(partial_)) throw std::runtime_error(partial_.string() + ": cannot create the folder");
   }
-  // The file stays in a handle until its root is written: if a write throws, the
-  // constructor does not complete, ~Writer does not run, and the handle closes it.
-  H5Handle file(H5Fcreate(h5_tmp_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
-  if (!file.ok()) throw std::runtime_error(h5_tmp_.string() + ": cannot create the HDF5 file");
-  const Units& u = s.units;
-  const Grid& g = s.grid;
-  const hid_t root = file;
-  attr_string(root, "case", c.name);
-  attr_string(root, "cmc_version", CMC_VERSION);
-  attr_double(root, "dx", u.to_m(g.dx()));
-  attr_double(root, "dy", u.to_m(g.dy()));
-  attr_double(root, "size_x", u.to_m(g.lx));
-  attr_double(root, "size_y", u.to_m(g.ly));
-  attr_string(root, "length_units", "m");
-  dataset(root, "heights", g, s.topography.heights, u.length_m, "m", "indenter heights h (gap g = h - penetration + u)");
-  file_ = file.release();  // from here on ~Writer closes it
+  std::ostringstream m;
+  m << "This folder holds an unfinished cmc run of case '" << c.name << "' (" << c.file
+    << "): still running, interrupted or failed.\n"
+    << "Its results (summary.json, result.h5, result.xdmf) are written only when it finishes.\n"
+    << "To continue it from its last checkpoint (with the same --set options as the run that started it):\n"
+    << "  cmc run " << c.file << " --out " << dir_.string() << " --resume\n";
+  write_atomically(marker_, m.str());
+}
+
+fs::path Writer::step_file(int index) const {
+  char name[32];
+  std::snprintf(name, sizeof name, "step_%04d.h5", index);
+  return partial_ / name;
 }
 
 void Writer::load_partial() {
+  const std::string file = checkpoint_.string();
+  auto damaged = [&](const std::string& what) {
+    return CaseError(file + ": " + what + " (a damaged checkpoint of a partial run); run without --resume to start afresh");
+  };
+  H5Handle f(H5Fopen(checkpoint_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  if (!f.ok()) throw damaged("not a readable HDF5 file");
+  std::string text;
+  if (!read_text(f, "progress", text)) throw damaged("no dataset 'progress'");
   toml::table t;
   try {
-    t = toml::parse_file(progress_.string());
-  } catch (const toml::parse_error&) {
-    throw CaseError(progress_.string() + ": unreadable progress file of a partial run; remove it or run without --resume");
+    t = toml::parse(text, file);
+  } catch (const toml::parse_error& e) {
+    throw damaged("dataset 'progress' is not TOML (" + std::string(e.description()) + ")");
   }
+  if (t["format"].value_or(0) != 1) throw damaged("key 'format': expected 1 (written by another version of cmc?)");
   if (t["case"].value_or(std::string()) != to_json(case_.resolved))
     throw CaseError(dir_.string() + " holds a partial run of a different case (or other --set values): run without "
                     "--resume to start afresh, or use another --out");
-  const Units& u = scene_.units;
   if (auto* steps = t["steps"].as_array())
     for (auto& node : *steps) {
-      const toml::table& r = *node.as_table();
+      const toml::table* rt = node.as_table();
+      if (!rt) throw damaged("key 'steps': expected tables");
+      const toml::table& r = *rt;
       records_.push_back(r);
       StepRecord rec;
       rec.index = int(r["index"].value_or(0));
-      rec.branch = branch_named(r["branch"].value_or(std::string("loading")), progress_.string());
+      rec.branch = branch_named(r["branch"].value_or(std::string("loading")), file);
       rec.mean_pressure = r["mean_pressure"].value_or(0.0);
       rec.force = r["force"].value_or(0.0);
       rec.penetration = r["penetration"].value_or(0.0);
@@ -165,74 +297,97 @@ void Writer::load_partial() {
         for (const auto& [k, v] : *o) so.scalars.emplace_back(std::string(k.str()), v.value_or(0.0));
         rec.observables = so;
       }
+      if (rec.index != int(resume_.done.size())) throw damaged("key 'steps': step indices out of order");
       resume_.done.push_back(rec);
     }
-  // The warm start: the last finished step's fields (reduced units).
-  {
-    H5Handle f(H5Fopen(checkpoint_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
-    if (!f.ok()) throw CaseError(checkpoint_.string() + ": missing checkpoint of a partial run; run without --resume");
-    const std::size_t n = scene_.grid.size();
-    for (auto [name, field] : {std::pair{"pressure", &resume_.state.pressure},
-                               {"displacement", &resume_.state.displacement}, {"gap", &resume_.state.gap}}) {
-      field->resize(n);
-      H5Handle d(H5Dopen2(f, name, H5P_DEFAULT), H5Dclose);
-      if (!d.ok() || H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, field->data()) < 0)
-        throw CaseError(checkpoint_.string() + ": unreadable checkpoint; run without --resume");
+  // The state to go on from (reduced units, bit for bit).
+  const std::size_t n = scene_.grid.size();
+  const auto* state = t["state"].as_table();
+  const auto* pen = state ? (*state)["penetration"].as_floating_point() : nullptr;
+  const auto* mp = state ? (*state)["mean_pressure"].as_floating_point() : nullptr;
+  if (!pen || !mp) throw damaged("key 'state': expected {penetration, mean_pressure}");
+  if (!read_state(f, "state", n, resume_.state)) throw damaged("group 'state': expected the fields on this grid");
+  resume_.state.penetration = pen->get();
+  resume_.state.mean_pressure = mp->get();
+  if (const auto* path = t["path"].as_table()) {
+    resume_.path = path_from(*path, file);
+    const double pp = resume_.path.pulloff_state.penetration, pm = resume_.path.pulloff_state.mean_pressure;
+    if ((*path)["pulloff_state"].value_or(false)) {
+      if (!read_state(f, "pulloff", n, resume_.path.pulloff_state))
+        throw damaged("group 'pulloff': expected the fields on this grid");
+      resume_.path.pulloff_state.penetration = pp;
+      resume_.path.pulloff_state.mean_pressure = pm;
+    } else {
+      resume_.path.pulloff_state = ContactState{};
     }
+    if (resume_.path.next != resume_.done.size()) throw damaged("key 'path.next': expected the number of steps");
   }
-  resume_.state.penetration = u.length(resume_.done.back().penetration);
-  resume_.state.mean_pressure = u.pressure(resume_.done.back().mean_pressure);
-  steps_written_ = int(resume_.done.size());
-  if (case_.write_fields) {
-    file_ = H5Fopen(h5_tmp_.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-    if (file_ < 0) throw CaseError(h5_tmp_.string() + ": missing partial result file; run without --resume");
-  } else {
-    h5_tmp_.clear();
-  }
+  if (case_.write_fields)
+    for (const StepRecord& r : resume_.done)
+      if (!fs::exists(step_file(r.index)))
+        throw damaged("the fields of step " + std::to_string(r.index) + " (" + step_file(r.index).string() + ") are missing");
 }
 
-Writer::~Writer() {
-  if (file_ >= 0) H5Fclose(hid_t(file_));
-}
+Writer::~Writer() = default;
 
 void Writer::add_step(const StepRecord& rec, const ContactState& st) {
-  // Checkpoint (reduced units, replaced atomically) and progress record, so that an
-  // interrupted run can be resumed from here with --resume.
+  if (case_.write_fields) {
+    // The step's fields in a file of its own, renamed into place when complete: kept
+    // only when a checkpoint names the step (a step redone after an interruption
+    // replaces it).
+    const fs::path final_name = step_file(rec.index), tmp = final_name.string() + ".tmp";
+    try {
+      H5Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+      if (!file.ok()) throw std::runtime_error(tmp.string() + ": cannot create the HDF5 file");
+      const Units& u = scene_.units;
+      char name[32];
+      std::snprintf(name, sizeof name, "step_%04d", rec.index);
+      H5Handle grp(H5Gcreate2(file, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+      check(grp, std::string("group ") + name);
+      dataset(grp, "pressure", scene_.grid, st.pressure, u.pressure_pa, "Pa", "interfacial pressure, compressive > 0");
+      dataset(grp, "displacement", scene_.grid, st.displacement, u.length_m, "m", "surface displacement into the solid");
+      dataset(grp, "gap", scene_.grid, st.gap, u.length_m, "m", "interfacial gap g = h - penetration + u");
+      attr_double(grp, "mean_pressure", rec.mean_pressure);
+      attr_double(grp, "penetration", rec.penetration);
+      attr_double(grp, "mean_gap", rec.mean_gap);
+      attr_string(grp, "branch", branch_name(rec.branch));
+      if (rec.observables) {
+        H5Handle og(H5Gcreate2(grp, "observables", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+        check(og, "group observables");
+        for (const auto& [oname, a] : rec.observables->arrays) vector_dataset(og, oname, a.values, a.unit.c_str());
+      }
+      grp.reset();
+      check(file.reset(), "closing " + tmp.string());
+    } catch (...) {
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      throw;
+    }
+    fs::rename(tmp, final_name);
+  }
+  records_.push_back(step_json(rec));
+}
+
+void Writer::checkpoint(const ContactState& st, const PathState* path) {
+  // Everything in one file, renamed over the last checkpoint: a run interrupted at any
+  // moment is continued from the last complete one.
+  const fs::path tmp = partial_ / "checkpoint.h5.tmp";
   {
-    const fs::path tmp = dir_ / ".checkpoint.h5.tmp";
     H5Handle f(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
     if (!f.ok()) throw std::runtime_error(tmp.string() + ": cannot write the checkpoint");
-    dataset(f, "pressure", scene_.grid, st.pressure, 1.0, "E*", "reduced pressure");
-    dataset(f, "displacement", scene_.grid, st.displacement, 1.0, "L", "reduced displacement");
-    dataset(f, "gap", scene_.grid, st.gap, 1.0, "L", "reduced gap");
-    check(f.reset(), "closing the checkpoint " + tmp.string());
-    fs::rename(tmp, checkpoint_);
-    records_.push_back(step_json(rec));
+    toml::table t{{"format", 1},
+                  {"case", to_json(case_.resolved)},
+                  {"steps", records_},
+                  {"state", toml::table{{"penetration", st.penetration}, {"mean_pressure", st.mean_pressure}}}};
+    if (path) t.insert("path", path_table(*path));
     std::ostringstream p;
-    p << toml::table{{"case", to_json(case_.resolved)}, {"steps", records_}} << "\n";
-    write_atomically(progress_, p.str());
+    p << t << "\n";
+    text_dataset(f, "progress", p.str());
+    write_state(f, "state", scene_.grid, st);
+    if (path && !path->pulloff_state.empty()) write_state(f, "pulloff", scene_.grid, path->pulloff_state);
+    check(f.reset(), "closing the checkpoint " + tmp.string());
   }
-  if (file_ < 0) return;
-  const Units& u = scene_.units;
-  char name[32];
-  std::snprintf(name, sizeof name, "step_%04d", rec.index);
-  H5Handle grp(H5Gcreate2(hid_t(file_), name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
-  check(grp, std::string("group ") + name);
-  dataset(grp, "pressure", scene_.grid, st.pressure, u.pressure_pa, "Pa", "interfacial pressure, compressive > 0");
-  dataset(grp, "displacement", scene_.grid, st.displacement, u.length_m, "m", "surface displacement into the solid");
-  dataset(grp, "gap", scene_.grid, st.gap, u.length_m, "m", "interfacial gap g = h - penetration + u");
-  attr_double(grp, "mean_pressure", rec.mean_pressure);
-  attr_double(grp, "penetration", rec.penetration);
-  attr_double(grp, "mean_gap", rec.mean_gap);
-  attr_string(grp, "branch", branch_name(rec.branch));
-  if (rec.observables) {
-    H5Handle og(H5Gcreate2(grp, "observables", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
-    check(og, "group observables");
-    for (const auto& [name, a] : rec.observables->arrays) vector_dataset(og, name, a.values, a.unit.c_str());
-  }
-  grp.reset();
-  H5Fflush(hid_t(file_), H5F_SCOPE_LOCAL);
-  ++steps_written_;
+  fs::rename(tmp, checkpoint_);
 }
 
 toml::table Writer::step_json(const StepRecord& r) {
@@ -313,10 +468,36 @@ void Writer::finish(const RunSummary& run, const toml::table& extra) {
                                       {"halved_steps", run.halved_steps},
                                       {"jumps", run.jumps}});
   for (const auto& [k, v] : extra) s.insert_or_assign(k, v);
-  if (file_ >= 0) {
-    const hid_t f = hid_t(std::exchange(file_, -1));
-    check(H5Fclose(f), "closing " + h5_tmp_.string());  // a failed close may leave it incomplete
-    fs::rename(h5_tmp_, dir_ / "result.h5");
+  if (case_.write_fields) {
+    // result.h5: the heights, then every step's group copied from its file.
+    const fs::path tmp = dir_ / (".result.h5.tmp" + std::to_string(::getpid()));
+    {
+      H5Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+      if (!file.ok()) throw std::runtime_error(tmp.string() + ": cannot create the HDF5 file");
+      const Units& u = scene_.units;
+      const Grid& g = scene_.grid;
+      const hid_t root = file;
+      attr_string(root, "case", case_.name);
+      attr_string(root, "cmc_version", CMC_VERSION);
+      attr_double(root, "dx", u.to_m(g.dx()));
+      attr_double(root, "dy", u.to_m(g.dy()));
+      attr_double(root, "size_x", u.to_m(g.lx));
+      attr_double(root, "size_y", u.to_m(g.ly));
+      attr_string(root, "length_units", "m");
+      dataset(root, "heights", g, scene_.topography.heights, u.length_m, "m",
+              "indenter heights h (gap g = h - penetration + u)");
+      for (const auto& r : run.steps) {
+        const fs::path from = step_file(r.index);
+        H5Handle src(H5Fopen(from.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+        if (!src.ok()) throw std::runtime_error(from.string() + ": the fields of step " + std::to_string(r.index) +
+                                                " are missing");
+        char name[32];
+        std::snprintf(name, sizeof name, "step_%04d", r.index);
+        check(H5Ocopy(src, name, file, name, H5P_DEFAULT, H5P_DEFAULT), std::string("copying ") + name);
+      }
+      check(file.reset(), "closing " + tmp.string());  // a failed close may leave it incomplete
+    }
+    fs::rename(tmp, dir_ / "result.h5");
     // XDMF pointer for ParaView: one 2-D uniform grid per step.
     const Grid& g = scene_.grid;
     const Units& u = scene_.units;
@@ -341,8 +522,10 @@ void Writer::finish(const RunSummary& run, const toml::table& extra) {
     write_atomically(dir_ / "result.xdmf", x.str());
   }
   write_atomically(dir_ / "summary.json", to_json(s));
+  // The run is complete: its partial files go.
   std::error_code ec;
-  for (const auto& f : {progress_, checkpoint_}) fs::remove(f, ec);
+  fs::remove(marker_, ec);
+  fs::remove_all(partial_, ec);
 }
 
 void Writer::fail(const std::string& message) {

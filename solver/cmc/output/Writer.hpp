@@ -1,10 +1,21 @@
 // Writes a run's results: DIR/summary.json (the readable record; names are stable,
 // later tooling reads them), DIR/result.h5 (the fields of every step, with units as
 // attributes, for h5py) and DIR/result.xdmf (a pointer file so ParaView can open the
-// HDF5 fields). Everything is written under a temporary name and renamed into place
-// only when complete, so an interrupted run never leaves a half-written result.
+// HDF5 fields). They are written only when the run finishes, each under a temporary name
+// renamed into place when complete, so an interrupted run never leaves a half-written
+// result, nor an earlier run's (they are removed when a run starts).
+//
+// While a run is unfinished its folder holds:
+//   DIR/INCOMPLETE               says so, and how to continue it (removed when it finishes);
+//   DIR/.partial/step_NNNN.h5    each finished step's fields, written atomically;
+//   DIR/.partial/checkpoint.h5   where the run stands (a RunPoint: the finished steps'
+//                                records, the state to go on from and the load path's
+//                                walk), replaced atomically at every checkpoint; --resume
+//                                continues from it exactly as if the run had not stopped;
+//   DIR/.cmc.lock                the lock of the process writing there (OutputLock.hpp).
 #pragma once
 
+#include "cmc/output/OutputLock.hpp"
 #include "cmc/run/Driver.hpp"
 
 #include <filesystem>
@@ -14,25 +25,27 @@
 
 namespace cmc {
 
-// What an interrupted run left behind: the finished steps and the last solved state.
-struct ResumePoint {
-  std::vector<StepRecord> done;
-  ContactState state;
-};
-
 class Writer {
  public:
-  // With `resume`, a partial run of the same case in `dir` is continued (see
-  // resume_point()); without, any partial run there is discarded.
+  // Locks `dir` (OutputBusy when another process writes there). With `resume`, a partial
+  // run of the same case in `dir` is continued (see resume_point()); without, or when
+  // there is none, any partial run there is discarded. An earlier run's results are removed.
   Writer(std::filesystem::path dir, const Case& c, const Scene& s, bool resume = false);
   ~Writer();  // keeps the partial files of an unfinished run, so it can be resumed
-  // The steps a resumed run can skip and its warm start (empty without --resume).
-  const ResumePoint& resume_point() const { return resume_; }
+  // Where the interrupted run stood (nothing done, and an empty state, without --resume).
+  const RunPoint& resume_point() const { return resume_; }
+  bool resuming() const { return resuming_; }
+  // What the caller should tell the user about the folder (empty: nothing), e.g. that a
+  // partial run of an earlier cmc version there could not be continued and was discarded.
+  const std::string& notice() const { return notice_; }
   Writer(const Writer&) = delete;
   Writer& operator=(const Writer&) = delete;
 
-  // Append one solved step's fields (only when the case asks for fields).
+  // Keep one solved step: its record, and its fields when the case asks for fields.
   void add_step(const StepRecord& rec, const ContactState& st);
+  // Commit a point the run can be continued from: the steps added so far, the state the
+  // run goes on from and its load path's walk (null: none), replacing the last checkpoint.
+  void checkpoint(const ContactState& st, const PathState* path);
   // Write summary.json (+ result.h5, result.xdmf when fields were written) and move
   // them into place. `extra` entries are merged into the summary's top level.
   void finish(const RunSummary& run, const toml::table& extra = {});
@@ -45,13 +58,15 @@ class Writer {
  private:
   toml::table summary_base() const;
   void load_partial();
-  std::filesystem::path dir_, h5_tmp_, progress_, checkpoint_;
-  ResumePoint resume_;
+  std::filesystem::path step_file(int index) const;
+  OutputLock lock_;
+  std::filesystem::path dir_, partial_, checkpoint_, marker_;
+  RunPoint resume_;
+  bool resuming_ = false;
+  std::string notice_;
   toml::array records_;
   const Case& case_;
   const Scene& scene_;
-  long long file_ = -1;  // hid_t
-  int steps_written_ = 0;
 };
 
 // Write `text` to `path` atomically (temporary file in the same folder, then rename).

@@ -3,6 +3,7 @@
 #include "cmc/contact/AdhesiveSolver.hpp"
 #include "cmc/contact/PolonskyKeer.hpp"
 #include "cmc/contact/QuasiStaticAdhesion.hpp"
+#include "cmc/run/TestPoints.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -24,7 +25,8 @@ namespace {
 // One run in progress: the finished steps, and how to record and hand on a new one.
 class Run {
  public:
-  Run(const Scene& s, const StepCallback& on_step) : s_(s), on_step_(on_step) {}
+  Run(const Scene& s, const StepCallback& on_step, const CheckpointCallback& on_checkpoint)
+      : s_(s), on_step_(on_step), on_checkpoint_(on_checkpoint) {}
 
   RunSummary summary;
 
@@ -60,10 +62,16 @@ class Run {
     account(rec);
     if (on_step_) on_step_(summary.steps.back(), st);
   }
+  // A point the run can be continued from; `point` names it for the test points.
+  void checkpoint(const ContactState& st, const PathState* path, const char* point) {
+    if (on_checkpoint_) on_checkpoint_(st, path);
+    test_point(point);
+  }
 
  private:
   const Scene& s_;
   const StepCallback& on_step_;
+  const CheckpointCallback& on_checkpoint_;
 };
 
 template <class Options>
@@ -81,26 +89,32 @@ void run_polonsky_keer(const Case& c, const Scene& s, Run& run, std::size_t firs
                        const Progress& progress) {
   PolonskyKeer solver(*s.half_space, s.topography.heights, solver_options<PolonskyKeer::Options>(c.solver, progress));
   for (std::size_t k = first; k < s.targets.size(); ++k) {
+    test_point("solve");
     const SolveResult r = solver.solve(s.targets[k], state);
     run.keep(run.record(k, r, state), state);
+    run.checkpoint(state, nullptr, "step");
   }
 }
 
 // Quasi-static adhesion: the loading branch, each step starting from the previous one
-// (a smaller load), which is the start from above that the solver needs.
+// (a smaller load), which is the start from above that the solver needs. The solver keeps
+// nothing between solves beyond the state, so a resumed run continues exactly.
 void run_quasi_static(const Case& c, const Scene& s, Run& run, std::size_t first, ContactState& state,
                       const Progress& progress) {
   auto o = solver_options<QuasiStaticAdhesion::Options>(c.solver, progress);
   o.tension_tolerance = c.solver.tension_tolerance;
   QuasiStaticAdhesion solver(*s.half_space, s.topography.heights, std::get<ExponentialAdhesion>(s.interaction), o);
   for (std::size_t k = first; k < s.targets.size(); ++k) {
+    test_point("solve");
     const SolveResult r = solver.solve(s.targets[k], state);
     run.keep(run.record(k, r, state), state);
+    run.checkpoint(state, nullptr, "step");
   }
 }
 
-// Adhesive CG: a load path that halves steps which fail or jump (LoadPath.hpp).
-void run_adhesive_cg(const Case& c, const Scene& s, Run& run, std::size_t first, ContactState& state,
+// Adhesive CG: a load path that halves steps which fail or jump (LoadPath.hpp), continued
+// from `path` (where an interrupted run's walk stood, or the start).
+void run_adhesive_cg(const Case& c, const Scene& s, Run& run, PathState& path, ContactState& state,
                      const Progress& progress) {
   AdhesiveSolver solver(*s.half_space, s.topography.heights, s.interaction,
                         solver_options<AdhesiveSolver::Options>(c.solver, progress));
@@ -111,10 +125,13 @@ void run_adhesive_cg(const Case& c, const Scene& s, Run& run, std::size_t first,
   lo.pressure_floor = s.units.pressure(c.loading.jump_pressure_floor);
   lo.refine_pulloff = c.loading.refine_pulloff;
   lo.contact_rule = s.contact_rule;
-  const std::vector<Target> rest(s.targets.begin() + long(first), s.targets.end());
-  std::size_t k = first;
+  std::size_t k = path.next;
   const LoadPathResult lp = run_load_path(
-      [&](const Target& t, ContactState& st) { return solver.solve(t, st); }, rest, state, lo,
+      [&](const Target& t, ContactState& st) {
+        test_point("solve");
+        return solver.solve(t, st);
+      },
+      s.targets, state, path, lo,
       [&](const LoadStep& ls, const ContactState& st) {
         SolveResult r = ls.result;
         r.iterations = ls.iterations, r.fft_pairs = ls.fft_pairs, r.wall_s = ls.wall_s;  // all solves of the step
@@ -123,6 +140,9 @@ void run_adhesive_cg(const Case& c, const Scene& s, Run& run, std::size_t first,
         rec.jump = ls.jump;
         rec.halvings = ls.halvings;
         run.keep(rec, st);
+      },
+      [&](const PathState& ps, const ContactState& st) {
+        run.checkpoint(st, &ps, ps.refinement == PathState::Refinement::NotStarted ? "step" : "refine");
       });
   RunSummary& sum = run.summary;
   sum.load_path = true;
@@ -139,18 +159,22 @@ void run_adhesive_cg(const Case& c, const Scene& s, Run& run, std::size_t first,
 }  // namespace
 
 RunSummary run_scene(const Case& c, Scene& s, const StepCallback& on_step, const Progress& progress,
-                     const std::vector<StepRecord>* done, const ContactState* warm) {
+                     const RunPoint* from, const CheckpointCallback& on_checkpoint) {
+  check_test_points();
   const double pair_s = s.half_space->time_fft_pair();
   const auto t0 = std::chrono::steady_clock::now();
-  Run run(s, on_step);
+  Run run(s, on_step, on_checkpoint);
   ContactState state;
-  if (warm) state = *warm;
-  const std::size_t first = done ? done->size() : 0;
-  for (std::size_t k = 0; k < first; ++k) run.account((*done)[k]);
+  PathState path;
+  if (from) state = from->state, path = from->path;
+  const std::size_t first = from ? from->done.size() : 0;
+  if (first > s.targets.size() || (path.started && path.next != first))
+    throw std::invalid_argument("run_scene: the run to continue does not fit the case's load steps");
+  for (std::size_t k = 0; k < first; ++k) run.account(from->done[k]);
   // The case's solver, resolved by the parser (never Auto here).
   switch (c.solver.kind) {
     case SolverKind::PolonskyKeer: run_polonsky_keer(c, s, run, first, state, progress); break;
-    case SolverKind::AdhesiveCg: run_adhesive_cg(c, s, run, first, state, progress); break;
+    case SolverKind::AdhesiveCg: run_adhesive_cg(c, s, run, path, state, progress); break;
     case SolverKind::QuasiStatic: run_quasi_static(c, s, run, first, state, progress); break;
     case SolverKind::Auto: throw std::logic_error("run_scene: the case's solver kind was not resolved");
   }

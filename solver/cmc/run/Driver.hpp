@@ -57,11 +57,25 @@ struct RunSummary {
   int halved_steps = 0, jumps = 0;
 };
 
-using StepCallback = std::function<void(const StepRecord&, const ContactState&)>;
+// Where a run stands, enough to continue it exactly as if it had not stopped (what a
+// checkpoint holds, output/Writer.cpp): the steps finished, the state the next solve
+// starts from, and for a load path (adhesive runs) where its walk stands.
+struct RunPoint {
+  std::vector<StepRecord> done;
+  ContactState state;
+  PathState path;  // unused by Polonsky–Keer
+};
 
-// `done`: steps already finished by an interrupted run (skipped, kept in the summary);
-// `warm`: the state to warm-start the next step from.
+using StepCallback = std::function<void(const StepRecord&, const ContactState&)>;
+// Called wherever the run can be continued from: after every step (after the
+// StepCallback) and after every pull-off refinement solve, with the state the run goes on
+// from and, for a load path, its walk (null for Polonsky–Keer). With the steps handed to
+// the StepCallback so far, that is a RunPoint.
+using CheckpointCallback = std::function<void(const ContactState&, const PathState*)>;
+
+// `from`: where an interrupted run stood (its finished steps are skipped and kept in the
+// summary); null: from the start.
 RunSummary run_scene(const Case& c, Scene& s, const StepCallback& on_step, const Progress& progress = {},
-                     const std::vector<StepRecord>* done = nullptr, const ContactState* warm = nullptr);
+                     const RunPoint* from = nullptr, const CheckpointCallback& on_checkpoint = {});
 
 }  // namespace cmc

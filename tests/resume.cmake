@@ -1,0 +1,19 @@
+# Interruption tests of `cmc run` (issue 12; tests/resume_test.py, which says what each
+# checks): runs stopped by SIGKILL at named test points (CMC_TEST_KILL_AT, not timers) and
+# resumed must equal uninterrupted runs bit for bit; one defect per test, named after it.
+# Each works in its own folder under build/resume-tests/.
+foreach(test kill_anywhere D1_pulloff D2_jump_scale D3_counters D8_stale_summary)
+  add_test(NAME resume.${test}
+           COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/tests/resume_test.py $<TARGET_FILE:cmc>
+                   ${CMAKE_BINARY_DIR}/resume-tests ${test})
+  set_tests_properties(resume.${test} PROPERTIES LABELS quick TIMEOUT 300)
+endforeach()
+# One owner per output folder (D7): a second run, validate or refine on a folder in use.
+add_test(NAME lock.D7_one_owner
+         COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/tests/resume_test.py $<TARGET_FILE:cmc>
+                 ${CMAKE_BINARY_DIR}/resume-tests D7_lock)
+set_tests_properties(lock.D7_one_owner PROPERTIES LABELS quick TIMEOUT 300)
+# A malformed test-point variable is bad input (exit 2), before anything is written.
+add_test(NAME cli.bad_test_point
+         COMMAND sh -c "rm -rf ${CMAKE_BINARY_DIR}/bad-test-point; CMC_TEST_KILL_AT=step:0 $<TARGET_FILE:cmc> run ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load-hardwall.toml --set grid.n=64 --out ${CMAKE_BINARY_DIR}/bad-test-point 2>&1 | grep -q 'CMC_TEST_KILL_AT: expected NAME:N' && test ! -e ${CMAKE_BINARY_DIR}/bad-test-point")
+set_tests_properties(cli.bad_test_point PROPERTIES LABELS quick)

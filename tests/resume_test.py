@@ -1,0 +1,332 @@
+#!/usr/bin/python3
+"""Interruption tests of `cmc run` (issue 12): a run killed anywhere and resumed with
+--resume gives the same results, bit for bit, as a run that was not interrupted; an
+unfinished folder says so; one process at a time writes into a folder.
+
+usage: tests/resume_test.py CMC WORKDIR TEST
+
+TEST is one of
+  kill_anywhere     SIGKILL at many points of an adhesive load path with pull-off
+                    refinement (before the first checkpoint, in a step, between steps,
+                    in the refinement, right after a refinement checkpoint, and a chain
+                    of kills of the resumed runs themselves) and of a hard-wall run;
+                    every resumed run must equal the uninterrupted one bit for bit
+                    (scripts/compare_runs.py: every summary.json value but wall-clock
+                    times, every result.h5 dataset and attribute)
+  D1_pulloff        killed while refining the pull-off: the resumed summary has the
+                    uninterrupted run's pull-off
+  D2_jump_scale     killed between steps: the resumed steps are the uninterrupted ones
+                    (the jump test's running max of |p| is carried on)
+  D3_counters       killed between steps: the path's counters (halved steps, jumps) are
+                    the whole path's, and progress lines on a terminal number the steps
+                    from where the run resumed
+  D8_stale_summary  a run killed before its first checkpoint leaves no earlier run's
+                    summary.json (nor result.h5) behind, and an INCOMPLETE marker
+  D7_lock           a second cmc run / validate / refine on a folder in use stops at once
+                    with exit code 4, naming the folder and the first run's process id,
+                    and the first run's results are intact
+
+Runs are stopped deterministically by cmc's test points (solver/cmc/run/TestPoints.hpp:
+CMC_TEST_KILL_AT=NAME:N, CMC_TEST_PAUSE_AT, CMC_TEST_TRACE), not by timers, so the test
+is reliable on a loaded machine. Exits 0 on success, 1 with the reasons on failure.
+"""
+import json
+import os
+import pty
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+PATH_CASE = os.path.join(HERE, "data", "resume_path.toml")  # adhesive load path, 64²
+HARDWALL_CASE = os.path.join(ROOT, "cases", "validation", "hertz-free.toml")
+QUASI_STATIC_CASE = os.path.join(ROOT, "cases", "challenge", "load-sweep.toml")  # quasi_static, 12 steps
+COMPARE = os.path.join(ROOT, "scripts", "compare_runs.py")
+
+failures = []
+
+
+def check(ok, message):
+    if not ok:
+        failures.append(message)
+        print("FAIL: " + message, flush=True)
+    return ok
+
+
+def env(**extra):
+    e = dict(os.environ)
+    for k in ("CMC_TEST_KILL_AT", "CMC_TEST_PAUSE_AT", "CMC_TEST_CONTINUE", "CMC_TEST_TRACE"):
+        e.pop(k, None)
+    e["CMC_THREADS"] = "1"  # the same bits in every run (the reductions' chunks follow the thread count)
+    e.update(extra)
+    return e
+
+
+def cmc_run(cmc, case, out, *args, resume=False, **extra):
+    cmd = [cmc, "run", case, "--out", out, "--quiet", *args] + (["--resume"] if resume else [])
+    return subprocess.run(cmd, env=env(**extra), capture_output=True, text=True)
+
+
+def killed(p):
+    return p.returncode == -signal.SIGKILL
+
+
+def compare(a, b, label):
+    p = subprocess.run(["/usr/bin/python3", COMPARE, a, b], capture_output=True, text=True)
+    return check(p.returncode == 0, f"{label}: {b} differs from the uninterrupted run {a}:\n{p.stdout}{p.stderr}")
+
+
+def summary(folder):
+    with open(os.path.join(folder, "summary.json")) as f:
+        return json.load(f)
+
+
+def reference(cmc, work, case=PATH_CASE, *args, name="reference"):
+    """The uninterrupted run, and the test points it passed, in order."""
+    out = os.path.join(work, name)
+    shutil.rmtree(out, ignore_errors=True)
+    p = cmc_run(cmc, case, out, *args, CMC_TEST_TRACE="1")
+    if p.returncode != 0:
+        raise SystemExit(f"resume_test: the uninterrupted run failed ({p.returncode}):\n{p.stderr}")
+    trace = re.findall(r"^cmc: test point (\w+):(\d+)$", p.stderr, re.M)
+    return out, [(n, int(k)) for n, k in trace]
+
+
+def points(trace):
+    """The solves of each step, and those after the last step (refining the pull-off)."""
+    steps, current = [], []
+    for name, n in trace:
+        if name == "solve":
+            current.append(n)
+        elif name == "step":
+            steps.append(current)
+            current = []
+    return steps, current
+
+
+def interrupted(cmc, case, out, point, *args, resume=False, marker=True):
+    """A run (or a resumed run) killed at `point`: True if it died of SIGKILL. With `marker`,
+    also checks that the folder says it is unfinished (D8; the D1-D3 tests leave it out,
+    so that each fails for its own defect only)."""
+    p = cmc_run(cmc, case, out, *args, resume=resume, CMC_TEST_KILL_AT=point)
+    ok = check(killed(p), f"kill at {point}: expected the run to die of SIGKILL, got exit {p.returncode}:\n{p.stderr}")
+    if ok and marker:
+        check(not os.path.exists(os.path.join(out, "summary.json")),
+              f"kill at {point}: {out}/summary.json exists in an unfinished folder")
+        check(os.path.exists(os.path.join(out, "INCOMPLETE")), f"kill at {point}: {out}/INCOMPLETE is missing")
+    return ok
+
+
+def resume(cmc, case, out, *args):
+    p = cmc_run(cmc, case, out, *args, resume=True)
+    check(p.returncode == 0, f"resume of {out}: exit {p.returncode}:\n{p.stderr}")
+    check(not os.path.exists(os.path.join(out, "INCOMPLETE")) and not os.path.exists(os.path.join(out, ".partial")),
+          f"resume of {out}: INCOMPLETE or .partial/ left in a finished folder")
+    return p
+
+
+def path_points(cmc, work):
+    ref, trace = reference(cmc, work)
+    steps, refinement = points(trace)
+    s = summary(ref)
+    # The case must exercise what the tests claim to test.
+    assert len(steps) == len(s["steps"]), (steps, len(s["steps"]))
+    assert s["load_path"]["halved_steps"] > 0 and s["load_path"]["jumps"] > 0, s["load_path"]
+    assert len(refinement) >= 4, f"the case refines the pull-off in {len(refinement)} solves, the test needs 4"
+    return ref, steps, refinement
+
+
+def test_kill_anywhere(cmc, work):
+    t0 = time.monotonic()
+    ref, steps, refinement = path_points(cmc, work)
+    longest = max(range(len(steps)), key=lambda k: len(steps[k]))
+    assert len(steps[longest]) >= 3, "no step of the case is halved into three solves or more"
+    scenarios = {
+        "before the first checkpoint": ["solve:1"],
+        f"in step {longest} (its solve {len(steps[longest]) // 2 + 1} of {len(steps[longest])})":
+            [f"solve:{steps[longest][len(steps[longest]) // 2]}"],
+        f"between steps {len(steps) // 2 - 1} and {len(steps) // 2}": [f"step:{len(steps) // 2}"],
+        "in the pull-off refinement (its third solve)": [f"solve:{refinement[2]}"],
+        "right after a refinement checkpoint": ["refine:3"],
+        "after the last step, before the refinement": [f"step:{len(steps)}"],
+        # The resumed runs killed in turn (counts restart in every process).
+        "a chain: between steps, then in a step, the refinement, before a first new solve":
+            ["step:2", "solve:4", "refine:1", "solve:1"],
+    }
+    for label, kills in scenarios.items():
+        out = os.path.join(work, "k-" + re.sub(r"\W+", "-", label).strip("-"))
+        shutil.rmtree(out, ignore_errors=True)
+        ok = True
+        for i, point in enumerate(kills):
+            ok = ok and interrupted(cmc, PATH_CASE, out, point, resume=i > 0)
+        if ok:
+            resume(cmc, PATH_CASE, out)
+            compare(ref, out, f"killed {label} ({' then '.join(kills)}), resumed")
+    # Polonsky–Keer (hard wall, three force steps): killed in its second step, resumed.
+    args = ["--set", "grid.n=64"]
+    href, _ = reference(cmc, work, HARDWALL_CASE, *args, name="hardwall-reference")
+    out = os.path.join(work, "k-hardwall")
+    shutil.rmtree(out, ignore_errors=True)
+    if interrupted(cmc, HARDWALL_CASE, out, "solve:2", *args):
+        resume(cmc, HARDWALL_CASE, out, *args)
+        compare(href, out, "hard wall killed in step 1, resumed")
+    # The quasi-static solver (the challenge's load sweep at 64², 12 loading steps): killed
+    # in its fifth step, resumed.
+    args = ["--set", "grid.n=64"]
+    qref, _ = reference(cmc, work, QUASI_STATIC_CASE, *args, name="quasi-static-reference")
+    out = os.path.join(work, "k-quasi-static")
+    shutil.rmtree(out, ignore_errors=True)
+    if interrupted(cmc, QUASI_STATIC_CASE, out, "solve:5", *args):
+        resume(cmc, QUASI_STATIC_CASE, out, *args)
+        compare(qref, out, "quasi-static load sweep killed in step 4, resumed")
+    print(f"kill_anywhere: {len(scenarios) + 2} interrupted runs resumed in {time.monotonic() - t0:.1f} s")
+
+
+def test_D1_pulloff(cmc, work):
+    ref, steps, refinement = path_points(cmc, work)
+    out = os.path.join(work, "d1")
+    shutil.rmtree(out, ignore_errors=True)
+    if interrupted(cmc, PATH_CASE, out, f"solve:{refinement[2]}", marker=False):
+        resume(cmc, PATH_CASE, out)
+        got, want = summary(out).get("load_path", {}), summary(ref)["load_path"]
+        for key in ("pulloff_force", "pulloff_mean_pressure", "pulloff_branch"):
+            check(got.get(key) == want[key], f"killed while refining the pull-off, resumed: load_path.{key} = "
+                                             f"{got.get(key)!r}, uninterrupted {want[key]!r}")
+
+
+def steps_after(folder, first):
+    keys = ("index", "branch", "mean_pressure", "contact_fraction", "penetration", "halvings", "jump", "iterations")
+    return [{k: s[k] for k in keys} for s in summary(folder)["steps"][first:]]
+
+
+def test_D2_jump_scale(cmc, work):
+    ref, steps, _ = path_points(cmc, work)
+    # Killed after step 3: on unloading, where |p| has fallen below its running max.
+    out = os.path.join(work, "d2")
+    shutil.rmtree(out, ignore_errors=True)
+    if interrupted(cmc, PATH_CASE, out, "step:4", marker=False):
+        resume(cmc, PATH_CASE, out)
+        for want, got in zip(steps_after(ref, 4), steps_after(out, 4)):
+            check(want == got, f"killed after step 3, resumed: step {want['index']} differs:\n"
+                               f"  uninterrupted {want}\n  resumed       {got}")
+
+
+def run_on_terminal(cmd, environment):
+    """Runs cmd with stderr on a pseudo-terminal (cmc prints progress only to one)."""
+    master, slave = pty.openpty()
+    p = subprocess.Popen(cmd, env=environment, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=slave)
+    os.close(slave)
+    chunks = []
+    while True:
+        try:
+            data = os.read(master, 4096)
+        except OSError:  # EIO: the child closed the terminal
+            break
+        if not data:
+            break
+        chunks.append(data)
+    os.close(master)
+    p.wait()
+    return p.returncode, b"".join(chunks).decode(errors="replace")
+
+
+def test_D3_counters(cmc, work):
+    ref, steps, _ = path_points(cmc, work)
+    out = os.path.join(work, "d3")
+    shutil.rmtree(out, ignore_errors=True)
+    if not interrupted(cmc, PATH_CASE, out, "step:2", marker=False):
+        return
+    rc, text = run_on_terminal([cmc, "run", PATH_CASE, "--out", out, "--resume"], env())
+    check(rc == 0, f"resume of {out} on a terminal: exit {rc}:\n{text}")
+    want, got = summary(ref)["load_path"], summary(out).get("load_path", {})
+    for key in ("halved_steps", "jumps"):
+        check(got.get(key) == want[key], f"killed after step 1, resumed: load_path.{key} = {got.get(key)!r}, "
+                                         f"uninterrupted {want[key]!r}")
+    shown = [int(k) for k in re.findall(r"\bstep (\d+)/\d+ +iteration", text)]
+    check(bool(shown), f"no progress lines on the terminal:\n{text}")
+    check(shown and min(shown) == 2, f"killed after step 1, resumed: progress lines show steps {sorted(set(shown))}, "
+                                     "expected them to start at step 2")
+
+
+def test_D8_stale_summary(cmc, work):
+    out = os.path.join(work, "d8")
+    shutil.rmtree(out, ignore_errors=True)
+    p = cmc_run(cmc, PATH_CASE, out)
+    check(p.returncode == 0 and os.path.exists(os.path.join(out, "summary.json")), f"first run: exit {p.returncode}")
+    # Another run in the same folder, killed before its first checkpoint.
+    args = ["--set", "solver.tolerance=1e-5"]
+    p = cmc_run(cmc, PATH_CASE, out, *args, CMC_TEST_KILL_AT="solve:1")
+    check(killed(p), f"second run: expected SIGKILL, got exit {p.returncode}")
+    for f in ("summary.json", "result.h5", "result.xdmf"):
+        check(not os.path.exists(os.path.join(out, f)),
+              f"a run killed before its first checkpoint left the earlier run's {f} in {out}")
+    marker = os.path.join(out, "INCOMPLETE")
+    check(os.path.exists(marker) and "--resume" in open(marker).read(),
+          f"{marker}: missing, or it does not say how to continue the run")
+
+
+def test_D7_lock(cmc, work):
+    ref, _ = reference(cmc, work)
+    out = os.path.join(work, "d7")
+    shutil.rmtree(out, ignore_errors=True)
+    go = os.path.join(work, "d7-continue")
+    if os.path.exists(go):
+        os.remove(go)
+    first = subprocess.Popen([cmc, "run", PATH_CASE, "--out", out, "--quiet"], stderr=subprocess.PIPE, text=True,
+                             env=env(CMC_TEST_PAUSE_AT="step:2", CMC_TEST_CONTINUE=go))
+    try:
+        line = first.stderr.readline()  # blocks until the first run holds the folder, paused
+        m = re.match(r"cmc: test point step:2: paused, pid (\d+)", line)
+        if not check(m is not None, f"the first run did not pause: {line!r}"):
+            return
+        pid = m.group(1)
+        before = {f: os.path.getmtime(os.path.join(out, f)) for f in os.listdir(out)}
+        validation_case = os.path.join(ROOT, "cases", "validation", "maugis-dugdale-lambda1.toml")
+        seconds = []
+        for cmd in ([cmc, "run", PATH_CASE, "--out", out],
+                    [cmc, "run", PATH_CASE, "--out", out, "--resume"],
+                    [cmc, "validate", validation_case, "--set", "grid.n=64", "--out", out],
+                    [cmc, "refine", HARDWALL_CASE, "--grids", "32", "64", "--out", out]):
+            t = time.monotonic()
+            p = subprocess.run(cmd, env=env(), capture_output=True, text=True, timeout=120)
+            seconds.append(time.monotonic() - t)
+            label = " ".join(os.path.basename(c) for c in cmd[1:3])
+            check(p.returncode == 4, f"{label} on a folder in use: exit {p.returncode}, expected 4:\n{p.stderr}")
+            check(out in p.stderr and f"pid {pid}" in p.stderr,
+                  f"{label} on a folder in use: the message does not name {out} and pid {pid}:\n{p.stderr}")
+        check(max(seconds) < 30, f"a second run took {max(seconds):.1f} s to stop (expected at once)")
+        after = {f: os.path.getmtime(os.path.join(out, f)) for f in os.listdir(out)}
+        check(before == after, f"the second runs changed the first's folder:\n  before {before}\n  after  {after}")
+    finally:
+        open(go, "w").close()
+        rest = first.stderr.read()
+        first.wait(timeout=300)
+    check(first.returncode == 0, f"the first run, continued: exit {first.returncode}:\n{rest}")
+    compare(ref, out, "the first run, after the second ones were turned away")
+
+
+def main(argv):
+    if len(argv) != 3 or argv[0] in ("-h", "--help"):
+        print(__doc__)
+        return 2
+    cmc, work, test = os.path.abspath(argv[0]), os.path.abspath(argv[1]), argv[2]
+    fn = globals().get("test_" + test)
+    if fn is None:
+        print(f"resume_test: unknown test {test!r} (see --help)", file=sys.stderr)
+        return 2
+    work = os.path.join(work, test)
+    os.makedirs(work, exist_ok=True)
+    fn(cmc, work)
+    if failures:
+        print(f"resume_test {test}: {len(failures)} failure(s)")
+        return 1
+    print(f"resume_test {test}: passed")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
