@@ -289,7 +289,8 @@ def test_D7_lock(cmc, work):
         seconds = []
         for cmd in ([cmc, "run", PATH_CASE, "--out", out],
                     [cmc, "run", PATH_CASE, "--out", out, "--resume"],
-                    [cmc, "validate", validation_case, "--set", "grid.n=64", "--out", out],
+                    # validate writes (and locks) --out/<case name>: name the case after the folder
+                    [cmc, "validate", validation_case, "--set", "grid.n=64", "--set", 'case.name="d7"', "--out", work],
                     [cmc, "refine", HARDWALL_CASE, "--grids", "32", "64", "--out", out]):
             t = time.monotonic()
             p = subprocess.run(cmd, env=env(), capture_output=True, text=True, timeout=120)

@@ -4,6 +4,8 @@
 #include "Profiles.hpp"
 #include "Validate.hpp"
 #include "cmc/output/OutputLock.hpp"
+
+#include <vector>
 #include "cmc/output/Writer.hpp"
 
 #include <cstdio>
@@ -22,8 +24,8 @@ DIR/<case name>/summary.json (with a "validation" entry: every check's error, an
 refinement study's errors, observed order and fitted line), the fields, and, for
 hertz, hertz_periodic and westergaard, DIR/<case name>/profiles.csv: the solved
 pressure and gap beside the analytic ones at every grid point near the contact.
-Exit code 5 when any check fails; 4 when DIR is in use by another cmc process (one
-process at a time writes into a folder).
+Exit code 5 when any check fails; 4 when DIR/<case name> is in use by another cmc
+process (one process at a time writes into a folder).
 )";
 
 }  // namespace
@@ -39,7 +41,11 @@ int cmd_validate(int argc, char** argv) {
     if (!cases.back().validation) throw CaseError(file + ": no [validation] section: nothing to compare with");
   }
   // One owner per output folder, from the start (the results are written after the solves).
-  const OutputLock lock = a.out.empty() ? OutputLock() : OutputLock(a.out);
+  // A validation writes only DIR/<case name>/, so that is what it locks: validations of
+  // different cases may share one --out (ctest runs them in parallel into build/validation).
+  std::vector<OutputLock> locks;
+  if (!a.out.empty())
+    for (const Case& c : cases) locks.emplace_back(std::filesystem::path(a.out) / c.name);
   bool all_pass = true;
   std::printf("%-28s %-18s %12s %12s %6s %8s\n", "case", "quantity", "error", "tolerance", "result", "time_s");
   for (const Case& c : cases) {
