@@ -4,8 +4,11 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+# clang, libclang-rt-dev (libFuzzer and clang's sanitizer runtimes) and libomp-dev (OpenMP for
+# clang): the fuzz build of scripts/fuzz.sh, which scripts/test.sh runs.
 packages=(build-essential cmake pkg-config libfftw3-dev libgsl-dev libhdf5-dev libtomlplusplus-dev
-          libgtest-dev libbenchmark-dev python3-matplotlib python3-numpy python3-h5py)
+          libgtest-dev libbenchmark-dev python3-matplotlib python3-numpy python3-h5py
+          clang libclang-rt-dev libomp-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

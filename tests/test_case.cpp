@@ -113,6 +113,29 @@ TEST(Case, PhysicallyInvalid) {
   EXPECT_NE(m.find("a grid that fits in memory"), std::string::npos) << m;
 }
 
+// Found with tests/fuzz/fuzz_case (inputs with --set strings): integers beyond an int wrapped
+// around (n = 2^32 + 1 was read as n = 1, max_iterations = 2^32 as 0), and two double ->
+// int conversions out of range (undefined behaviour, reported by UBSan): a refinement
+// grid of 1e300, and the memory estimate of a 2^31 - 1 grid in the error message.
+TEST(Case, IntegerRangesFoundByFuzzing) {
+  auto m = error_of(kGood, {"grid.n=4294967297"});
+  EXPECT_NE(m.find("[grid] n: expected a positive number of points per side (<= 2147483647)"), std::string::npos) << m;
+  m = error_of(kGood, {"solver.max_iterations=4294967296"});
+  EXPECT_NE(m.find("[solver] max_iterations: expected a positive iteration cap (<= 2147483647)"), std::string::npos) << m;
+  m = error_of(kGood, {"grid.n=2147483647"});
+  EXPECT_NE(m.find("a grid that fits in memory (this one needs about 295147904904 GB"), std::string::npos) << m;
+  const std::string validated = std::string(kGood) +
+                                "[validation]\nreference = \"hertz\"\n[validation.refinement]\ngrids = [64, 128]\n"
+                                "quantity = \"penetration\"\nmin_order = 1\n";
+  EXPECT_EQ(load_case(write(validated)).validation->refinement->grids.back(), 128);
+  m = error_of(validated, {"validation.refinement.grids=[64, 1e300]"});
+  EXPECT_NE(m.find("[validation.refinement] grids: expected an increasing array"), std::string::npos) << m;
+  // The seed is a long long: the whole non-negative range is a seed.
+  const Case c = load_case(write(replace(kGood, "kind = \"sphere\"\nradius = 1e-2", "kind = \"self_affine\"")),
+                           {"surface.seed=9223372036854775807"});
+  EXPECT_EQ(c.surface.seed, 9223372036854775807LL);
+}
+
 TEST(Case, Overrides) {
   const std::string f = write(kGood);
   const Case c = load_case(f, {"grid.n=32", "solver.tolerance=1e-6", "grid.boundary=free", "case.name=\"x y\""});

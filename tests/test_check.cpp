@@ -279,6 +279,11 @@ std::vector<Bad> malformed() {
       {"duplicate names", "pressure_Pa,pressure_Pa\n1,2\n3,4\n", "appears twice"},
       {"no overlap", "pressure_Pa,contact_fraction\n1e7,0.5\n2e7,0.6\n", "no overlap"},
       {"nothing positive on log axes", "pressure_Pa,contact_fraction\n1e4,0\n2e4,-1\n", "positive on the log axes"},
+      // Found with tests/fuzz/fuzz_check_csv: finite in the file, not in SI or in the
+      // errors; these were scored as NaN (a FAIL with "NaN" in check.json, and no figure).
+      {"overflow in SI", "pressure_GPa,contact_fraction\n1e4,0.001\n1e300,0.002\n",
+       ":3: column 1 ('pressure_GPa'): 1e+300 is too large to convert to SI units (Pa)"},
+      {"errors overflow", "pressure_Pa,contact_fraction\n1e4,1e308\n2e4,1e308\n", "overflow a double"},
   };
 }
 

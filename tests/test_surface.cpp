@@ -475,6 +475,62 @@ TEST_F(SurfaceFiles, BadHdf5Files) {
   expect_error([&] { read_challenge_hdf5(cut); }, cut, "");
 }
 
+// Found by tests/fuzz/fuzz_hdf5_heights: a size attribute of several elements overflowed
+// the one double it was read into (a stack buffer overflow; AddressSanitizer reported it),
+// and a dataset that was never written was read as its fill value, a flat surface (and
+// a few-kB file declaring 2^20 x 2^20 unwritten points made the reader allocate 8 TB).
+TEST_F(SurfaceFiles, Hdf5FilesFoundByFuzzing) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  // Writes dataset "surface" ({ny, nx} doubles) with lx = {lx values}, ly = 1; chunk: 0 for
+  // contiguous; rows_written: how many rows get data (the first ones; -1: all).
+  auto write = [&](const std::string& name, hsize_t ny, hsize_t nx, std::vector<double> lx, hsize_t chunk,
+                   bool deflate, long rows_written) {
+    const fs::path p = dir / name;
+    const hid_t f = H5Fcreate(p.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    const hsize_t dims[2] = {ny, nx}, chunks[2] = {chunk, chunk};
+    const hid_t sp = H5Screate_simple(2, dims, nullptr);
+    const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+    if (chunk) H5Pset_chunk(dcpl, 2, chunks);
+    if (deflate) H5Pset_deflate(dcpl, 6);
+    const hid_t d = H5Dcreate2(f, "surface", H5T_NATIVE_DOUBLE, sp, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+    if (rows_written != 0) {
+      const hsize_t rows = rows_written < 0 ? ny : hsize_t(rows_written), start[2] = {0, 0}, count[2] = {rows, nx};
+      std::vector<double> v(rows * nx);
+      for (std::size_t i = 0; i < v.size(); ++i) v[i] = 0.25 * double(i);
+      const hid_t mem = H5Screate_simple(2, count, nullptr);
+      H5Sselect_hyperslab(sp, H5S_SELECT_SET, start, nullptr, count, nullptr);
+      EXPECT_GE(H5Dwrite(d, H5T_NATIVE_DOUBLE, mem, sp, H5P_DEFAULT, v.data()), 0);
+      H5Sclose(mem);
+    }
+    const hsize_t n = lx.size();
+    const hid_t asp = H5Screate_simple(1, &n, nullptr), scalar = H5Screate(H5S_SCALAR);
+    const hid_t a = H5Acreate2(d, "lx", H5T_NATIVE_DOUBLE, asp, H5P_DEFAULT, H5P_DEFAULT);
+    H5Awrite(a, H5T_NATIVE_DOUBLE, lx.data());
+    const double one = 1.0;
+    const hid_t b = H5Acreate2(d, "ly", H5T_NATIVE_DOUBLE, scalar, H5P_DEFAULT, H5P_DEFAULT);
+    H5Awrite(b, H5T_NATIVE_DOUBLE, &one);
+    H5Aclose(b), H5Aclose(a), H5Sclose(scalar), H5Sclose(asp), H5Dclose(d), H5Pclose(dcpl), H5Sclose(sp), H5Fclose(f);
+    return p;
+  };
+  // lx of eight elements: refused, nothing written past the one double.
+  const fs::path many = write("lx_array.h5", 4, 4, {2, 3, 4, 5, 6, 7, 8, 9}, 0, false, -1);
+  expect_error([&] { read_hdf5_heights(many); }, many, "attribute 'lx' of dataset 'surface' is not a single number");
+  // lx of one element (a 1-element array) is a number.
+  EXPECT_EQ(read_hdf5_heights(write("lx_one.h5", 4, 4, {2.0}, 0, false, -1)).grid.lx, 2.0);
+  // Never written, contiguous and chunked: no data, not a flat surface.
+  const fs::path never = write("never.h5", 4, 4, {1}, 0, false, 0);
+  expect_error([&] { read_hdf5_heights(never); }, never, "holds no data (never written)");
+  const fs::path half = write("half.h5", 8, 8, {1}, 4, true, 4);  // 2 of 4 chunks written
+  expect_error([&] { read_hdf5_heights(half); }, half, "holds no data in 2 of its 4 chunks");
+  // A compressed dataset written in full is read (HDF5 calls its space "partly allocated").
+  const HeightMap full = read_hdf5_heights(write("full.h5", 8, 8, {1}, 4, true, -1));
+  EXPECT_EQ(full.heights[63], 0.25 * 63);
+  // 2^20 x 2^20 declared, nothing written: refused before anything is allocated.
+  const fs::path huge = write("huge.h5", hsize_t(1) << 20, hsize_t(1) << 20, {1}, 1024, false, 0);
+  EXPECT_LT(fs::file_size(huge), 10000u);
+  expect_error([&] { read_hdf5_heights(huge); }, huge, "holds no data in 1048576 of its 1048576 chunks");
+}
+
 TEST_F(SurfaceFiles, BadAsciiFiles) {
   const fs::path ragged = text("ragged.txt", "1 2 3\n4 5\n6 7 8\n");
   expect_error([&] { read_ascii_heights(ragged, 1, 1); }, ragged, "line 2 has 2 values, expected 3");

@@ -248,6 +248,12 @@ XY extract(const Table& t, const QuantitySpec& spec) {
     c.x.push_back(xs[i] * c.x_to_si);
     c.y.push_back(ys[i] * c.y_to_si);
     c.line.push_back(t.row_line[i]);
+    // A value finite in its unit can overflow in SI (1e300 per nm^2 is 1e318 per m^2).
+    for (const auto& [v, k] : {std::pair{c.x.back(), mx.column}, std::pair{c.y.back(), my.column}})
+      if (!std::isfinite(v))
+        throw InputError(t.file + ":" + std::to_string(t.row_line[i]) + ": " + col_ref(t, k) + ": " +
+                         fmt(t.data[std::size_t(k)][i]) + " is too large to convert to SI units (" +
+                         si_unit(k == mx.column ? spec.x.dim : spec.y.dim) + ")");
   }
   if (!increasing) {
     std::reverse(c.x.begin(), c.x.end());
@@ -349,6 +355,12 @@ Metrics compare(const XY& pred, const XY& ref, Representation rep) {
   }
   m.rms_abs = std::sqrt(sa / (hi - lo));
   m.rms_rel = std::sqrt(sr / (hi - lo));
+  // Values near the largest double make differences (or relative errors) overflow; a
+  // verdict on NaN or infinity would be meaningless, and check.json could not hold it.
+  for (double v : {m.max_abs, m.rms_abs, m.max_rel, m.rms_rel})
+    if (!std::isfinite(v))
+      throw InputError(pred.file + ": the errors against " + ref.file + " overflow a double (values or differences "
+                       "beyond 1e308, or a relative error beyond that on a log axis): nothing to score");
   m.x_lo = from_rep(lo, rep.log_x);
   m.x_hi = from_rep(hi, rep.log_x);
   m.coverage = (hi - lo) / (r.X.back() - r.X.front());

@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -105,12 +106,16 @@ class Section {
     return v;
   }
 
-  long long integer(const std::string& key, std::optional<long long> def, const std::string& what, long long min) {
+  // An integer in [min, max]; max defaults to int's, as most keys are read into an int
+  // (a larger value would wrap around: n = 2^32 + 1 was read as 1).
+  long long integer(const std::string& key, std::optional<long long> def, const std::string& what, long long min,
+                    long long max = std::numeric_limits<int>::max()) {
     const toml::node* n = given(key, def, what);
     if (!n) return *def;
     auto i = n->as_integer();
     if (!i) fail(key, what);
     if (i->get() < min) fail(key, what + " (>= " + std::to_string(min) + ")");
+    if (i->get() > max) fail(key, what + " (<= " + std::to_string(max) + ")");
     return i->get();
   }
 
@@ -232,7 +237,7 @@ void parse_grid(Section s, GridSpec& g) {
   // grid 4x larger. Refuse what cannot fit rather than failing deep in an allocation.
   const double bytes = points * 8.0 * (g.periodic ? 8.0 : 20.0);
   if (bytes > 64e9) s.fail(g.nx == g.ny ? "n" : "nx", "a grid that fits in memory (this one needs about " +
-                                             std::to_string(int(bytes / 1e9)) + " GB)");
+                                             std::to_string((long long)(bytes / 1e9)) + " GB)");
   if (!g.periodic && g.ny < 2) s.fail("ny", "at least 2 points: a free boundary needs a 2-D grid");
   s.finish();
 }
@@ -268,7 +273,7 @@ void parse_surface(Section s, const GridSpec& grid, SurfaceSpec& sf) {
       if (!(sf.cutoff_wavelength < sf.rolloff_wavelength) || sf.rolloff_wavelength > grid.size_x)
         s.fail("cutoff_wavelength", "cutoff_wavelength < rolloff_wavelength <= grid size");
       sf.rms_gradient = s.number("rms_gradient", sf.rms_gradient, "the rms gradient of the surface", true);
-      sf.seed = s.integer("seed", sf.seed, "a non-negative random seed", 0);
+      sf.seed = s.integer("seed", sf.seed, "a non-negative random seed", 0, std::numeric_limits<long long>::max());
       break;
     case SurfaceKind::File: {
       sf.path = s.string("path");
@@ -385,7 +390,7 @@ void parse_observables(Section s, double size_x, ObservablesSpec& o) {
 RefinementSpec parse_refinement(Section rs) {
   RefinementSpec ref;
   for (double g : rs.numbers("grids", "an increasing array of at least 2 grid sizes", 2)) {
-    if (g < 2 || g != std::floor(g) || (!ref.grids.empty() && g <= ref.grids.back()))
+    if (g < 2 || g != std::floor(g) || g > std::numeric_limits<int>::max() || (!ref.grids.empty() && g <= ref.grids.back()))
       rs.fail("grids", "an increasing array of at least 2 grid sizes");
     ref.grids.push_back(int(g));
   }

@@ -134,11 +134,38 @@ double read_double_attribute(const fs::path& file, hid_t obj, const char* name, 
     throw SurfaceFileError(file, "dataset '" + dataset + "' has no attribute '" + name +
                                      "': pass the physical size lx, ly explicitly");
   H5Handle a(H5Aopen(obj, name, H5P_DEFAULT), H5Aclose);
+  if (!a.ok()) throw SurfaceFileError(file, "attribute '" + std::string(name) + "' of dataset '" + dataset + "' cannot be read");
+  // One value: H5Aread writes every element of the attribute, and v holds one.
+  H5Handle space(H5Aget_space(a), H5Sclose);
+  if (!space.ok() || H5Sget_simple_extent_npoints(space) != 1)
+    throw SurfaceFileError(file, "attribute '" + std::string(name) + "' of dataset '" + dataset +
+                                     "' is not a single number");
   double v = 0;
-  if (!a.ok() || H5Aread(a, H5T_NATIVE_DOUBLE, &v) < 0 || !(v > 0) || !std::isfinite(v))
+  if (H5Aread(a, H5T_NATIVE_DOUBLE, &v) < 0 || !(v > 0) || !std::isfinite(v))
     throw SurfaceFileError(file, "attribute '" + std::string(name) + "' of dataset '" + dataset +
                                      "' is not a positive number");
   return v;
+}
+
+// "" when every value of the 2-D dataset d was written, else which part was not. Chunked
+// datasets store only the chunks written (and H5Dget_space_status calls a compressed one
+// partly allocated), so their chunks are counted; other layouts have all or nothing.
+std::string unwritten_part(hid_t d, const hsize_t dims[2]) {
+  H5Handle dcpl(H5Dget_create_plist(d), H5Pclose);
+  if (dcpl.ok() && H5Pget_layout(dcpl) == H5D_CHUNKED) {
+    hsize_t chunk[2] = {0, 0}, stored = 0;
+    H5Handle space(H5Dget_space(d), H5Sclose);  // (HDF5 1.10 refuses H5S_ALL here)
+    if (H5Pget_chunk(dcpl, 2, chunk) != 2 || chunk[0] == 0 || chunk[1] == 0 || !space.ok() ||
+        H5Dget_num_chunks(d, space, &stored) < 0)
+      return "(its chunks cannot be counted)";
+    const hsize_t all = ((dims[0] + chunk[0] - 1) / chunk[0]) * ((dims[1] + chunk[1] - 1) / chunk[1]);
+    if (stored < all)
+      return "in " + std::to_string(all - stored) + " of its " + std::to_string(all) + " chunks (never written)";
+    return "";
+  }
+  H5D_space_status_t status = H5D_SPACE_STATUS_ERROR;
+  if (H5Dget_space_status(d, &status) < 0 || status != H5D_SPACE_STATUS_ALLOCATED) return "(never written)";
+  return "";
 }
 
 void check_finite(const fs::path& file, const HeightMap& m, const std::string& where) {
@@ -260,6 +287,10 @@ HeightMap read_hdf5(const fs::path& file, const std::string& dataset, double lx,
   if (dims[0] == 0 || dims[1] == 0 || dims[0] > (1u << 20) || dims[1] > (1u << 20))
     throw SurfaceFileError(file, "dataset '" + dataset + "' has unusable extent " + std::to_string(dims[1]) + " x " +
                                      std::to_string(dims[0]));
+  // A dataset created but never (fully) written reads as its fill value (a flat surface):
+  // refuse it, before allocating what its extent claims.
+  if (const std::string missing = unwritten_part(d, dims); !missing.empty())
+    throw SurfaceFileError(file, "dataset '" + dataset + "' holds no data " + missing);
   const int nx = int(dims[1]), ny = int(dims[0]);
   if (require_square && nx != ny)
     throw SurfaceFileError(file, "dataset '" + dataset + "' is " + grid_text(nx, ny) + ", expected a square");
