@@ -140,6 +140,17 @@ def path_points(cmc, work):
     return ref, steps, refinement
 
 
+def kill_once_and_resume(cmc, work, case, name, point, label):
+    """A 64² run of `case` killed at `point`, resumed, and compared with an uninterrupted one."""
+    args = ["--set", "grid.n=64"]
+    ref, _ = reference(cmc, work, case, *args, name=f"{name}-reference")
+    out = os.path.join(work, f"k-{name}")
+    shutil.rmtree(out, ignore_errors=True)
+    if interrupted(cmc, case, out, point, *args):
+        resume(cmc, case, out, *args)
+        compare(ref, out, f"{label}, resumed")
+
+
 def test_kill_anywhere(cmc, work):
     t0 = time.monotonic()
     ref, steps, refinement = path_points(cmc, work)
@@ -167,22 +178,11 @@ def test_kill_anywhere(cmc, work):
             resume(cmc, PATH_CASE, out)
             compare(ref, out, f"killed {label} ({' then '.join(kills)}), resumed")
     # Polonsky–Keer (hard wall, three force steps): killed in its second step, resumed.
-    args = ["--set", "grid.n=64"]
-    href, _ = reference(cmc, work, HARDWALL_CASE, *args, name="hardwall-reference")
-    out = os.path.join(work, "k-hardwall")
-    shutil.rmtree(out, ignore_errors=True)
-    if interrupted(cmc, HARDWALL_CASE, out, "solve:2", *args):
-        resume(cmc, HARDWALL_CASE, out, *args)
-        compare(href, out, "hard wall killed in step 1, resumed")
+    kill_once_and_resume(cmc, work, HARDWALL_CASE, "hardwall", "solve:2", "hard wall killed in step 1")
     # The quasi-static solver (the challenge's load sweep at 64², 12 loading steps): killed
     # in its fifth step, resumed.
-    args = ["--set", "grid.n=64"]
-    qref, _ = reference(cmc, work, QUASI_STATIC_CASE, *args, name="quasi-static-reference")
-    out = os.path.join(work, "k-quasi-static")
-    shutil.rmtree(out, ignore_errors=True)
-    if interrupted(cmc, QUASI_STATIC_CASE, out, "solve:5", *args):
-        resume(cmc, QUASI_STATIC_CASE, out, *args)
-        compare(qref, out, "quasi-static load sweep killed in step 4, resumed")
+    kill_once_and_resume(cmc, work, QUASI_STATIC_CASE, "quasi-static", "solve:5",
+                         "quasi-static load sweep killed in step 4")
     print(f"kill_anywhere: {len(scenarios) + 2} interrupted runs resumed in {time.monotonic() - t0:.1f} s")
 
 
