@@ -243,3 +243,85 @@ TEST(Inputs, RefineGridsBounded) {
   EXPECT_FALSE(fs::exists(d.path / "r")) << "a grid was run";
 }
 
+// ------------------------------------------------------------------------ D12
+// An ASCII height file cut short at the end of a row (fewer rows than the grid) was
+// read as a map coarser along y and interpolated.
+TEST(Inputs, D12TruncatedAsciiFileRefused) {
+  TempDir d;
+  const int n = 16;
+  HeightMap full{Grid{n, n, 1.0, 1.0}, Field(std::size_t(n) * n)};
+  for (int iy = 0; iy < n; ++iy)
+    for (int ix = 0; ix < n; ++ix) full.heights[std::size_t(iy) * n + ix] = 1e-6 * (1 + std::cos(2 * M_PI * (ix + 2 * iy) / n));
+  write_ascii_heights(d.path / "full.txt", full);
+  // The first 8 of its 16 rows.
+  std::ifstream in(d.path / "full.txt");
+  std::string text, row;
+  for (int k = 0; k < n / 2 && std::getline(in, row); ++k) text += row + "\n";
+  d.write("cut.txt", text);
+  std::string t = kCase;
+  t.replace(t.find("kind = \"sphere\"\nradius = 1e-2"), 29, "kind = \"file\"\npath = \"FILE\"\nformat = \"ascii\"");
+  auto scene_error = [&](const std::string& file) {
+    const fs::path f = d.write("case.toml", std::string(t).replace(t.find("FILE"), 4, file));
+    try {
+      build_scene(load_case(f.string()));
+    } catch (const CaseError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  const std::string m = scene_error("cut.txt");
+  EXPECT_HAS(m, "cut.txt has 16 x 8 points (x by y, 128 values); expected the case's 16 x 16 points or a coarser map "
+                "with the same factor along x and y (a truncated file?");
+  EXPECT_EQ(scene_error("full.txt"), "accepted");
+  // A genuinely coarser map (the same factor along x and y) is still interpolated.
+  HeightMap coarse{Grid{8, 8, 1.0, 1.0}, Field(64, 1e-6)};
+  write_ascii_heights(d.path / "coarse.txt", coarse);
+  EXPECT_EQ(scene_error("coarse.txt"), "accepted");
+}
+
+// ------------------------------------------------------------------------ D13
+// The declared shape of an HDF5 dataset was not checked before reading: a header that
+// claims 65536² (a file of a few kB, nothing stored) was allocated and read.
+TEST(Inputs, D13LyingHdf5HeaderRefused) {
+  TempDir d;
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  auto make = [&](const std::string& name, hsize_t declared, bool write_one_chunk) {
+    const fs::path p = d.path / name;
+    const hid_t f = H5Fcreate(p.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    const hsize_t dims[2] = {declared, declared}, chunk[2] = {8, 8};
+    const hid_t sp = H5Screate_simple(2, dims, nullptr);
+    const hid_t pl = H5Pcreate(H5P_DATASET_CREATE);
+    H5Pset_chunk(pl, 2, chunk);
+    const hid_t ds = H5Dcreate2(f, "surface", H5T_NATIVE_DOUBLE, sp, H5P_DEFAULT, pl, H5P_DEFAULT);
+    if (write_one_chunk) {  // only the first 8 x 8 values
+      const hsize_t start[2] = {0, 0};
+      H5Sselect_hyperslab(sp, H5S_SELECT_SET, start, nullptr, chunk, nullptr);
+      const hid_t mem = H5Screate_simple(2, chunk, nullptr);
+      std::vector<double> v(64, 1e-3);
+      H5Dwrite(ds, H5T_NATIVE_DOUBLE, mem, sp, H5P_DEFAULT, v.data());
+      H5Sclose(mem);
+    }
+    H5Dclose(ds), H5Pclose(pl), H5Sclose(sp), H5Fclose(f);
+    return p;
+  };
+  EXPECT_LT(fs::file_size(make("liar.h5", 65536, false)), 100000u);
+  make("partial.h5", 16, true);
+  std::string t = kCase;
+  t.replace(t.find("kind = \"sphere\"\nradius = 1e-2"), 29, "kind = \"file\"\npath = \"FILE\"\nformat = \"challenge_hdf5\"");
+  auto scene_error = [&](const std::string& file) {
+    const fs::path f = d.write("case.toml", std::string(t).replace(t.find("FILE"), 4, file));
+    try {
+      build_scene(load_case(f.string()));
+    } catch (const CaseError& e) {
+      return std::string(e.what());
+    } catch (const std::exception& e) {
+      return std::string("not bad input: ") + e.what();
+    }
+    return std::string("accepted");
+  };
+  EXPECT_HAS(scene_error("liar.h5"), "[grid] n: " + (d.path / "liar.h5").string() +
+                                         ": dataset 'surface' declares 65536 x 65536 points (x by y), more than the 16 x 16 expected");
+  EXPECT_HAS(scene_error("partial.h5"), "[surface] path: " + (d.path / "partial.h5").string() +
+                                            ": dataset 'surface' holds no data in 3 of its 4 chunks (never written)");
+}
+

@@ -197,3 +197,38 @@ TEST(Limits, AvailableMemory) {
   EXPECT_EQ(memory_text(1.5e9), "1.5 GB");
   EXPECT_EQ(memory_text(312e6), "312 MB");
 }
+
+// The readers check a file's shape against their limit before allocating it.
+TEST(Limits, SurfaceReadersHonourTheirLimit) {
+  TempDir d;
+  HeightMap m{Grid{8, 4, 1.0, 1.0}, Field(32, 1.0)};
+  write_ascii_heights(d.path / "m.txt", m);
+  write_hdf5_heights(d.path / "m.h5", m);
+  auto shape_error = [](auto&& read) {
+    try {
+      read();
+    } catch (const SurfaceShapeError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_HAS(shape_error([&] { read_ascii_heights(d.path / "m.txt", 1, 1, 1.0, false, MapLimit{4, 4}); }),
+             "line 1 has 8 values, more than the 4 columns (points along x) expected");
+  EXPECT_HAS(shape_error([&] { read_ascii_heights(d.path / "m.txt", 1, 1, 1.0, false, MapLimit{8, 2}); }),
+             "line 3: more than the 2 rows (points along y) expected");
+  EXPECT_HAS(shape_error([&] { read_hdf5_heights(d.path / "m.h5", "surface", 1, 1, 1.0, false, MapLimit{8, 2}); }),
+             "dataset 'surface' declares 8 x 4 points (x by y), more than the 8 x 2 expected");
+  EXPECT_EQ(read_ascii_heights(d.path / "m.txt", 1, 1, 1.0, false, MapLimit{8, 4}).grid.size(), 32u);
+  // A text file beyond 100 bytes per allowed value (plus 1 MiB) is not read at all.
+  {
+    std::ofstream f(d.path / "long.txt");
+    f << "1 2\n3 4\n# " << std::string(2 << 20, 'x') << "\n";
+  }
+  try {
+    read_ascii_heights(d.path / "long.txt", 1, 1, 1.0, false, MapLimit{2, 2});
+    ADD_FAILURE() << "accepted";
+  } catch (const SurfaceFileError& e) {
+    EXPECT_HAS(e.what(), "more than a height file of the expected size takes (at most 1.05 MB)");
+  }
+}
+
