@@ -325,3 +325,99 @@ TEST(Inputs, D13LyingHdf5HeaderRefused) {
                                             ": dataset 'surface' holds no data in 3 of its 4 chunks (never written)");
 }
 
+// ------------------------------------------------------------------------ D14
+// A flat indenter under load control: the exact answer is full contact with p = p̄
+// everywhere and gap 0. Polonsky-Keer found it; the adhesive CG's load control walked
+// to full contact, found no bracket and reported the step not converged.
+TEST(Inputs, D14FlatSurfaceUnderLoadControl) {
+  TempDir d;
+  const std::string flat = R"(
+[case]
+name = "flat"
+[grid]
+n = 32
+size = 1e-3
+[material]
+contact_modulus = 1e6
+[surface]
+kind = "flat"
+[loading]
+control = "mean_pressure"
+values = [1e3, 2e3]
+)";
+  const fs::path f = d.write("flat.toml", flat);
+  const std::string adhesion[] = {"interaction.kind=\"exponential\"", "interaction.work_of_adhesion=1e-3",
+                                  "interaction.range=1e-6"};  // peak tension w/rho = 1 kPa
+  struct Run {
+    std::string what;
+    std::vector<std::string> overrides;
+    std::vector<double> loads;
+  };
+  const std::vector<Run> runs = {
+      {"Polonsky-Keer", {}, {1e3, 2e3}},
+      {"adhesive CG, hard wall", {"solver.kind=\"adhesive_cg\""}, {1e3, 2e3}},
+      {"adhesive CG, exponential adhesion", {adhesion[0], adhesion[1], adhesion[2], "loading.values=[1e3, -500]"},
+       {1e3, -500}},
+  };
+  for (const Run& r : runs) {
+    SCOPED_TRACE(r.what);
+    const Case c = load_case(f.string(), r.overrides);
+    Scene s = build_scene(c);
+    std::vector<ContactState> states;
+    const RunSummary run = run_scene(c, s, [&](const StepRecord&, const ContactState& st) { states.push_back(st); });
+    EXPECT_EQ(run.status, RunStatus::Converged) << run.message;
+    ASSERT_EQ(states.size(), r.loads.size());
+    for (std::size_t k = 0; k < states.size(); ++k) {
+      const double pbar = s.units.pressure(r.loads[k]);
+      EXPECT_NEAR(run.steps[k].mean_pressure, r.loads[k], 1e-12 * std::abs(r.loads[k]));
+      EXPECT_EQ(run.steps[k].contact_fraction, 1.0);
+      for (std::size_t i = 0; i < states[k].gap.size(); ++i) {
+        ASSERT_EQ(states[k].gap[i], 0.0) << i;
+        ASSERT_NEAR(states[k].pressure[i], pbar, 1e-12 * std::abs(pbar)) << i;
+      }
+    }
+  }
+  // Beyond the peak tension the surfaces part: no state carries it, and it says so.
+  const Case c = load_case(f.string(), {adhesion[0], adhesion[1], adhesion[2], "loading.values=[-2e3]"});
+  Scene s = build_scene(c);
+  const RunSummary run = run_scene(c, s, {});
+  EXPECT_EQ(run.status, RunStatus::NotConverged);
+  EXPECT_HAS(run.message, "no penetration found that carries mean pressure");
+}
+
+// The same holds for any periodic surface pressed into full contact: a wavy surface
+// above Westergaard's p* (the load that closes the last gap), where the adhesive CG
+// stopped "beyond pull-off, or full contact". Full contact is exact there: p = p̄ − K h,
+// the Polonsky-Keer answer to its tolerance.
+TEST(Inputs, D14FullContactAboveWestergaardPressure) {
+  const std::string wavy = std::string(CMC_SOURCE_DIR) + "/cases/validation/westergaard.toml";
+  // p* = pi E* a / lambda = 3141.59 Pa
+  const std::vector<std::string> o = {"grid.nx=256", "loading.values=[2827.4, 3141.6, 5000.0]"};
+  auto solve = [&](const std::string& kind) {
+    std::vector<std::string> ov = o;
+    ov.push_back("solver.kind=\"" + kind + "\"");
+    if (kind == "adhesive_cg") ov.push_back("solver.tolerance=1e-8");  // its own residual
+    Case c = load_case(wavy, ov);
+    c.validation.reset();
+    Scene s = build_scene(c);
+    std::vector<ContactState> states;
+    const RunSummary run = run_scene(c, s, [&](const StepRecord&, const ContactState& st) { states.push_back(st); });
+    EXPECT_EQ(run.status, RunStatus::Converged) << kind << ": " << run.message;
+    return std::pair{run, states};
+  };
+  const auto [pk, pk_states] = solve("polonsky_keer");
+  const auto [cg, cg_states] = solve("adhesive_cg");
+  ASSERT_EQ(cg_states.size(), 3u);
+  ASSERT_EQ(pk_states.size(), 3u);
+  for (std::size_t k = 1; k < 3; ++k) {
+    EXPECT_EQ(cg.steps[k].contact_fraction, 1.0);
+    EXPECT_NEAR(cg.steps[k].energy, pk.steps[k].energy, 1e-8 * pk.steps[k].energy);
+    double err = 0, pmax = 0;
+    for (std::size_t i = 0; i < cg_states[k].pressure.size(); ++i) {
+      err = std::max(err, std::abs(cg_states[k].pressure[i] - pk_states[k].pressure[i]));
+      pmax = std::max(pmax, std::abs(pk_states[k].pressure[i]));
+    }
+    EXPECT_LT(err, 1e-6 * pmax) << "step " << k;
+  }
+}
+
