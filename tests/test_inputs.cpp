@@ -421,3 +421,94 @@ TEST(Inputs, D14FullContactAboveWestergaardPressure) {
   }
 }
 
+// ------------------------------------------------------------------------ cmc check
+namespace {
+// A reference in the reference format: contact fraction 2.2 p/E* on 41 log-spaced
+// pressures from 1 kPa to 2 MPa (3.3 decades), no min_coverage line.
+fs::path write_reference(const TempDir& d) {
+  std::string text =
+      "# cmc-reference-csv: 1\n# name: ref\n# quantity: contact_area_vs_pressure\n# title: t\n# source: test\n"
+      "# unit.pressure_Pa: Pa\n# unit.contact_fraction: 1\n# columns: pressure_Pa,contact_fraction\n"
+      "# x: pressure_Pa\n# y: contact_fraction\n# representation: log-log\n# estimated_error: none\n"
+      "# tolerance: 0.05\n# tolerance_metric: max_rel\npressure_Pa,contact_fraction\n";
+  for (int k = 0; k <= 40; ++k) {
+    const double p = 1e3 * std::pow(2000.0, k / 40.0);
+    char row[80];
+    std::snprintf(row, sizeof row, "%.12e,%.12e\n", p, 2.2 * p / 25e6);
+    text += row;
+  }
+  return d.write("ref.csv", text);
+}
+}  // namespace
+
+// Two rows covering 3.7 % of the reference's range passed.
+TEST(Inputs, CheckRequiresRangeCoverage) {
+  const fs::path cmc = cmc_program();
+  if (cmc.empty()) GTEST_SKIP() << "no cmc program beside the test binary";
+  TempDir d;
+  const fs::path ref = write_reference(d);
+  // 1e5 .. 1.3e5 Pa: log10(1.3) / log10(2000) = 3.45 % of the range, and exact values.
+  const fs::path two = d.write("two.csv", "pressure_Pa,contact_fraction\n1e5,0.0088\n1.3e5,0.01144\n");
+  std::string out;
+  const std::string cmd = cmc.string() + " check " + two.string() + " --quantity contact_area_vs_pressure --reference " +
+                          ref.string() + " --out " + (d.path / "o").string();
+  EXPECT_EQ(sh("CMC_PYTHON=/nonexistent " + cmd, &out), 5);
+  EXPECT_HAS(out, "FAIL: the prediction covers 3.45");
+  EXPECT_HAS(out, "% of the reference's range of the mean pressure (100000 .. 130000 of 1000 .. 2e+06 Pa, in the "
+                  "log-log representation); at least 50% is needed (default for contact_area_vs_pressure)");
+  // The same values over the whole range pass.
+  std::string all = "pressure_Pa,contact_fraction\n";
+  for (double p : {1e3, 1e4, 1e5, 1e6, 2e6}) all += std::to_string(p) + "," + std::to_string(2.2 * p / 25e6) + "\n";
+  EXPECT_EQ(sh("CMC_PYTHON=/nonexistent " + cmc.string() + " check " + d.write("all.csv", all).string() +
+               " --quantity contact_area_vs_pressure --reference " + ref.string()),
+            0);
+}
+
+// A 54 MB prediction took 1.4 GB and wrote a 293 MB check.json: the prediction is now
+// streamed, and check.json echoes at most 1000 rows, saying so.
+TEST(Inputs, CheckStreamsLargePredictions) {
+  const fs::path cmc = cmc_program();
+  if (cmc.empty()) GTEST_SKIP() << "no cmc program beside the test binary";
+  TempDir d;
+  const fs::path ref = write_reference(d);
+  const int rows = 400000;  // 14 MB
+  {
+    std::ofstream f(d.path / "big.csv");
+    f << "pressure_Pa,contact_fraction\n";
+    char row[80];
+    for (int i = 0; i < rows; ++i) {
+      const double p = 1e3 * std::pow(2000.0, double(i) / (rows - 1));
+      std::snprintf(row, sizeof row, "%.10e,%.10e\n", p, 1.01 * 2.2 * p / 25e6);
+      f << row;
+    }
+  }
+  EXPECT_GT(fs::file_size(d.path / "big.csv"), 12u << 20);
+  std::fflush(nullptr);  // the child must not write the parent's buffered output again
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::setenv("CMC_PYTHON", "/nonexistent", 1);
+    if (!std::freopen("/dev/null", "w", stdout) || !std::freopen("/dev/null", "w", stderr)) ::_exit(127);
+    ::execl(cmc.c_str(), "cmc", "check", (d.path / "big.csv").c_str(), "--quantity", "contact_area_vs_pressure",
+            "--reference", ref.c_str(), "--out", (d.path / "o").c_str(), (char*)nullptr);
+    ::_exit(127);
+  }
+  int status = 0;
+  struct rusage ru {};
+  ASSERT_EQ(::wait4(pid, &status, 0, &ru), pid);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0);  // 1 % off, tolerance 5 %
+  // Peak memory: the program and the reference, not the 14 MB of rows (measured before
+  // the fix: about 26 bytes of memory per byte of the file).
+  EXPECT_LT(ru.ru_maxrss, 40L * 1024) << "kB";
+  const fs::path json = d.path / "o" / "check.json";
+  ASSERT_TRUE(fs::exists(json));
+  EXPECT_LT(fs::file_size(json), 300u * 1024);
+  std::ifstream in(json);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  const std::string j = ss.str();
+  EXPECT_HAS(j, "\"rows\" : 400000");
+  EXPECT_HAS(j, "check.json echoes ");
+  EXPECT_HAS(j, " of the prediction's 400000 rows");
+  EXPECT_HAS(j, "\"max_rel\" : 0.0100000000");
+}

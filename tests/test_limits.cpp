@@ -232,3 +232,40 @@ TEST(Limits, SurfaceReadersHonourTheirLimit) {
   }
 }
 
+// cmc check: the coverage a prediction needs comes from --min-coverage, else the
+// reference's "# min_coverage:" line, else the default (Inputs.CheckRequiresRangeCoverage).
+TEST(Limits, CheckCoverageSources) {
+  const fs::path cmc = cmc_program();
+  if (cmc.empty()) GTEST_SKIP() << "no cmc program beside the test binary";
+  TempDir d;
+  std::string ref =
+      "# cmc-reference-csv: 1\n# name: ref\n# quantity: contact_area_vs_pressure\n# title: t\n# source: test\n"
+      "# MINCOV"
+      "# unit.pressure_Pa: Pa\n# unit.contact_fraction: 1\n# columns: pressure_Pa,contact_fraction\n"
+      "# x: pressure_Pa\n# y: contact_fraction\n# representation: log-log\n# estimated_error: none\n"
+      "# tolerance: 0.05\n# tolerance_metric: max_rel\npressure_Pa,contact_fraction\n";
+  for (int k = 0; k <= 40; ++k) {
+    const double p = 1e3 * std::pow(2000.0, k / 40.0);
+    char row[80];
+    std::snprintf(row, sizeof row, "%.12e,%.12e\n", p, 2.2 * p / 25e6);
+    ref += row;
+  }
+  auto reference = [&](const std::string& line) {
+    return d.write("ref.csv", std::string(ref).replace(ref.find("# MINCOV"), 8, line)).string();
+  };
+  const std::string two = d.write("two.csv", "pressure_Pa,contact_fraction\n1e5,0.0088\n1.3e5,0.01144\n").string();
+  auto run = [&](const std::string& ref_file, const std::string& extra) {
+    const std::string cmd = "CMC_PYTHON=/nonexistent " + cmc.string() + " check " + two +
+                            " --quantity contact_area_vs_pressure --reference " + ref_file + " " + extra +
+                            " >/dev/null 2>&1";
+    const int s = std::system(cmd.c_str());
+    return WIFEXITED(s) ? WEXITSTATUS(s) : -1;
+  };
+  EXPECT_EQ(run(reference(""), ""), 5);                      // default 0.5
+  EXPECT_EQ(run(reference(""), "--min-coverage 0.03"), 0);   // covers 3.45 %
+  EXPECT_EQ(run(reference(""), "--min-coverage 0.04"), 5);
+  EXPECT_EQ(run(reference("# min_coverage: 0.03\n"), ""), 0);
+  EXPECT_EQ(run(reference("# min_coverage: 0.03\n"), "--min-coverage 0.5"), 5);  // the command line wins
+  EXPECT_EQ(run(reference(""), "--min-coverage 1.5"), 2);
+  EXPECT_EQ(run(reference("# min_coverage: lots\n"), ""), 2);
+}
