@@ -358,6 +358,8 @@ values = [1e3, 2e3]
       {"adhesive CG, hard wall", {"solver.kind=\"adhesive_cg\""}, {1e3, 2e3}},
       {"adhesive CG, exponential adhesion", {adhesion[0], adhesion[1], adhesion[2], "loading.values=[1e3, -500]"},
        {1e3, -500}},
+      {"quasi-static, exponential adhesion (auto on a loading path)", {adhesion[0], adhesion[1], adhesion[2]},
+       {1e3, 2e3}},
   };
   for (const Run& r : runs) {
     SCOPED_TRACE(r.what);
@@ -378,7 +380,8 @@ values = [1e3, 2e3]
     }
   }
   // Beyond the peak tension the surfaces part: no state carries it, and it says so.
-  const Case c = load_case(f.string(), {adhesion[0], adhesion[1], adhesion[2], "loading.values=[-2e3]"});
+  const Case c = load_case(f.string(), {adhesion[0], adhesion[1], adhesion[2], "loading.values=[-2e3]",
+                                        "solver.kind=\"adhesive_cg\""});
   Scene s = build_scene(c);
   const RunSummary run = run_scene(c, s, {});
   EXPECT_EQ(run.status, RunStatus::NotConverged);

@@ -74,9 +74,11 @@ double peak_of_run(const fs::path& cmc, const std::vector<std::string>& args) {
 
 // The estimate is an upper bound of what a run holds at its peak, and not a gross one:
 // for each solver and boundary, the growth of the peak resident memory of a real run
-// from a 16² grid to a larger one is at most the growth of the estimate, and at least
-// 1/2.5 of it (measured: 1.13 to 2.0 times; the estimate counts every field the code
-// allocates, which a run does not all hold at once).
+// from a 16² grid to a larger one is at most the growth of the estimate, and at least a
+// third of it. The estimate counts every field the code allocates, which a run does not
+// always hold at once, plus what glibc may keep of freed ones; the peak itself varies
+// between runs and versions with how glibc reuses freed blocks (the same PK run measured
+// 28.5 and 17.3 MB). Measured ratios estimate/peak: 1.1 to 2.3.
 TEST(Limits, MemoryEstimateBoundsMeasuredPeak) {
   const fs::path cmc = cmc_program();
   if (cmc.empty()) GTEST_SKIP() << "no cmc program beside the test binary";
@@ -111,7 +113,12 @@ enabled = true
   const std::vector<Config> configs = {
       {"Polonsky-Keer, periodic", src + "/cases/validation/hertz-periodic.toml", 512, {}},
       {"Polonsky-Keer, free, observables", src + "/cases/validation/hertz-free.toml", 256, {"observables.enabled=true"}},
-      {"adhesive CG, periodic, observables", adhesive.string(), 512, {}},
+      {"adhesive CG, periodic, observables", adhesive.string(), 512, {"solver.kind=\"adhesive_cg\""}},
+      {"quasi-static (auto on a loading path), periodic sphere, observables",
+       src + "/cases/validation/hertz-periodic.toml",
+       512,
+       {"interaction.kind=\"exponential\"", "interaction.work_of_adhesion=1e-4", "interaction.range=1e-7",
+        "observables.enabled=true"}},
       {"adhesive CG, free, load path with pull-off search", src + "/cases/validation/maugis-dugdale-lambda1.toml", 128,
        {}},
   };
@@ -132,7 +139,7 @@ enabled = true
     EXPECT_GT(measured, 0.0);
     EXPECT_LE(measured, estimated) << "the estimate is below the peak: " << measured / 1e6 << " MB measured, "
                                    << estimated / 1e6 << " MB estimated";
-    EXPECT_LE(estimated, 2.5 * measured) << measured / 1e6 << " MB measured, " << estimated / 1e6 << " MB estimated";
+    EXPECT_LE(estimated, 3.0 * measured) << measured / 1e6 << " MB measured, " << estimated / 1e6 << " MB estimated";
   }
 }
 
