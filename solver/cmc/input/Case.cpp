@@ -677,7 +677,7 @@ MemoryEstimate estimate_memory(const Case& c) {
   if (c.observables.enabled) grid_fields += 1.0 / 8.0 + 1.0 + 2.0 + 1.0;
   // The allocator: glibc's heap keeps freed copies of states (the load path's and the
   // load control's) and fragments; measured peak memory was up to 1.2x the fields
-  // counted above (tests/test_inputs.cpp, Inputs.MemoryEstimateBoundsMeasuredPeak).
+  // counted above (tests/test_limits.cpp, Limits.MemoryEstimateBoundsMeasuredPeak).
   constexpr double kAllocatorAllowance = 1.25;
   const double solve_bytes = kAllocatorAllowance * 8.0 * (grid_fields * n + transform * m);
   // Making the surface: the self-affine generator holds every mode of the band (about

@@ -159,7 +159,7 @@ struct CaseLimits {
 // solver's transform grid (twice the size per side on a free boundary), the solver's
 // work arrays, the load path's copies of the state, the observables and the output
 // buffers, and the generated surface's Fourier band. Counted from the code in
-// estimate_memory (input/Case.cpp); tests/test_inputs.cpp compares it with the peak
+// estimate_memory (input/Case.cpp); tests/test_limits.cpp compares it with the peak
 // memory of real runs.
 struct MemoryEstimate {
   double bytes = 0.0;  // the peak: the larger of making the surface and solving
