@@ -6,8 +6,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <limits>
 #include <sstream>
+#include <tuple>
 
 #include <toml++/toml.h>
 
@@ -19,6 +23,11 @@ std::string fmt(double v) {
   char b[40];
   std::snprintf(b, sizeof b, "%.6g", v);
   return b;
+}
+
+std::string axis_unit(const QuantitySpec& s, bool x) {
+  const Dim d = x ? s.x.dim : s.y.dim;
+  return d == Dim::None ? std::string("as in the files") : si_unit(d);
 }
 
 std::string col_ref(const Table& t, int k) {
@@ -87,6 +96,35 @@ Match find_axis(const Table& t, const AxisSpec& a, int exclude) {
   for (const auto& c : t.columns) have += (have.empty() ? "" : ", ") + c;
   throw InputError(t.file + ":" + std::to_string(t.header_line) + ": no column for the " + a.label +
                    "; expected one of: " + accepted_names(a, true) + " (the header row has: " + have + ")");
+}
+
+// A non-monotonic or repeated abscissa at `line` (x after xprev of line_prev).
+[[noreturn]] void fail_monotonic(const Table& t, const QuantitySpec& spec, int column, double x, double xprev,
+                                 int line, int line_prev, bool increasing) {
+  const std::string here = t.file + ":" + std::to_string(line) + ": " + col_ref(t, column) + ": ";
+  if (x == xprev)
+    throw InputError(here + fmt(x) + " repeats the value of line " + std::to_string(line_prev) + ": duplicate " +
+                     spec.x.label + " (the abscissa must be strictly monotonic: one value of the " + spec.y.label +
+                     " per abscissa)");
+  throw InputError(here + fmt(x) + " after " + fmt(xprev) + " (line " + std::to_string(line_prev) + "): the " +
+                   spec.x.label + " must be strictly " + (increasing ? "increasing" : "decreasing") +
+                   " (non-monotonic abscissa; sort the rows)");
+}
+
+// The curve's columns and units: the axes of `spec` in the header of `t`.
+XY axes_of(const Table& t, const QuantitySpec& spec, int& xcol, int& ycol) {
+  const Match mx = find_axis(t, spec.x, -1);
+  const Match my = find_axis(t, spec.y, mx.column);
+  XY c;
+  c.file = t.file;
+  c.x_column = t.columns[std::size_t(mx.column)];
+  c.y_column = t.columns[std::size_t(my.column)];
+  c.x_to_si = mx.unit->to_si;
+  c.y_to_si = my.unit->to_si;
+  for (int k = 0; k < int(t.columns.size()); ++k)
+    if (k != mx.column && k != my.column) c.ignored_columns.push_back(t.columns[std::size_t(k)]);
+  xcol = mx.column, ycol = my.column;
+  return c;
 }
 
 }  // namespace
@@ -216,50 +254,37 @@ std::string default_reference_path(const std::string& quantity) {
 
 // ============================================================================ extraction
 XY extract(const Table& t, const QuantitySpec& spec) {
-  const Match mx = find_axis(t, spec.x, -1);
-  const Match my = find_axis(t, spec.y, mx.column);
-  XY c;
-  c.file = t.file;
-  c.x_column = t.columns[std::size_t(mx.column)];
-  c.y_column = t.columns[std::size_t(my.column)];
-  c.x_to_si = mx.unit->to_si;
-  c.y_to_si = my.unit->to_si;
-  for (int k = 0; k < int(t.columns.size()); ++k)
-    if (k != mx.column && k != my.column) c.ignored_columns.push_back(t.columns[std::size_t(k)]);
-  const auto& xs = t.data[std::size_t(mx.column)];
-  const auto& ys = t.data[std::size_t(my.column)];
+  int xcol = -1, ycol = -1;
+  XY c = axes_of(t, spec, xcol, ycol);
+  const auto& xs = t.data[std::size_t(xcol)];
+  const auto& ys = t.data[std::size_t(ycol)];
   if (xs.size() < 2)
     throw InputError(t.file + ": " + std::to_string(xs.size()) + " data row(s); a curve needs at least 2");
   // Direction from the ends, so a repeated or misplaced first value is named as such.
   const bool increasing = xs.back() >= xs.front();
   for (std::size_t i = 1; i < xs.size(); ++i) {
-    const std::string here = t.file + ":" + std::to_string(t.row_line[i]) + ": " + col_ref(t, mx.column) + ": ";
-    if (xs[i] == xs[i - 1])
-      throw InputError(here + fmt(xs[i]) + " repeats the value of line " + std::to_string(t.row_line[i - 1]) +
-                       ": duplicate " + spec.x.label + " (the abscissa must be strictly monotonic: one value of the " +
-                       spec.y.label + " per abscissa)");
     const bool ok = increasing ? xs[i] > xs[i - 1] : xs[i] < xs[i - 1];
-    if (!ok)
-      throw InputError(here + fmt(xs[i]) + " after " + fmt(xs[i - 1]) + " (line " + std::to_string(t.row_line[i - 1]) +
-                       "): the " + spec.x.label + " must be strictly " + (increasing ? "increasing" : "decreasing") +
-                       " (non-monotonic abscissa; sort the rows)");
+    if (!ok) fail_monotonic(t, spec, xcol, xs[i], xs[i - 1], t.row_line[i], t.row_line[i - 1], increasing);
   }
   for (std::size_t i = 0; i < xs.size(); ++i) {
     c.x.push_back(xs[i] * c.x_to_si);
     c.y.push_back(ys[i] * c.y_to_si);
     c.line.push_back(t.row_line[i]);
     // A value finite in its unit can overflow in SI (1e300 per nm^2 is 1e318 per m^2).
-    for (const auto& [v, k] : {std::pair{c.x.back(), mx.column}, std::pair{c.y.back(), my.column}})
+    for (const auto& [v, k] : {std::pair{c.x.back(), xcol}, std::pair{c.y.back(), ycol}})
       if (!std::isfinite(v))
         throw InputError(t.file + ":" + std::to_string(t.row_line[i]) + ": " + col_ref(t, k) + ": " +
                          fmt(t.data[std::size_t(k)][i]) + " is too large to convert to SI units (" +
-                         si_unit(k == mx.column ? spec.x.dim : spec.y.dim) + ")");
+                         si_unit(k == xcol ? spec.x.dim : spec.y.dim) + ")");
   }
   if (!increasing) {
     std::reverse(c.x.begin(), c.x.end());
     std::reverse(c.y.begin(), c.y.end());
     std::reverse(c.line.begin(), c.line.end());
   }
+  c.rows = c.x.size();
+  c.x_min = *std::min_element(c.x.begin(), c.x.end()), c.x_max = *std::max_element(c.x.begin(), c.x.end());
+  c.y_min = *std::min_element(c.y.begin(), c.y.end()), c.y_max = *std::max_element(c.y.begin(), c.y.end());
   return c;
 }
 
@@ -303,73 +328,239 @@ double interp(const std::vector<double>& X, const std::vector<double>& Y, double
   return Y[j - 1] + t * (Y[j] - Y[j - 1]);
 }
 double from_rep(double v, bool log) { return log ? std::pow(10.0, v) : v; }
+
+// Keeps at most `cap` items of a stream, evenly spaced: every stride-th one (the stride
+// doubles whenever more would be kept) and the last.
+template <class T>
+class Sampler {
+ public:
+  explicit Sampler(std::size_t cap) : cap_(std::max<std::size_t>(cap, 2)) {}
+  void add(const T& v) {
+    last_in_ = count_++ % stride_ == 0;
+    if (last_in_) {
+      kept_.push_back(v);
+      if (kept_.size() >= cap_) {  // keep every other one, leaving room for the last
+        std::size_t j = 0;
+        for (std::size_t i = 0; i < kept_.size(); i += 2) kept_[j++] = kept_[i];
+        kept_.resize(j);
+        stride_ *= 2;
+        last_in_ = (count_ - 1) % stride_ == 0;
+      }
+    }
+    last_ = v;
+  }
+  std::vector<T> take() const {
+    std::vector<T> out = kept_;
+    if (count_ && !last_in_) out.push_back(last_);
+    return out;
+  }
+  std::size_t stride() const { return stride_; }
+
+ private:
+  std::size_t cap_, stride_ = 1, count_ = 0;
+  std::vector<T> kept_;
+  T last_{};
+  bool last_in_ = false;
+};
+
+// Scores a prediction against the reference one point at a time, in the prediction's
+// order (increasing or decreasing): each segment between consecutive prediction points
+// (in the representation) is clipped to the reference's range and evaluated at its
+// ends and at every reference abscissa inside it, exactly the points and trapezoids of
+// the whole-curve definition (Check.hpp), so memory does not grow with the prediction.
+class Scorer {
+ public:
+  Scorer(const Transformed& ref, Representation rep, std::size_t cap) : R_(ref), rep_(rep), eval_(cap) {}
+
+  void add(double X, double Y) {
+    xmin_ = std::min(xmin_, X), xmax_ = std::max(xmax_, X);
+    if (have_prev_) segment(prev_, {X, Y});
+    prev_ = {X, Y};
+    have_prev_ = true;
+    ++kept_;
+  }
+  std::size_t kept() const { return kept_; }
+
+  // The metrics; throws InputError when the curves do not overlap or the reference is
+  // zero over the common range (relative errors undefined on a linear axis).
+  Metrics finish(const XY& pred, const XY& ref) const {
+    const bool lx = rep_.log_x, ly = rep_.log_y;
+    if (subsegments_ == 0) {
+      auto range = [&](double a, double b) { return "[" + fmt(from_rep(a, lx)) + ", " + fmt(from_rep(b, lx)) + "]"; };
+      throw InputError(pred.file + ": no overlap with the reference " + ref.file + ": the prediction covers " +
+                       pred.x_column + " in " + range(xmin_, xmax_) + " (SI), the reference " +
+                       range(R_.X.front(), R_.X.back()) + " (SI); the curves must share a range of the abscissa");
+    }
+    if (!ly && !(scale_ > 0))
+      throw InputError(ref.file + ": the reference is zero over the common range: relative errors are undefined");
+    Metrics m;
+    const double span = hi_ - lo_;
+    m.max_abs = max_abs_;
+    m.x_at_max_abs = from_rep(x_at_max_, lx);
+    m.rms_abs = std::sqrt(sa_ / span);
+    m.rel_scale = ly ? 0.0 : scale_;
+    m.max_rel = ly ? max_rel_log_ : max_abs_ / scale_;
+    m.rms_rel = ly ? std::sqrt(sr_log_ / span) : m.rms_abs / scale_;
+    // Values near the largest double make differences (or relative errors) overflow; a
+    // verdict on NaN or infinity would be meaningless, and check.json could not hold it.
+    for (double v : {m.max_abs, m.rms_abs, m.max_rel, m.rms_rel})
+      if (!std::isfinite(v))
+        throw InputError(pred.file + ": the errors against " + ref.file + " overflow a double (values or differences "
+                         "beyond 1e308, or a relative error beyond that on a log axis): nothing to score");
+    m.x_lo = from_rep(lo_, lx);
+    m.x_hi = from_rep(hi_, lx);
+    m.coverage = span / (R_.X.back() - R_.X.front());
+    m.ref_lo = from_rep(R_.X.front(), lx);
+    m.ref_hi = from_rep(R_.X.back(), lx);
+    m.points = subsegments_ + 1;
+    std::vector<Eval> ev = eval_.take();
+    std::sort(ev.begin(), ev.end(), [](const Eval& a, const Eval& b) { return a.X < b.X; });
+    ev.erase(std::unique(ev.begin(), ev.end(), [](const Eval& a, const Eval& b) { return a.X == b.X; }), ev.end());
+    for (const Eval& e : ev) {
+      m.eval_x.push_back(from_rep(e.X, lx));
+      m.eval_pred.push_back(from_rep(e.yp, ly));
+      m.eval_ref.push_back(from_rep(e.yr, ly));
+    }
+    m.eval_echo_stride = eval_.stride();
+    return m;
+  }
+
+ private:
+  struct Pt {
+    double X = 0, Y = 0;
+  };
+  struct Eval {
+    double X = 0, yp = 0, yr = 0, ea = 0, er = 0;
+  };
+  Eval at(double X, const Pt& l, const Pt& r) {
+    Eval e;
+    e.X = X;
+    // The prediction on its segment [l, r] (exact at its ends), the reference by its own
+    // interpolation.
+    if (X == l.X) e.yp = l.Y;
+    else if (X == r.X) e.yp = r.Y;
+    else e.yp = l.Y + (X - l.X) / (r.X - l.X) * (r.Y - l.Y);
+    e.yr = interp(R_.X, R_.Y, X);
+    const double d = e.yp - e.yr;
+    e.ea = std::abs(d);
+    e.er = rep_.log_y ? std::abs(std::pow(10.0, d) - 1) : 0.0;
+    // The largest error; among equal ones the smallest abscissa, as a sweep from the left.
+    if (!have_max_ || e.ea > max_abs_ || (e.ea == max_abs_ && X < x_at_max_)) max_abs_ = e.ea, x_at_max_ = X;
+    have_max_ = true;
+    max_rel_log_ = std::max(max_rel_log_, e.er);
+    scale_ = std::max(scale_, std::abs(e.yr));
+    eval_.add(e);
+    return e;
+  }
+  void trapezoid(const Eval& a, const Eval& b) {
+    const double h = b.X - a.X;
+    sa_ += 0.5 * h * (a.ea * a.ea + b.ea * b.ea);
+    sr_log_ += 0.5 * h * (a.er * a.er + b.er * b.er);
+    ++subsegments_;
+  }
+  void segment(Pt a, Pt b) {
+    if (b.X < a.X) std::swap(a, b);
+    if (!(b.X > a.X)) return;  // a repeated abscissa: the caller reports it
+    const double lo = std::max(a.X, R_.X.front()), hi = std::min(b.X, R_.X.back());
+    if (!(hi > lo)) return;
+    Eval e0 = at(lo, a, b);
+    for (auto it = std::upper_bound(R_.X.begin(), R_.X.end(), lo); it != R_.X.end() && *it < hi; ++it) {
+      const Eval e1 = at(*it, a, b);
+      trapezoid(e0, e1);
+      e0 = e1;
+    }
+    trapezoid(e0, at(hi, a, b));
+    lo_ = std::min(lo_, lo), hi_ = std::max(hi_, hi);
+  }
+
+  const Transformed& R_;
+  Representation rep_;
+  Sampler<Eval> eval_;
+  Pt prev_;
+  bool have_prev_ = false, have_max_ = false;
+  std::size_t kept_ = 0, subsegments_ = 0;
+  double xmin_ = INFINITY, xmax_ = -INFINITY, lo_ = INFINITY, hi_ = -INFINITY;
+  double max_abs_ = 0, x_at_max_ = 0, max_rel_log_ = 0, scale_ = 0, sa_ = 0, sr_log_ = 0;
+};
+}  // namespace
+
+namespace {
+// The prediction file, streamed row by row through the scorer: the same checks and
+// messages as extract() + compare() on the whole table, with memory bounded by the
+// reference and kMaxEchoedRows. Returns the sampled curve and the metrics.
+std::pair<XY, Metrics> score_prediction(const std::string& path, const QuantitySpec& spec, const XY& ref) {
+  std::ifstream in = reference::open_csv(path);
+  reference::CsvReader reader(in, path, /*keep_comments=*/false);
+  if (!reader.has_header()) reader.fail_no_header();
+  const Table& t = reader.header();
+  int xcol = -1, ycol = -1;
+  XY c = axes_of(t, spec, xcol, ycol);
+  const Representation rep = spec.rep;
+  const Transformed r = transform(ref, rep, "reference");
+  Scorer scorer(r, rep, kMaxEchoedRows);
+  struct Row {
+    double x = 0, y = 0;
+    int line = 0;
+  };
+  Sampler<Row> rows(kMaxEchoedRows);
+  // The first violation of either direction; which one counts is known at the end (the
+  // direction comes from the ends, as in extract()).
+  struct Violation {
+    bool seen = false;
+    double x = 0, xprev = 0;
+    int line = 0, line_prev = 0;
+  } up, down;
+  std::vector<double> v;
+  int line = 0, prev_line = 0;
+  std::size_t n = 0, excluded = 0;
+  double first = 0, prev = 0;
+  c.x_min = c.y_min = INFINITY, c.x_max = c.y_max = -INFINITY;
+  while (reader.next(v, line)) {
+    const double xf = v[std::size_t(xcol)], yf = v[std::size_t(ycol)];
+    if (n == 0) first = xf;
+    else {
+      if (!up.seen && !(xf > prev)) up = {true, xf, prev, line, prev_line};
+      if (!down.seen && !(xf < prev)) down = {true, xf, prev, line, prev_line};
+    }
+    prev = xf, prev_line = line, ++n;
+    const double x = xf * c.x_to_si, y = yf * c.y_to_si;
+    // A value finite in its unit can overflow in SI (1e300 per nm^2 is 1e318 per m^2).
+    for (const auto& [si, k] : {std::pair{x, xcol}, std::pair{y, ycol}})
+      if (!std::isfinite(si))
+        throw InputError(path + ":" + std::to_string(line) + ": " + col_ref(t, k) + ": " + fmt(v[std::size_t(k)]) +
+                         " is too large to convert to SI units (" + si_unit(k == xcol ? spec.x.dim : spec.y.dim) + ")");
+    c.x_min = std::min(c.x_min, x), c.x_max = std::max(c.x_max, x);
+    c.y_min = std::min(c.y_min, y), c.y_max = std::max(c.y_max, y);
+    rows.add({x, y, line});
+    if ((rep.log_x && !(x > 0)) || (rep.log_y && !(y > 0))) ++excluded;
+    else scorer.add(rep.log_x ? std::log10(x) : x, rep.log_y ? std::log10(y) : y);
+  }
+  if (n < 2) reader.fail_rows(n, 2);
+  const bool increasing = prev >= first;
+  if (const Violation& bad = increasing ? up : down; bad.seen)
+    fail_monotonic(t, spec, xcol, bad.x, bad.xprev, bad.line, bad.line_prev, increasing);
+  if (scorer.kept() < 2)
+    throw InputError(path + ": only " + std::to_string(scorer.kept()) + " point(s) of the prediction are positive on "
+                     "the log axes of the " + representation_name(rep) + " representation; at least 2 are needed");
+  Metrics m = scorer.finish(c, ref);
+  m.excluded_prediction = excluded;
+  m.excluded_reference = r.excluded;
+  std::vector<Row> kept = rows.take();
+  if (!increasing) std::reverse(kept.begin(), kept.end());
+  for (const Row& k : kept) c.x.push_back(k.x), c.y.push_back(k.y), c.line.push_back(k.line);
+  c.rows = n;
+  c.echo_stride = rows.stride();
+  return {std::move(c), std::move(m)};
+}
 }  // namespace
 
 Metrics compare(const XY& pred, const XY& ref, Representation rep) {
   const Transformed p = transform(pred, rep, "prediction"), r = transform(ref, rep, "reference");
-  Metrics m;
+  Scorer sc(r, rep, std::numeric_limits<std::size_t>::max());
+  for (std::size_t i = 0; i < p.X.size(); ++i) sc.add(p.X[i], p.Y[i]);
+  Metrics m = sc.finish(pred, ref);
   m.excluded_prediction = p.excluded;
   m.excluded_reference = r.excluded;
-  const double lo = std::max(p.X.front(), r.X.front()), hi = std::min(p.X.back(), r.X.back());
-  if (!(hi > lo)) {
-    auto range = [&](const Transformed& t) {
-      return "[" + fmt(from_rep(t.X.front(), rep.log_x)) + ", " + fmt(from_rep(t.X.back(), rep.log_x)) + "]";
-    };
-    throw InputError(pred.file + ": no overlap with the reference " + ref.file + ": the prediction covers " +
-                     pred.x_column + " in " + range(p) + " (SI), the reference " + range(r) +
-                     " (SI); the curves must share a range of the abscissa");
-  }
-  std::vector<double> X = {lo, hi};
-  for (double x : p.X)
-    if (x > lo && x < hi) X.push_back(x);
-  for (double x : r.X)
-    if (x > lo && x < hi) X.push_back(x);
-  std::sort(X.begin(), X.end());
-  X.erase(std::unique(X.begin(), X.end()), X.end());
-  std::vector<double> d(X.size()), yr(X.size()), yp(X.size());
-  double scale = 0;
-  for (std::size_t i = 0; i < X.size(); ++i) {
-    yp[i] = interp(p.X, p.Y, X[i]);
-    yr[i] = interp(r.X, r.Y, X[i]);
-    d[i] = yp[i] - yr[i];
-    scale = std::max(scale, std::abs(yr[i]));
-  }
-  if (!rep.log_y && !(scale > 0))
-    throw InputError(ref.file + ": the reference is zero over the common range: relative errors are undefined");
-  m.rel_scale = rep.log_y ? 0.0 : scale;
-  std::vector<double> ea(X.size()), er(X.size());
-  for (std::size_t i = 0; i < X.size(); ++i) {
-    ea[i] = std::abs(d[i]);
-    er[i] = rep.log_y ? std::abs(std::pow(10.0, d[i]) - 1) : ea[i] / scale;
-    if (ea[i] > m.max_abs || i == 0) {
-      m.max_abs = ea[i];
-      m.x_at_max_abs = from_rep(X[i], rep.log_x);
-    }
-    m.max_rel = std::max(m.max_rel, er[i]);
-  }
-  double sa = 0, sr = 0;
-  for (std::size_t i = 1; i < X.size(); ++i) {
-    const double h = X[i] - X[i - 1];
-    sa += 0.5 * h * (ea[i] * ea[i] + ea[i - 1] * ea[i - 1]);
-    sr += 0.5 * h * (er[i] * er[i] + er[i - 1] * er[i - 1]);
-  }
-  m.rms_abs = std::sqrt(sa / (hi - lo));
-  m.rms_rel = std::sqrt(sr / (hi - lo));
-  // Values near the largest double make differences (or relative errors) overflow; a
-  // verdict on NaN or infinity would be meaningless, and check.json could not hold it.
-  for (double v : {m.max_abs, m.rms_abs, m.max_rel, m.rms_rel})
-    if (!std::isfinite(v))
-      throw InputError(pred.file + ": the errors against " + ref.file + " overflow a double (values or differences "
-                       "beyond 1e308, or a relative error beyond that on a log axis): nothing to score");
-  m.x_lo = from_rep(lo, rep.log_x);
-  m.x_hi = from_rep(hi, rep.log_x);
-  m.coverage = (hi - lo) / (r.X.back() - r.X.front());
-  m.points = X.size();
-  for (std::size_t i = 0; i < X.size(); ++i) {
-    m.eval_x.push_back(from_rep(X[i], rep.log_x));
-    m.eval_pred.push_back(from_rep(yp[i], rep.log_y));
-    m.eval_ref.push_back(from_rep(yr[i], rep.log_y));
-  }
   return m;
 }
 
@@ -421,10 +612,23 @@ Report run_check(const Options& o) {
   } else if (!o.x.empty() || !o.y.empty()) {
     throw InputError("--x/--y select columns only without --quantity (a challenge quantity names its columns)");
   }
-  const Table pred_table = reference::read_csv(o.prediction, 2);
-  r.prediction = extract(pred_table, r.spec);
+  // The coverage the prediction must reach, from the command line, else the reference.
+  double min_coverage = r.spec.min_coverage;
+  std::string coverage_source = challenge ? "default for " + r.spec.id : "default";
+  if (o.min_coverage) {
+    min_coverage = *o.min_coverage;
+    coverage_source = "--min-coverage";
+  } else if (const auto mc = ref_table.get("min_coverage")) {
+    char* end = nullptr;
+    min_coverage = std::strtod(mc->c_str(), &end);
+    if (end == mc->c_str() || *end != '\0' || !(min_coverage >= 0.0 && min_coverage <= 1.0))
+      throw InputError(r.reference_file + ": '# min_coverage: " + *mc + "': expected a fraction from 0 to 1");
+    coverage_source = "reference file " + r.reference_file;
+  }
+  if (!(min_coverage >= 0.0 && min_coverage <= 1.0))
+    throw InputError("--min-coverage " + fmt(min_coverage) + ": expected a fraction from 0 to 1");
   r.ref = extract(ref_table, r.spec);
-  r.metrics = compare(r.prediction, r.ref, r.spec.rep);
+  std::tie(r.prediction, r.metrics) = score_prediction(o.prediction, r.spec, r.ref);
 
   std::string metric = o.metric, source;
   double tol = 0;
@@ -444,6 +648,19 @@ Report run_check(const Options& o) {
   }
   if (metric.empty()) metric = challenge ? r.spec.metric : ref_curve.tolerance_metric;
   r.verdict = verdict(r.metrics, tol, metric, source);
+  Verdict& v = r.verdict;
+  v.min_coverage = min_coverage;
+  v.coverage_source = coverage_source;
+  v.covered = r.metrics.coverage >= min_coverage;
+  if (!v.covered) {
+    v.pass = false;
+    const std::string unit = axis_unit(r.spec, true);
+    v.reason = "the prediction covers " + fmt(100 * r.metrics.coverage) + "% of the reference's range of the " +
+               r.spec.x.label + " (" + fmt(r.metrics.x_lo) + " .. " + fmt(r.metrics.x_hi) + " of " +
+               fmt(r.metrics.ref_lo) + " .. " + fmt(r.metrics.ref_hi) + " " + unit + ", in the " +
+               representation_name(r.spec.rep) + " representation); at least " + fmt(100 * min_coverage) +
+               "% is needed (" + coverage_source + ")";
+  }
 
   if (!r.prediction.ignored_columns.empty()) {
     std::string s;
@@ -456,9 +673,11 @@ Report run_check(const Options& o) {
   if (r.metrics.excluded_reference)
     r.notes.push_back(std::to_string(r.metrics.excluded_reference) +
                       " reference point(s) left out: not positive on a log axis");
-  if (r.metrics.coverage < 0.5)
-    r.notes.push_back("the prediction covers only " + fmt(100 * r.metrics.coverage) +
-                      "% of the reference's range (in the " + representation_name(r.spec.rep) + " representation)");
+  if (r.prediction.echo_stride > 1 || r.metrics.eval_echo_stride > 1)
+    r.notes.push_back("check.json echoes " + std::to_string(r.prediction.x.size()) + " of the prediction's " +
+                      std::to_string(r.prediction.rows) + " rows (one in " + std::to_string(r.prediction.echo_stride) +
+                      ", and the last) and " + std::to_string(r.metrics.eval_x.size()) + " of the " +
+                      std::to_string(r.metrics.points) + " evaluation points; the metrics use all of them");
   return r;
 }
 
@@ -468,10 +687,6 @@ toml::array arr(const std::vector<double>& v) {
   toml::array a;
   for (double x : v) a.push_back(x);
   return a;
-}
-std::string axis_unit(const QuantitySpec& s, bool x) {
-  const Dim d = x ? s.x.dim : s.y.dim;
-  return d == Dim::None ? std::string("as in the files") : si_unit(d);
 }
 }  // namespace
 
@@ -515,11 +730,28 @@ std::string report_json(const Report& r) {
                               {"metric", r.verdict.metric},
                               {"value", r.verdict.value},
                               {"tolerance", r.verdict.tolerance},
-                              {"tolerance_source", r.verdict.source}}},
+                              {"tolerance_source", r.verdict.source},
+                              {"covered", r.verdict.covered},
+                              {"min_coverage", r.verdict.min_coverage},
+                              {"min_coverage_source", r.verdict.coverage_source},
+                              {"reason", r.verdict.reason}}},
       {"notes", notes},
-      {"prediction", toml::table{{"x", arr(r.prediction.x)}, {"y", arr(r.prediction.y)}}},
+      // At most kMaxEchoedRows rows of the prediction and evaluation points, evenly
+      // sampled (echo_stride: one in that many, and the last); the ranges are over all.
+      {"prediction", toml::table{{"rows", (long long)r.prediction.rows},
+                                 {"echoed_rows", (long long)r.prediction.x.size()},
+                                 {"echo_stride", (long long)r.prediction.echo_stride},
+                                 {"x_range", toml::array{r.prediction.x_min, r.prediction.x_max}},
+                                 {"y_range", toml::array{r.prediction.y_min, r.prediction.y_max}},
+                                 {"x", arr(r.prediction.x)},
+                                 {"y", arr(r.prediction.y)}}},
       {"reference", toml::table{{"x", arr(r.ref.x)}, {"y", arr(r.ref.y)}}},
-      {"evaluation", toml::table{{"x", arr(m.eval_x)}, {"prediction", arr(m.eval_pred)}, {"reference", arr(m.eval_ref)}}},
+      {"evaluation", toml::table{{"points", (long long)m.points},
+                                 {"echoed_points", (long long)m.eval_x.size()},
+                                 {"echo_stride", (long long)m.eval_echo_stride},
+                                 {"x", arr(m.eval_x)},
+                                 {"prediction", arr(m.eval_pred)},
+                                 {"reference", arr(m.eval_ref)}}},
   };
   return cmc::to_json(t);
 }
@@ -541,9 +773,11 @@ std::string report_text(const Report& r) {
   s << "max rel error   " << fmt(m.max_rel) << "\n";
   s << "rms rel error   " << fmt(m.rms_rel) << "\n";
   for (const auto& n : r.notes) s << "note            " << n << "\n";
-  s << "verdict         " << (r.verdict.pass ? "PASS" : "FAIL") << ": " << r.verdict.metric << " = "
-    << fmt(r.verdict.value) << (r.verdict.pass ? " <= " : " > ") << "tolerance " << fmt(r.verdict.tolerance) << " ("
-    << r.verdict.source << ")\n";
+  const Verdict& v = r.verdict;
+  const bool within = v.value <= v.tolerance;
+  s << "verdict         " << (v.pass ? "PASS" : "FAIL") << ": " << v.metric << " = " << fmt(v.value)
+    << (within ? " <= " : " > ") << "tolerance " << fmt(v.tolerance) << " (" << v.source << ")\n";
+  if (!v.covered) s << "                FAIL: " << v.reason << "\n";
   return s.str();
 }
 

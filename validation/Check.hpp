@@ -18,6 +18,14 @@
 //   5. Verdict: pass when the chosen metric (max_abs, rms_abs, max_rel, rms_rel) is at
 //      most the tolerance. Tolerance from --tolerance, else the reference file's
 //      "# tolerance:" line, else the quantity's default below.
+//   6. Coverage: the common range must be at least min_coverage of the reference's range
+//      on the abscissa, in the representation (from --min-coverage, else the reference
+//      file's "# min_coverage:" line, else kDefaultMinCoverage); otherwise the verdict is
+//      a fail whatever the errors, saying what the prediction covers and what is needed.
+//
+// The prediction is streamed (row by row; memory bounded by the reference, not by the
+// submission) and check.json echoes at most kMaxEchoedRows of its rows and of the
+// evaluation points, evenly sampled, saying so; the metrics use every one.
 #pragma once
 
 #include "References.hpp"
@@ -48,6 +56,12 @@ std::string si_unit(Dim d);  // "Pa", "m", "1/m", ...
 inline constexpr double kChallengeEstar = 25e6;  // Pa
 inline constexpr double kChallengeL = 1e-4;      // m
 
+// What check.json echoes of a prediction and of the evaluation points, at most.
+inline constexpr std::size_t kMaxEchoedRows = 1000;
+// The fraction of the reference's range (on the abscissa, in the representation) a
+// prediction must cover, unless the reference or --min-coverage says otherwise.
+inline constexpr double kDefaultMinCoverage = 0.5;
+
 struct AxisSpec {
   std::string label;               // "mean pressure"
   std::vector<std::string> bases;  // accepted column-name stems, first = preferred
@@ -62,6 +76,7 @@ struct QuantitySpec {
   Representation rep;
   double tolerance = 0.05;
   std::string metric = "max_rel";
+  double min_coverage = kDefaultMinCoverage;
 };
 
 const std::vector<QuantitySpec>& quantities();
@@ -78,6 +93,10 @@ struct XY {
   std::vector<double> x, y;
   std::vector<int> line;  // file line of each point
   std::vector<std::string> ignored_columns;
+  // A streamed prediction holds a sample of its rows in x, y, line: every echo_stride-th
+  // row and the last, of `rows` (x_range, y_range: over all rows, SI). Otherwise every row.
+  std::size_t rows = 0, echo_stride = 1;
+  double x_min = 0, x_max = 0, y_min = 0, y_max = 0;
 };
 
 // Picks the abscissa and ordinate columns of `spec` from a table (see QuantitySpec),
@@ -97,21 +116,28 @@ struct Metrics {
   double x_at_max_abs = 0;       // where |d| is largest, SI
   double rel_scale = 0;          // max|y_ref| used for rel on a linear y axis (SI); 0 on a log one
   double coverage = 0;           // common range / reference range, in representation
+  double ref_lo = 0, ref_hi = 0;  // the reference's range (its points on the log axes), SI
   std::size_t points = 0;        // evaluation points
   std::size_t excluded_prediction = 0, excluded_reference = 0;  // <= 0 on a log axis
-  std::vector<double> eval_x, eval_pred, eval_ref;  // SI
+  std::vector<double> eval_x, eval_pred, eval_ref;  // SI; a sample of the points when eval_echo_stride > 1
+  std::size_t eval_echo_stride = 1;
   double get(const std::string& metric) const;  // throws InputError for an unknown name
 };
 
 // Throws InputError when fewer than two points of a curve remain on the log axes or the
-// curves do not overlap.
+// curves do not overlap. Keeps every evaluation point.
 Metrics compare(const XY& prediction, const XY& ref, Representation rep);
 
 struct Verdict {
   double tolerance = 0;
   std::string metric, source;  // source: "--tolerance", "reference file", "default for <quantity>"
   double value = 0;
-  bool pass = false;
+  bool pass = false;  // the metric within the tolerance and the range covered
+  // Coverage: the fraction of the reference's range required, where that came from,
+  // and whether the prediction covers it (a fail otherwise, with `reason`).
+  double min_coverage = 0;
+  std::string coverage_source, reason;
+  bool covered = true;
 };
 Verdict verdict(const Metrics& m, double tolerance, const std::string& metric, const std::string& source);
 
@@ -133,7 +159,7 @@ std::string report_text(const Report& r);
 // quantity (reference/challenge/<quantity>.csv), an InputError if it does not exist.
 struct Options {
   std::string prediction, quantity, reference_file, x, y, metric;
-  std::optional<double> tolerance;
+  std::optional<double> tolerance, min_coverage;  // min_coverage in [0, 1]
 };
 Report run_check(const Options& o);
 

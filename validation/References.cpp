@@ -111,89 +111,140 @@ const std::vector<double>& Table::column(const std::string& name) const {
   return data[std::size_t(i)];
 }
 
-Table parse_csv(const std::string& text, const std::string& file, std::size_t min_rows) {
-  Table t;
-  t.file = file;
-  std::istringstream in(text);
+CsvReader::CsvReader(std::istream& in, std::string file, bool keep_comments) : in_(in), keep_comments_(keep_comments) {
+  t_.file = std::move(file);
   std::string raw;
-  int line = 0;
-  bool have_header = false;
-  while (std::getline(in, raw)) {
-    ++line;
-    if (line == 1 && raw.size() >= 3 && raw.compare(0, 3, "\xEF\xBB\xBF") == 0) raw.erase(0, 3);  // UTF-8 BOM
+  while (read_line(raw)) {
+    if (line_ == 1 && raw.size() >= 3 && raw.compare(0, 3, "\xEF\xBB\xBF") == 0) raw.erase(0, 3);  // UTF-8 BOM
     const std::string s = trim(raw);
     if (s.empty()) continue;
     if (s[0] == '#') {
       const std::string body = trim(s.substr(1));
       const auto colon = body.find(':');
-      if (!have_header && colon != std::string::npos && valid_key(trim(body.substr(0, colon))))
-        t.set(trim(body.substr(0, colon)), trim(body.substr(colon + 1)));
+      if (colon != std::string::npos && valid_key(trim(body.substr(0, colon))))
+        t_.set(trim(body.substr(0, colon)), trim(body.substr(colon + 1)));
       else
-        t.comments.push_back(body);
+        t_.comments.push_back(body);
       continue;
     }
     const auto fields = split(s, ',');
-    if (!have_header) {
-      have_header = true;
-      t.header_line = line;
-      for (std::size_t k = 0; k < fields.size(); ++k) {
-        const std::string name = trim(fields[k]);
-        if (name.empty())
-          throw InputError(where(file, line) + "header row: column " + std::to_string(k + 1) +
-                           " has no name (expected comma-separated column names, e.g. "
-                           "'pressure_Pa,contact_fraction')");
-        char* end = nullptr;
-        std::strtod(name.c_str(), &end);
-        if (end && *end == '\0')
-          throw InputError(where(file, line) + "header row: column " + std::to_string(k + 1) + " is the number '" +
-                           name + "', expected a column name: the file needs a header row naming its columns, "
-                           "e.g. 'pressure_Pa,contact_fraction'");
-        if (std::find(t.columns.begin(), t.columns.end(), name) != t.columns.end())
-          throw InputError(where(file, line) + "header row: column name '" + name + "' appears twice");
-        t.columns.push_back(name);
-      }
-      if (t.columns.size() < 2) {
-        const bool other_sep = s.find_first_of("\t;") != std::string::npos || s.find(' ') != std::string::npos;
-        throw InputError(where(file, line) + "header row '" + s + "' names one column; expected at least two, "
-                         "separated by commas" + (other_sep ? " (tabs, spaces and semicolons are not separators)" : ""));
-      }
-      t.data.assign(t.columns.size(), {});
+    have_header_ = true;
+    t_.header_line = line_;
+    for (std::size_t k = 0; k < fields.size(); ++k) {
+      const std::string name = trim(fields[k]);
+      if (name.empty())
+        throw InputError(where(t_.file, line_) + "header row: column " + std::to_string(k + 1) +
+                         " has no name (expected comma-separated column names, e.g. "
+                         "'pressure_Pa,contact_fraction')");
+      char* end = nullptr;
+      std::strtod(name.c_str(), &end);
+      if (end && *end == '\0')
+        throw InputError(where(t_.file, line_) + "header row: column " + std::to_string(k + 1) + " is the number '" +
+                         name + "', expected a column name: the file needs a header row naming its columns, "
+                         "e.g. 'pressure_Pa,contact_fraction'");
+      if (std::find(t_.columns.begin(), t_.columns.end(), name) != t_.columns.end())
+        throw InputError(where(t_.file, line_) + "header row: column name '" + name + "' appears twice");
+      t_.columns.push_back(name);
+    }
+    if (t_.columns.size() < 2) {
+      const bool other_sep = s.find_first_of("\t;") != std::string::npos || s.find(' ') != std::string::npos;
+      throw InputError(where(t_.file, line_) + "header row '" + s + "' names one column; expected at least two, "
+                       "separated by commas" + (other_sep ? " (tabs, spaces and semicolons are not separators)" : ""));
+    }
+    t_.data.assign(t_.columns.size(), {});
+    return;
+  }
+}
+
+bool CsvReader::read_line(std::string& raw) {
+  raw.clear();
+  std::streambuf* sb = in_.rdbuf();
+  bool any = false;
+  for (int ch = sb->sbumpc(); ch != std::char_traits<char>::eof(); ch = sb->sbumpc()) {
+    any = true;
+    if (ch == '\n') break;
+    if (raw.size() >= kMaxLineBytes)
+      throw InputError(where(t_.file, line_ + 1) + "line longer than " + std::to_string(kMaxLineBytes) +
+                       " bytes (not a CSV file of numbers?)");
+    raw.push_back(char(ch));
+  }
+  if (!any) return false;
+  ++line_;
+  return true;
+}
+
+bool CsvReader::next(std::vector<double>& values, int& line) {
+  std::string raw;
+  while (read_line(raw)) {
+    const std::string s = trim(raw);
+    if (s.empty()) continue;
+    if (s[0] == '#') {
+      if (keep_comments_) t_.comments.push_back(trim(s.substr(1)));
       continue;
     }
-    if (fields.size() != t.columns.size())
-      throw InputError(where(file, line) + "expected " + std::to_string(t.columns.size()) +
-                       " comma-separated values (as in the header row, line " + std::to_string(t.header_line) +
+    const auto fields = split(s, ',');
+    if (fields.size() != t_.columns.size())
+      throw InputError(where(t_.file, line_) + "expected " + std::to_string(t_.columns.size()) +
+                       " comma-separated values (as in the header row, line " + std::to_string(t_.header_line) +
                        "), found " + std::to_string(fields.size()));
+    values.resize(fields.size());
     for (std::size_t k = 0; k < fields.size(); ++k) {
       const std::string f = trim(fields[k]);
-      const std::string col = "column " + std::to_string(k + 1) + " ('" + t.columns[k] + "'): ";
-      if (f.empty()) throw InputError(where(file, line) + col + "empty field, expected a number");
+      const std::string col = "column " + std::to_string(k + 1) + " ('" + t_.columns[k] + "'): ";
+      if (f.empty()) throw InputError(where(t_.file, line_) + col + "empty field, expected a number");
       errno = 0;
       char* end = nullptr;
       const double v = std::strtod(f.c_str(), &end);
       if (end == f.c_str() || *end != '\0')
-        throw InputError(where(file, line) + col + "'" + f + "' is not a number");
+        throw InputError(where(t_.file, line_) + col + "'" + f + "' is not a number");
       if (!std::isfinite(v) || (errno == ERANGE && std::abs(v) > 1))
-        throw InputError(where(file, line) + col + "'" + f + "' is not a finite number (NaN and infinity are not allowed)");
-      t.data[k].push_back(v);
+        throw InputError(where(t_.file, line_) + col + "'" + f +
+                         "' is not a finite number (NaN and infinity are not allowed)");
+      values[k] = v;
     }
+    line = line_;
+    return true;
+  }
+  return false;
+}
+
+void CsvReader::fail_no_header() const {
+  throw InputError(t_.file + ": " + (line_ == 0 ? "the file is empty" : "the file has no header row and no data") +
+                   " (expected a header row naming the columns, then one row of numbers per point)");
+}
+
+void CsvReader::fail_rows(std::size_t rows, std::size_t min_rows) const {
+  throw InputError(t_.file + ": " + std::to_string(rows) + " data row" + (rows == 1 ? "" : "s") +
+                   " after the header row (line " + std::to_string(t_.header_line) + "); expected at least " +
+                   std::to_string(min_rows));
+}
+
+Table parse_csv(const std::string& text, const std::string& file, std::size_t min_rows) {
+  std::istringstream in(text);
+  CsvReader reader(in, file);
+  if (!reader.has_header()) reader.fail_no_header();
+  Table t = reader.header();
+  std::vector<double> row;
+  int line = 0;
+  while (reader.next(row, line)) {
+    for (std::size_t k = 0; k < row.size(); ++k) t.data[k].push_back(row[k]);
     t.row_line.push_back(line);
   }
-  if (!have_header)
-    throw InputError(file + ": " + (line == 0 ? "the file is empty" : "the file has no header row and no data") +
-                     " (expected a header row naming the columns, then one row of numbers per point)");
-  if (t.rows() < min_rows)
-    throw InputError(file + ": " + std::to_string(t.rows()) + " data row" + (t.rows() == 1 ? "" : "s") +
-                     " after the header row (line " + std::to_string(t.header_line) + "); expected at least " +
-                     std::to_string(min_rows));
+  t.comments = reader.header().comments;  // including those after the header
+  if (t.rows() < min_rows) reader.fail_rows(t.rows(), min_rows);
   return t;
 }
 
-Table read_csv(const std::string& path, std::size_t min_rows) {
+std::ifstream open_csv(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": no such file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot be read");
+  return in;
+}
+
+Table read_csv(const std::string& path, std::size_t min_rows) {
+  std::ifstream in = open_csv(path);
   std::ostringstream s;
   s << in.rdbuf();
   return parse_csv(s.str(), path, min_rows);

@@ -25,6 +25,8 @@
 // stored file byte for byte (tests/test_references.cpp enforces it).
 #pragma once
 
+#include <fstream>
+#include <istream>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -67,6 +69,36 @@ struct Table {
 // InputError("FILE:LINE: column K ('name'): ...").
 Table parse_csv(const std::string& text, const std::string& file, std::size_t min_rows = 1);
 Table read_csv(const std::string& path, std::size_t min_rows = 1);  // file missing: InputError
+
+// The same rules, one row at a time, for files too large to hold (`cmc check` streams a
+// prediction through it): the constructor reads up to and including the header row,
+// next() the following data rows. Lines longer than kMaxLineBytes are an error.
+class CsvReader {
+ public:
+  static constexpr std::size_t kMaxLineBytes = 1 << 20;
+  // keep_comments: also keep '#' lines after the header in header().comments (a
+  // streaming reader passes false, so that its memory does not grow with the file).
+  CsvReader(std::istream& in, std::string file, bool keep_comments = true);
+  // Metadata, comments before the header, the columns and the header's line; no data.
+  const Table& header() const { return t_; }
+  bool has_header() const { return have_header_; }
+  // The next data row (one value per column) and its 1-based line; false at the end.
+  bool next(std::vector<double>& values, int& line);
+  int lines() const { return line_; }  // lines read so far
+  // The error of a file without a header row ("the file is empty" ...).
+  [[noreturn]] void fail_no_header() const;
+  // The error of a file with fewer than min_rows data rows after its header.
+  [[noreturn]] void fail_rows(std::size_t rows, std::size_t min_rows) const;
+
+ private:
+  bool read_line(std::string& raw);
+  std::istream& in_;
+  Table t_;
+  int line_ = 0;
+  bool have_header_ = false, keep_comments_ = true;
+};
+// Opens `path` for a CsvReader: a regular file, else InputError.
+std::ifstream open_csv(const std::string& path);
 
 // ---- curves with metadata ------------------------------------------------------------
 struct Column {

@@ -21,7 +21,7 @@ namespace cmc::app {
 
 namespace {
 const char* kCheckHelp = R"(usage: cmc check PREDICTION.csv --quantity Q [--reference FILE] [--out DIR]
-                 [--tolerance T] [--metric M]
+                 [--tolerance T] [--metric M] [--min-coverage F]
        cmc check PREDICTION.csv --reference FILE [--x COL --y COL] [--out DIR] ...
        cmc check --list
 
@@ -42,6 +42,12 @@ or p_over_Estar,contact_fraction (see --list and reference/README.md).
   --tolerance T   tolerance for the verdict (default: the reference's, else the
                   quantity's default)
   --metric M      max_abs | rms_abs | max_rel | rms_rel (default: as the tolerance)
+  --min-coverage F  the fraction of the reference's range (on its abscissa, in the
+                  representation) the prediction must cover, 0 to 1 (default: the
+                  reference's '# min_coverage:', else 0.5); less is a FAIL
+
+The prediction is read row by row (any size); check.json echoes at most 1000 of its
+rows and of the evaluation points, evenly sampled, and says so.
 
 Errors: max and rms of the difference in the representation (abs: decades on a
 log y axis, SI units on a linear one; rel: |y_pred/y_ref - 1| on a log y axis,
@@ -113,7 +119,7 @@ int cmd_check(int argc, char** argv) {
     else rest.push_back(argv[i]);
   }
   const Args a = parse_args(int(rest.size()), rest.data(), 2,
-                            {"--quantity", "--reference", "--tolerance", "--metric", "--x", "--y"});
+                            {"--quantity", "--reference", "--tolerance", "--metric", "--x", "--y", "--min-coverage"});
   if (a.help) return std::fputs(kCheckHelp, stdout), kOk;
   if (list) return list_quantities(), kOk;
   if (!a.overrides.empty()) throw CaseError("cmc check takes no --set (see cmc check --help)");
@@ -132,6 +138,13 @@ int cmd_check(int argc, char** argv) {
     if (end == t.c_str() || *end != '\0' || !(v > 0) || !std::isfinite(v))
       throw CaseError("--tolerance " + t + ": expected a positive number");
     o.tolerance = v;
+  }
+  if (const std::string t = a.option("--min-coverage"); !t.empty()) {
+    char* end = nullptr;
+    const double v = std::strtod(t.c_str(), &end);
+    if (end == t.c_str() || *end != '\0' || !(v >= 0.0 && v <= 1.0))
+      throw CaseError("--min-coverage " + t + ": expected a fraction from 0 to 1");
+    o.min_coverage = v;
   }
   check::Report r;
   try {

@@ -6,6 +6,7 @@
 #include "cmc/output/OutputLock.hpp"
 #include "cmc/output/Writer.hpp"
 
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -46,10 +47,13 @@ std::vector<int> take_grids(int argc, char** argv, std::vector<char*>& rest) {
     seen = true;
     while (i + 1 < argc) {
       char* end = nullptr;
-      const long n = std::strtol(argv[i + 1], &end, 10);
+      errno = 0;
+      const long long n = std::strtoll(argv[i + 1], &end, 10);
       if (end == argv[i + 1] || *end != '\0') break;
-      if (n < 2 || (!grids.empty() && n <= grids.back()))
-        throw CaseError(std::string("--grids: expected increasing grid sizes of at least 2, got ") + argv[i + 1]);
+      // Bounded before it is narrowed to int (CaseLimits, as grid.n in a case file).
+      if (errno == ERANGE || n < 2 || n > CaseLimits::kMaxGridSide || (!grids.empty() && n <= grids.back()))
+        throw CaseError(std::string("--grids: expected increasing grid sizes from 2 to ") +
+                        std::to_string(CaseLimits::kMaxGridSide) + ", got " + argv[i + 1]);
       grids.push_back(int(n)), ++i;
     }
   }
@@ -102,13 +106,19 @@ int cmd_refine(int argc, char** argv) {
   if (a.positional.size() != 1) throw CaseError("cmc refine takes exactly one case file (see cmc refine --help)");
   const std::string file = a.positional[0];
   const fs::path out = a.out.empty() ? fs::path("results") / "refine" / fs::path(file).stem() : fs::path(a.out);
-  const OutputLock lock(out);  // one study per folder (each grid's run locks its own too)
-  std::vector<RefinementGrid> done;
-  bool all_converged = true;
+  // Every grid's case is read and checked (sizes, memory) before the first one runs.
+  std::vector<Case> cases;
   for (int n : grids) {
     auto overrides = a.overrides;
     overrides.insert(overrides.begin(), {"grid.n=" + std::to_string(n), "output.fields=false"});
-    const Case c = load_case(file, overrides);
+    cases.push_back(load_case(file, overrides));
+  }
+  const OutputLock lock(out);  // one study per folder (each grid's run locks its own too)
+  std::vector<RefinementGrid> done;
+  bool all_converged = true;
+  for (std::size_t k = 0; k < grids.size(); ++k) {
+    const int n = grids[k];
+    const Case& c = cases[k];
     const fs::path dir = out / ("n" + std::to_string(n));
     auto g = finished(dir, c, n);
     if (g && !a.quiet) std::fprintf(stderr, "refine: n = %d: finished earlier, reusing %s\n", n, (dir / kRecord).c_str());

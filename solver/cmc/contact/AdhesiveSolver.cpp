@@ -502,6 +502,42 @@ bool Iteration<I>::write_state(ContactState& st, double& energy) const {
 
 }  // namespace
 
+// ---------------------------------------------------------------- full contact
+
+namespace {
+
+// Full contact on a periodic solid: at δ = mean(h) the mean gap is zero, so g = 0
+// everywhere, u = δ − h and K u = −K h, and the mean pressure p̄ is free: the pressure
+// p = −K h + p̄ is admissible wherever it is at least the interaction's force at contact,
+// p ≥ f(0) (Interaction.hpp), i.e. for every p̄ ≥ f(0) + max K h. Its displacement-
+// controlled solve reports the smallest such p̄, so a load-control search that walks to
+// δ = mean(h) below its target ends there without a bracket. For a target at or above
+// that bound this is the exact answer (a flat indenter: uniform pressure p̄, gap 0):
+// written into `st` with its energy, and true. `st` is the search's last state.
+bool full_contact_state(const AdhesiveSolver::Work& w, const Field& h, const Interaction& inter, double target,
+                        double cell_area, ContactState& st, double& energy, double& residual) {
+  if (!w.periodic || st.gap.size() != w.n || st.penetration < w.hmean) return false;
+  if (Grid::max(st.gap) > 0.0) return false;  // the search did not end in full contact
+  const InteractionValue at_contact = evaluate(inter, 0.0);
+  const double pbar_min = at_contact.force + Grid::max(w.Kh);
+  if (!(target >= pbar_min)) return false;  // below it the surfaces part: not full contact
+  const std::size_t n = w.n;
+  st.pressure.resize(n), st.displacement.resize(n), st.gap.assign(n, 0.0);
+  double u_Ku = 0.0;  // Σ u K u, for the elastic energy
+  for (std::size_t i = 0; i < n; ++i) {
+    st.displacement[i] = w.hmean - h[i];
+    st.pressure[i] = target - w.Kh[i];
+    u_Ku -= st.displacement[i] * w.Kh[i];
+  }
+  st.penetration = w.hmean;
+  st.mean_pressure = Grid::mean(st.pressure);
+  energy = (0.5 * u_Ku + double(n) * at_contact.energy) * cell_area;
+  residual = 0.0;  // g = 0 and p >= f(0) everywhere: every KKT condition holds exactly
+  return true;
+}
+
+}  // namespace
+
 // ---------------------------------------------------------------- entry points
 
 SolveResult AdhesiveSolver::solve(const Target& target, ContactState& st) {
@@ -529,8 +565,14 @@ SolveResult AdhesiveSolver::solve(const Target& target, ContactState& st) {
     lc.max_penetration = w_->hmean;
     lc.start = std::min(lc.start, w_->hmean);
   }
-  return adhesive::solve_for_mean_pressure([this](double d, ContactState& s) { return solve_displacement(d, s); },
-                                           target.value, st, lc);
+  SolveResult res = adhesive::solve_for_mean_pressure(
+      [this](double d, ContactState& s) { return solve_displacement(d, s); }, target.value, st, lc);
+  if (!res.converged && full_contact_state(*w_, h_, interaction_, target.value, hs_.grid().cell_area(), st,
+                                           res.energy, res.residual)) {
+    res.converged = true;
+    res.message.clear();
+  }
+  return res;
 }
 
 SolveResult AdhesiveSolver::solve_displacement(double delta, ContactState& st) {

@@ -1,9 +1,15 @@
 #include "cmc/input/Case.hpp"
 
+#include <unistd.h>
+
+#include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <limits>
+#include <numbers>
 #include <set>
 #include <sstream>
 
@@ -11,6 +17,19 @@ namespace cmc {
 
 namespace {
 
+// A number as cases/README.md writes it: the shortest form that reads back the same.
+std::string number_text(double v) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  std::string t(buf, r.ptr);
+  // 1e-08 -> 1e-8: exponents without leading zeros, as a person writes them.
+  const auto e = t.find('e');
+  if (e != std::string::npos) {
+    const std::size_t digits = t[e + 1] == '-' || t[e + 1] == '+' ? e + 2 : e + 1;
+    while (t.size() > digits + 1 && t[digits] == '0') t.erase(digits, 1);
+  }
+  return t;
+}
 std::string where(const toml::node* n) {
   if (!n) return "";
   const auto& s = n->source();
@@ -58,7 +77,9 @@ class Section {
     if (n) {
       std::ostringstream s;
       n->visit([&](auto&& v) { s << v; });
-      got = ", got " + type_name(*n) + " " + s.str();
+      std::string text = s.str();
+      if (text.size() > 80) text = text.substr(0, 80) + "... (" + std::to_string(text.size()) + " characters)";
+      got = ", got " + type_name(*n) + " " + text;
     }
     throw CaseError(file_ + ": " + key_name(key) + ": expected " + expected + got + where(n));
   }
@@ -107,7 +128,8 @@ class Section {
   }
 
   // An integer in [min, max]; max defaults to int's, as most keys are read into an int
-  // (a larger value would wrap around: n = 2^32 + 1 was read as 1).
+  // (a larger value would wrap around: n = 2^32 + 1 was read as 1). Sizes have their own
+  // bounds (CaseLimits).
   long long integer(const std::string& key, std::optional<long long> def, const std::string& what, long long min,
                     long long max = std::numeric_limits<int>::max()) {
     const toml::node* n = given(key, def, what);
@@ -222,22 +244,19 @@ void apply_override(toml::table& t, const std::string& a) {
 namespace {
 
 void parse_grid(Section s, GridSpec& g) {
+  // Sizes are bounded before they are narrowed to int (a larger one would wrap); whether
+  // the grid fits in memory is checked once the whole case is known (check_memory).
+  constexpr long long side = CaseLimits::kMaxGridSide;
   if (s.has("n")) {
     if (s.has("nx") || s.has("ny")) s.fail("n", "either n or nx/ny, not both");
-    g.nx = g.ny = int(s.integer("n", {}, "a positive number of points per side", 1));
+    g.nx = g.ny = int(s.integer("n", {}, "a positive number of points per side", 1, side));
   } else {
-    g.nx = int(s.integer("nx", {}, "a positive number of points along x (or give n)", 1));
-    g.ny = int(s.integer("ny", {}, "a positive number of points along y (1 for a 1-D problem)", 1));
+    g.nx = int(s.integer("nx", {}, "a positive number of points along x (or give n)", 1, side));
+    g.ny = int(s.integer("ny", {}, "a positive number of points along y (1 for a 1-D problem)", 1, side));
   }
   g.size_x = s.number("size", {}, "the side length along x in m", true);
   g.size_y = s.number("size_y", g.size_x, "the side length along y in m", true);
   g.periodic = s.string("boundary", std::string(g.periodic ? "periodic" : "free"), {"periodic", "free"}) == "periodic";
-  const double points = double(g.nx) * g.ny;
-  // A periodic solve holds about 8 fields of N doubles; free-boundary ones work on a
-  // grid 4x larger. Refuse what cannot fit rather than failing deep in an allocation.
-  const double bytes = points * 8.0 * (g.periodic ? 8.0 : 20.0);
-  if (bytes > 64e9) s.fail(g.nx == g.ny ? "n" : "nx", "a grid that fits in memory (this one needs about " +
-                                             std::to_string((long long)(bytes / 1e9)) + " GB)");
   if (!g.periodic && g.ny < 2) s.fail("ny", "at least 2 points: a free boundary needs a 2-D grid");
   s.finish();
 }
@@ -272,8 +291,12 @@ void parse_surface(Section s, const GridSpec& grid, SurfaceSpec& sf) {
                                       "the short-wavelength cutoff in m", true);
       if (!(sf.cutoff_wavelength < sf.rolloff_wavelength) || sf.rolloff_wavelength > grid.size_x)
         s.fail("cutoff_wavelength", "cutoff_wavelength < rolloff_wavelength <= grid size");
+      // The whole band is generated whatever the grid: (pi/2) (size/cutoff)^2 modes.
+      if (grid.size_x / sf.cutoff_wavelength > CaseLimits::kMaxBandRatio)
+        s.fail("cutoff_wavelength", "at least 1e-6 x the grid size, " + number_text(grid.size_x * 1e-6) +
+                                        " m (the generator makes every mode of the band, whatever the grid)");
       sf.rms_gradient = s.number("rms_gradient", sf.rms_gradient, "the rms gradient of the surface", true);
-      sf.seed = s.integer("seed", sf.seed, "a non-negative random seed", 0, std::numeric_limits<long long>::max());
+      sf.seed = s.integer("seed", sf.seed, "a non-negative random seed", 0, CaseLimits::kMaxSeed);
       break;
     case SurfaceKind::File: {
       sf.path = s.string("path");
@@ -321,17 +344,24 @@ void parse_loading(Section s, bool adhesive, bool periodic, LoadingSpec& l) {
   const std::string what = pressure_like ? "a non-empty array of loads (N or Pa)" : "a non-empty array of lengths in m";
   l.values = s.numbers("values", what);
   if (s.has("unloading")) l.unloading = s.numbers("unloading", what);
+  if (l.values.size() + l.unloading.size() > CaseLimits::kMaxLoadSteps)
+    s.fail(l.unloading.empty() ? "values" : "unloading",
+           "at most " + std::to_string(CaseLimits::kMaxLoadSteps) + " load steps in values and unloading together (got " +
+               std::to_string(l.values.size() + l.unloading.size()) + ")");
   if (pressure_like && !adhesive)
     for (const char* key : {"values", "unloading"})
       for (double v : key == std::string("values") ? l.values : l.unloading)
         if (v < 0.0) s.fail(key, "non-negative loads for a hard-wall (non-adhesive) contact");
   if (l.control == LoadControl::MeanGap && !periodic)
     s.fail("control", "\"force\" or \"penetration\": a mean gap needs a periodic grid");
-  l.max_halvings = int(s.integer("max_halvings", l.max_halvings, "a non-negative number of halvings", 0));
+  // Bounded: a step that still fails at the finest level is walked in 2^max_halvings sub-steps.
+  l.max_halvings = int(s.integer("max_halvings", l.max_halvings, "a non-negative number of halvings", 0,
+                                 CaseLimits::kMaxHalvings));
   l.jump_fraction = s.number("jump_fraction", l.jump_fraction, "a relative change that counts as a jump", true);
   l.jump_pressure_floor = s.number("jump_pressure_floor", l.jump_pressure_floor,
                                    "a pressure in Pa (0: the largest |mean pressure| so far)", false, true);
-  l.refine_pulloff = int(s.integer("refine_pulloff", l.refine_pulloff, "a non-negative number of extra solves", 0));
+  l.refine_pulloff = int(s.integer("refine_pulloff", l.refine_pulloff, "a non-negative number of extra solves", 0,
+                                   CaseLimits::kMaxRefinePulloff));
   s.finish();
 }
 
@@ -368,8 +398,10 @@ void parse_solver(Section s, const InteractionSpec& in, const LoadingSpec& l, So
   const bool pk = sv.kind == SolverKind::PolonskyKeer;
   sv.tolerance = s.number("tolerance", pk ? SolverSpec::kPolonskyKeerTolerance : SolverSpec::kAdhesiveTolerance,
                           "a relative residual", true);
-  sv.max_iterations = int(s.integer("max_iterations", sv.max_iterations, "a positive iteration cap", 1));
-  sv.recompute_every = int(s.integer("recompute_every", sv.recompute_every, "a positive number of iterations", 1));
+  sv.max_iterations =
+      int(s.integer("max_iterations", sv.max_iterations, "a positive iteration cap", 1, CaseLimits::kMaxIterations));
+  sv.recompute_every = int(
+      s.integer("recompute_every", sv.recompute_every, "a positive number of iterations", 1, CaseLimits::kMaxIterations));
   sv.tension_tolerance = s.number("tension_tolerance", sv.tension_tolerance,
                                   "a relative change of the adhesive tension (quasi_static)", true);
   s.finish();
@@ -379,19 +411,65 @@ void parse_observables(Section s, double size_x, ObservablesSpec& o) {
   o.enabled = s.boolean("enabled", o.enabled);
   o.cross_section_x = s.number("cross_section_x", ObservablesSpec::kCrossSectionFraction * size_x,
                                "the x of the cross-section in m", false, true);
-  o.stress_bins = int(s.integer("stress_bins", o.stress_bins, "a positive number of bins", 1));
-  o.gap_bins_per_decade = int(s.integer("gap_bins_per_decade", o.gap_bins_per_decade, "a positive number of bins", 1));
-  o.patch_bins_per_decade = int(s.integer("patch_bins_per_decade", o.patch_bins_per_decade, "a positive number of bins", 1));
+  // Inside the cell: a larger x would be wrapped around the period without a word.
+  if (!(o.cross_section_x < size_x))
+    s.fail("cross_section_x", "an x inside the cell, 0 <= x < size = " + number_text(size_x) + " m");
+  o.stress_bins =
+      int(s.integer("stress_bins", o.stress_bins, "a positive number of bins", 1, CaseLimits::kMaxStressBins));
+  o.gap_bins_per_decade = int(s.integer("gap_bins_per_decade", o.gap_bins_per_decade, "a positive number of bins", 1,
+                                        CaseLimits::kMaxBinsPerDecade));
+  o.patch_bins_per_decade = int(s.integer("patch_bins_per_decade", o.patch_bins_per_decade,
+                                          "a positive number of bins", 1, CaseLimits::kMaxBinsPerDecade));
   o.contact_gap_threshold = s.number("contact_gap_threshold", o.contact_gap_threshold,
                                      "a gap in m (a point is in contact where g <= this)", false, true);
   s.finish();
 }
 
+// The case name becomes a folder name (cmc validate --out DIR/<name>/): one path
+// component, short enough for every file system, that cannot climb out of DIR.
+void check_name(Section& s, const std::string& name) {
+  const std::string what = "a name usable as one folder name";
+  if (name.empty()) s.fail("name", what + " (not empty)");
+  if (name.size() > CaseLimits::kMaxNameBytes)
+    s.fail("name", what + " of at most " + std::to_string(CaseLimits::kMaxNameBytes) + " bytes (this one has " +
+                       std::to_string(name.size()) + ")");
+  for (unsigned char ch : name)
+    if (ch == '/' || ch == '\\' || ch < 0x20 || ch == 0x7f)
+      s.fail("name", what + ": no '/', '\\' or control characters");
+  if (name.front() == '.') s.fail("name", what + ": not starting with '.' (no '.', '..' or hidden folders)");
+}
+
+// The grid of the case, and every grid its refinement study runs, must fit in the
+// memory this machine has now: checked before anything is allocated.
+void check_memory(const Case& c, toml::table& t, const std::string& file) {
+  const std::optional<double> avail = available_memory();
+  if (!avail) return;
+  auto too_big = [&](const Case& run) {
+    const MemoryEstimate e = estimate_memory(run);
+    if (e.bytes <= *avail) return std::string();
+    return "a grid whose run fits in the memory available: a run on " + std::to_string(run.grid.nx) + " x " +
+           std::to_string(run.grid.ny) + " points holds about " + memory_text(e.bytes) + " (" + e.what + "), and " +
+           memory_text(*avail) + " is available";
+  };
+  Section grid(*t["grid"].as_table(), "grid", file);
+  if (const std::string m = too_big(c); !m.empty()) grid.fail(grid.has("n") ? "n" : "nx", m);
+  if (c.validation && c.validation->refinement) {
+    Case finest = c;  // as run_refinement sets it: a 1-D case refines along x only
+    finest.grid.nx = c.validation->refinement->grids.back();
+    if (grid.has("n") || c.grid.ny > 1) finest.grid.ny = finest.grid.nx;
+    if (const std::string m = too_big(finest); !m.empty())
+      Section(*t["validation"]["refinement"].as_table(), "validation.refinement", file).fail("grids", m);
+  }
+}
+
 RefinementSpec parse_refinement(Section rs) {
   RefinementSpec ref;
-  for (double g : rs.numbers("grids", "an increasing array of at least 2 grid sizes", 2)) {
-    if (g < 2 || g != std::floor(g) || g > std::numeric_limits<int>::max() || (!ref.grids.empty() && g <= ref.grids.back()))
-      rs.fail("grids", "an increasing array of at least 2 grid sizes");
+  const std::string what = "an increasing array of at least 2 grid sizes, each from 2 to " +
+                           std::to_string(CaseLimits::kMaxGridSide);
+  for (double g : rs.numbers("grids", what, 2)) {
+    if (g < 2 || g > double(CaseLimits::kMaxGridSide) || g != std::floor(g) ||
+        (!ref.grids.empty() && g <= ref.grids.back()))
+      rs.fail("grids", what);
     ref.grids.push_back(int(g));
   }
   ref.quantity = rs.choice<ValidationQuantity>("quantity");
@@ -436,7 +514,10 @@ Case parse_case(const toml::table& input, const std::string& file) {
   {
     Section s(t, "case", file, true);
     c.name = s.string("name");
+    check_name(s, c.name);
     c.description = s.string("description", c.description);
+    if (c.description.size() > CaseLimits::kMaxDescriptionBytes)
+      s.fail("description", "one line of at most " + std::to_string(CaseLimits::kMaxDescriptionBytes) + " bytes");
     s.finish();
   }
   parse_grid(Section(t, "grid", file, true), c.grid);
@@ -457,24 +538,12 @@ Case parse_case(const toml::table& input, const std::string& file) {
   }
   parse_observables(Section(t, "observables", file, false), c.grid.size_x, c.observables);
   if (t.contains("validation")) c.validation = parse_validation(Section(t, "validation", file, false), file);
+  check_memory(c, t, file);
   return c;
 }
 
 namespace {
-// A number as cases/README.md writes it: the shortest form that reads back the same.
-std::string number_text(double v) {
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  std::string t(buf, r.ptr);
-  // 1e-08 -> 1e-8: exponents without leading zeros, as a person writes them.
-  const auto e = t.find('e');
-  if (e != std::string::npos) {
-    const std::size_t digits = t[e + 1] == '-' || t[e + 1] == '+' ? e + 2 : e + 1;
-    while (t.size() > digits + 1 && t[digits] == '0') t.erase(digits, 1);
-  }
-  return t;
-}
-std::string quoted(std::string_view word) {
+std::string quoted_word(std::string_view word) {
   std::string q(1, '"');
   q.append(word).push_back('"');
   return q;
@@ -494,13 +563,13 @@ std::vector<DocumentedDefault> case_defaults() {
   const std::string req = "required";
   return {
       {"case", "name", req},
-      {"case", "description", quoted(c.description)},
+      {"case", "description", quoted_word(c.description)},
       {"grid", "n", "—"},
       {"grid", "nx", "—"},
       {"grid", "ny", "—"},
       {"grid", "size", req},
       {"grid", "size_y", "size"},
-      {"grid", "boundary", quoted(g.periodic ? "periodic" : "free")},
+      {"grid", "boundary", quoted_word(g.periodic ? "periodic" : "free")},
       {"material", "contact_modulus", req},
       {"surface", "kind", req},
       {"surface", "radius", "required for sphere"},
@@ -514,9 +583,9 @@ std::vector<DocumentedDefault> case_defaults() {
       {"surface", "seed", n(double(sf.seed))},
       {"surface", "path", "required for file"},
       {"surface", "format", "required for file"},
-      {"surface", "dataset", quoted(sf.dataset)},
+      {"surface", "dataset", quoted_word(sf.dataset)},
       {"surface", "height_unit", "size for challenge formats, else 1"},
-      {"interaction", "kind", quoted(kind_name(in.kind))},
+      {"interaction", "kind", quoted_word(kind_name(in.kind))},
       {"interaction", "work_of_adhesion", "required for adhesion"},
       {"interaction", "range", "one of three"},
       {"interaction", "tabor", "one of three"},
@@ -529,7 +598,7 @@ std::vector<DocumentedDefault> case_defaults() {
       {"loading", "jump_fraction", n(l.jump_fraction)},
       {"loading", "jump_pressure_floor", n(l.jump_pressure_floor)},
       {"loading", "refine_pulloff", n(l.refine_pulloff)},
-      {"solver", "kind", quoted(kind_name(sv.kind))},
+      {"solver", "kind", quoted_word(kind_name(sv.kind))},
       {"solver", "tolerance",
        n(SolverSpec::kPolonskyKeerTolerance) + " PK, " + n(SolverSpec::kAdhesiveTolerance) + " adhesive"},
       {"solver", "max_iterations", n(sv.max_iterations)},
@@ -545,9 +614,153 @@ std::vector<DocumentedDefault> case_defaults() {
   };
 }
 
-Case load_case(const std::string& path, const std::vector<std::string>& overrides) {
+// ---------------------------------------------------------------- memory
+
+std::string memory_text(double bytes) {
+  char buf[48];
+  if (bytes >= 1e9) std::snprintf(buf, sizeof buf, "%.3g GB", bytes / 1e9);
+  else if (bytes >= 1e6) std::snprintf(buf, sizeof buf, "%.3g MB", bytes / 1e6);
+  else std::snprintf(buf, sizeof buf, "%.3g kB", bytes / 1e3);
+  return buf;
+}
+
+MemoryEstimate estimate_memory(const Case& c) {
+  // Counted from the code, in doubles (8 bytes): n per field of the grid, m per field of
+  // the transform grid (the grid itself when periodic, 2nx x 2ny zero-padded when free),
+  // sp per r2c spectrum of the transform grid ((mx/2 + 1) my complex numbers).
+  const double nx = c.grid.nx, ny = c.grid.ny, n = nx * ny;
+  const bool periodic = c.grid.periodic;
+  const double mx = periodic ? nx : 2.0 * nx, my = periodic ? ny : 2.0 * ny, m = mx * my;
+  const double sp = 2.0 * (std::floor(mx / 2.0) + 1.0) * my;
+  const bool adhesive = c.solver.kind == SolverKind::AdhesiveCg;
+  const bool load_control = c.loading.control == LoadControl::Force || c.loading.control == LoadControl::MeanPressure;
+  double grid_fields = 0.0, transform = 0.0;  // in units of n and m doubles
+  // Every run: the heights, the state the driver carries (pressure, displacement, gap),
+  // the writer's scaled copy of a field.
+  grid_fields += 5.0;
+  // The half-space (elastic/HalfSpace.cpp): its FFT's spectrum and the compliance (half a
+  // spectrum), FFTW's work array (one transform field; measured: its 2-D r2c/c2r plans
+  // buffer); free: the padded work array and the stiffness made with the compliance.
+  transform += (sp + sp / 2.0) / m + 1.0;
+  if (!periodic) transform += 1.0 + sp / 2.0 / m;
+  // Set-up arrays that are freed before the solve but stay with the process (glibc keeps
+  // freed blocks of this size in its heap once one was unmapped): the planning scratch,
+  // the two fields of the timed FFT pair, and on a free boundary the influence kernel.
+  transform += 3.0 + (periodic ? 0.0 : 1.0);
+  if (adhesive) {
+    // AdhesiveSolver::Work: heights, x, Ku, d, Kd, r, c, trial, Ktrial on the transform
+    // grid, K h when periodic, the bound flags (bytes); the stiffness when periodic.
+    transform += 9.0 + (periodic ? 1.0 : 0.0) + 1.0 / 8.0;
+    if (periodic) transform += sp / 2.0 / m;
+    // The load path's trial copy of the state; the pull-off search's best state and its copy.
+    grid_fields += 3.0;
+    if (c.loading.refine_pulloff > 0) grid_fields += 6.0;
+    // Load control: the three points of the bracketing search, each a state (massif).
+    if (load_control) grid_fields += 9.0;
+  } else {
+    // Polonsky-Keer: the search direction, and the spectra of the pressure, the
+    // direction and the heights.
+    grid_fields += 1.0;
+    transform += 3.0 * sp / m;
+  }
+  if (c.solver.kind == SolverKind::QuasiStatic) {
+    // QuasiStaticAdhesion around its Polonsky-Keer (counted above): the shifted heights,
+    // tension, G t, next and predicted gaps, the inner state, the cascade's pull and
+    // applied fields and flags; K's unit response and its set-up impulse on the
+    // transform grid; the stiffness when periodic.
+    grid_fields += 5.0 + 3.0 + 2.0 + 1.0 / 8.0;
+    transform += 2.0 + (periodic ? sp / 2.0 / m : 0.0);
+  }
+  // Observables: the contact mask (bytes), patch labels (ints) and their union-find
+  // parents, a Fourier transform of the pressure (its spectrum and scratch), the
+  // distributions' per-thread counts.
+  if (c.observables.enabled) grid_fields += 1.0 / 8.0 + 1.0 + 2.0 + 1.0;
+  // The allocator: glibc's heap keeps freed copies of states (the load path's and the
+  // load control's) and fragments; measured peak memory was up to 1.2x the fields
+  // counted above (tests/test_limits.cpp, Limits.MemoryEstimateBoundsMeasuredPeak).
+  constexpr double kAllocatorAllowance = 1.25;
+  const double solve_bytes = kAllocatorAllowance * 8.0 * (grid_fields * n + transform * m);
+  // Making the surface: the self-affine generator holds every mode of the band (about
+  // (pi/2) K^2 of them, K = size/cutoff, 24 bytes each) beside a spectrum and the heights.
+  double surface_bytes = 8.0 * 3.0 * n;
+  if (c.surface.kind == SurfaceKind::SelfAffine) {
+    const double K = std::floor(c.grid.size_x / c.surface.cutoff_wavelength);
+    surface_bytes += 24.0 * (0.5 * std::numbers::pi * (K + 1.0) * (K + 1.0) + 4.0 * K + 8.0);
+  }
+  MemoryEstimate e;
+  e.bytes = std::max(solve_bytes, surface_bytes);
+  char what[200];
+  if (solve_bytes >= surface_bytes)
+    std::snprintf(what, sizeof what,
+                  "%.4g fields of the grid and %.4g of the %s transform grid, 8 bytes a point, and 25 %% for the "
+                  "allocator", grid_fields, transform, periodic ? "periodic" : "zero-padded 2nx x 2ny");
+  else
+    std::snprintf(what, sizeof what, "the self-affine surface's %.3g Fourier modes while it is made",
+                  0.5 * std::numbers::pi * std::pow(std::floor(c.grid.size_x / c.surface.cutoff_wavelength), 2));
+  e.what = what;
+  return e;
+}
+
+namespace {
+// The first number in a file (e.g. /sys/fs/cgroup/memory.max), if it is one.
+std::optional<double> number_in(const std::string& path) {
   std::ifstream in(path);
-  if (!in) throw CaseError(path + ": cannot open the case file");
+  double v = 0.0;
+  if (in >> v) return v;
+  return std::nullopt;
+}
+}  // namespace
+
+std::optional<double> available_memory() {
+  std::optional<double> avail;
+  if (std::ifstream in("/proc/meminfo"); in) {
+    std::string key;
+    double kb = 0.0;
+    std::string unit;
+    while (in >> key >> kb) {
+      std::getline(in, unit);
+      if (key == "MemAvailable:") {
+        avail = kb * 1024.0;
+        break;
+      }
+    }
+  }
+  if (!avail) {
+    const long pages = ::sysconf(_SC_AVPHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
+    if (pages > 0 && page > 0) avail = double(pages) * double(page);
+  }
+  // A container's limit (cgroup v2, then v1): what is left of it, if that is less.
+  for (const auto& [limit, usage] : {std::pair{"/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory.current"},
+                                     std::pair{"/sys/fs/cgroup/memory/memory.limit_in_bytes",
+                                               "/sys/fs/cgroup/memory/memory.usage_in_bytes"}}) {
+    const auto l = number_in(limit), u = number_in(usage);  // "max" (no limit) is not a number
+    if (l && u && *l < 1e18) {
+      const double left = std::max(0.0, *l - *u);
+      if (!avail || left < *avail) avail = left;
+      break;
+    }
+  }
+  return avail;
+}
+
+// ---------------------------------------------------------------- reading
+
+Case load_case(const std::string& path, const std::vector<std::string>& overrides) {
+  // A case file is a regular file of bounded size: a folder or a pipe would otherwise
+  // read as an empty case ("missing required section [case]"), and its folder anchors
+  // the relative paths in it.
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (!fs::exists(st)) throw CaseError(path + ": cannot open the case file: no such file");
+  if (fs::is_directory(st)) throw CaseError(path + ": is a folder, expected a case file (TOML)");
+  if (!fs::is_regular_file(st))
+    throw CaseError(path + ": is not a regular file (a pipe, terminal or device), expected a case file (TOML) on disk");
+  if (const auto size = fs::file_size(path, ec); !ec && size > CaseLimits::kMaxCaseFileBytes)
+    throw CaseError(path + ": is " + memory_text(double(size)) + ", expected a case file (TOML) of at most " +
+                    memory_text(double(CaseLimits::kMaxCaseFileBytes)));
+  std::ifstream in(path);
+  if (!in) throw CaseError(path + ": cannot open the case file (not readable)");
   toml::table t;
   try {
     t = toml::parse(in, path);

@@ -6,6 +6,8 @@
 // throws CaseError with a message naming the file, the key and what was expected.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -123,6 +125,53 @@ struct Case {
   std::optional<ValidationSpec> validation;
   toml::table resolved;  // the case as run: overrides applied, defaults filled in
 };
+
+// The bounds of every size a case file sets, checked where the key is read
+// (input/Case.cpp) and listed in cases/README.md ("Limits"). A value beyond one is bad
+// input (CaseError naming the file, the key and the limit), never wrapped or clamped.
+struct CaseLimits {
+  // Points per side: 2^20. FFT sizes and grid indices are ints; the free boundary pads
+  // to twice this. Whether a grid fits is decided by the memory estimate below.
+  static constexpr long long kMaxGridSide = 1LL << 20;
+  // [case] name: it names output folders (cmc validate --out DIR/<name>/), so it must be
+  // one path component that every file system takes (NAME_MAX is 255 bytes).
+  static constexpr std::size_t kMaxNameBytes = 100;
+  static constexpr std::size_t kMaxDescriptionBytes = 1000;
+  // Histogram bins: a stress histogram's counts are kept per thread chunk.
+  static constexpr long long kMaxStressBins = 100000;
+  static constexpr long long kMaxBinsPerDecade = 1000;
+  // A step that fails is walked in sub-steps of 2^-max_halvings of it: at most 1024.
+  static constexpr long long kMaxHalvings = 10;
+  // Golden-section solves: 80 shrink the bracket by 0.618^80 < 2^-52 (round-off).
+  static constexpr long long kMaxRefinePulloff = 80;
+  static constexpr long long kMaxIterations = 100000000;  // solver.max_iterations, recompute_every
+  static constexpr std::size_t kMaxLoadSteps = 100000;    // loading.values + unloading
+  // GSL's mt19937 uses the low 32 bits of the seed.
+  static constexpr long long kMaxSeed = 4294967295LL;
+  // self_affine: the band up to L/cutoff_wavelength is generated in full (about
+  // (pi/2) (L/cutoff)^2 modes, whatever the grid); the generator refuses more than 1e6.
+  static constexpr double kMaxBandRatio = 1e6;
+  // A case file is a few kB; anything this large is not one.
+  static constexpr std::uintmax_t kMaxCaseFileBytes = 16u << 20;
+};
+
+// The memory a run of a case holds at its peak: every field of the grid and of the
+// solver's transform grid (twice the size per side on a free boundary), the solver's
+// work arrays, the load path's copies of the state, the observables and the output
+// buffers, and the generated surface's Fourier band. Counted from the code in
+// estimate_memory (input/Case.cpp); tests/test_limits.cpp compares it with the peak
+// memory of real runs.
+struct MemoryEstimate {
+  double bytes = 0.0;  // the peak: the larger of making the surface and solving
+  std::string what;    // what it is made of, for messages ("13 fields of the grid, ...")
+};
+MemoryEstimate estimate_memory(const Case& c);
+// Memory this machine can give a new run now, in bytes: /proc/meminfo's MemAvailable,
+// or what the process's cgroup (v2 memory.max, v1 memory.limit_in_bytes) leaves if that
+// is less; sysconf(_SC_AVPHYS_PAGES) where /proc is missing. nullopt: unknown.
+std::optional<double> available_memory();
+// "1.5 GB", "312 MB": a byte count as messages write it.
+std::string memory_text(double bytes);
 
 // Apply "section.key=value" (value in TOML syntax; bare words are strings).
 void apply_override(toml::table& t, const std::string& assignment);

@@ -18,23 +18,39 @@ Topography load_surface_file(const Case& c, const Grid& grid) {
   if (path.is_relative()) path = std::filesystem::path(c.file).parent_path() / path;
   const double scale = sf.height_unit / c.grid.size_x;  // file units -> reduced lengths
   HeightMap map;
+  // No file map is larger than the case's grid: the readers check a file's declared
+  // shape against it before they allocate anything.
+  const MapLimit limit{grid.nx, grid.ny};
   try {
     switch (sf.format) {
-      case SurfaceFormat::ChallengeHdf5: map = read_challenge_hdf5(path); break;
-      case SurfaceFormat::ChallengeAscii: map = read_challenge_ascii(path); break;
+      case SurfaceFormat::ChallengeHdf5: map = read_challenge_hdf5(path, limit); break;
+      case SurfaceFormat::ChallengeAscii: map = read_challenge_ascii(path, 1.0, limit); break;
       case SurfaceFormat::Fourier: map = read_fourier_heights(path, grid.nx); break;
-      case SurfaceFormat::Hdf5: map = read_hdf5_heights(path, sf.dataset, grid.lx, grid.ly); break;
-      case SurfaceFormat::Ascii: map = read_ascii_heights(path, grid.lx, grid.ly); break;
+      case SurfaceFormat::Hdf5: map = read_hdf5_heights(path, sf.dataset, grid.lx, grid.ly, 1.0, false, limit); break;
+      case SurfaceFormat::Ascii: map = read_ascii_heights(path, grid.lx, grid.ly, 1.0, false, limit); break;
     }
+  } catch (const SurfaceShapeError& e) {
+    throw CaseError(c.file + ": [grid] n: " + e.what() + " (cmc interpolates band-limited surfaces to finer grids "
+                    "but never down-samples)");
   } catch (const std::exception& e) {
     throw CaseError(c.file + ": [surface] path: " + e.what());
   }
   for (auto& h : map.heights) h *= scale;
   if (map.grid.nx != grid.nx || map.grid.ny != grid.ny) {
+    // A coarser map is interpolated: it must divide the grid by the same factor along x
+    // and y (a 1-D line only along x). Anything else, e.g. an ASCII file cut short at
+    // the end of a row (fewer rows than the grid has), is refused, not resampled.
+    const std::string has = "the surface file " + path.string() + " has " + std::to_string(map.grid.nx) + " x " +
+                            std::to_string(map.grid.ny) + " points (x by y, " +
+                            std::to_string(map.grid.size()) + " values)";
     if (map.grid.nx > grid.nx || map.grid.ny > grid.ny || grid.nx % map.grid.nx || grid.ny % map.grid.ny)
-      throw CaseError(c.file + ": [grid] n: the surface file " + path.string() + " has " + std::to_string(map.grid.nx) +
-                      " x " + std::to_string(map.grid.ny) + " points; expected a grid equal to it or a multiple of it "
+      throw CaseError(c.file + ": [grid] n: " + has + "; expected a grid equal to it or a multiple of it "
                       "(cmc interpolates band-limited surfaces to finer grids but never down-samples)");
+    if (grid.ny > 1 && grid.nx / map.grid.nx != grid.ny / map.grid.ny)
+      throw CaseError(c.file + ": [surface] path: " + has + "; expected the case's " + std::to_string(grid.nx) +
+                      " x " + std::to_string(grid.ny) + " points or a coarser map with the same factor along x and y "
+                      "(a truncated file? it has " + std::to_string(grid.nx / map.grid.nx) + "x fewer points along x "
+                      "but " + std::to_string(grid.ny / map.grid.ny) + "x fewer along y)");
     map = fourier_interpolate(map, grid.nx, grid.ny);
   }
   map.grid.lx = grid.lx, map.grid.ly = grid.ly;

@@ -22,10 +22,22 @@ namespace cmc {
 namespace {
 
 // ---------------------------------------------------------------- text helpers
-std::string read_text(const fs::path& file) {
+std::string memory_text(double bytes) {
+  char buf[48];
+  if (bytes >= 1e9) std::snprintf(buf, sizeof buf, "%.3g GB", bytes / 1e9);
+  else if (bytes >= 1e6) std::snprintf(buf, sizeof buf, "%.3g MB", bytes / 1e6);
+  else std::snprintf(buf, sizeof buf, "%.0f bytes", bytes);
+  return buf;
+}
+
+// The whole text of a file of at most max_bytes (checked before it is read).
+std::string read_text(const fs::path& file, double max_bytes = 0.0) {
   std::error_code ec;
   if (!fs::exists(file, ec)) throw SurfaceFileError(file, "no such file");
   if (!fs::is_regular_file(file, ec)) throw SurfaceFileError(file, "not a regular file");
+  if (const auto size = fs::file_size(file, ec); !ec && max_bytes > 0.0 && double(size) > max_bytes)
+    throw SurfaceFileError(file, "is " + memory_text(double(size)) + ", more than a height file of the expected size "
+                                 "takes (at most " + memory_text(max_bytes) + ")");
   std::ifstream in(file, std::ios::binary);
   if (!in) throw SurfaceFileError(file, "cannot open for reading");
   std::ostringstream ss;
@@ -185,8 +197,8 @@ struct ListedMode {
   int forms;      // bit 1: listed as k, bit 2: listed as -k
 };
 
-std::vector<ListedMode> parse_fourier_list(const fs::path& file, double scale) {
-  const std::string text = read_text(file);
+std::vector<ListedMode> parse_fourier_list(const fs::path& file, double scale, double max_bytes = 0.0) {
+  const std::string text = read_text(file, max_bytes);
   constexpr long max_index = 1L << 24;
   std::vector<ListedMode> out;
   std::unordered_map<long long, std::size_t> where;
@@ -233,15 +245,22 @@ std::vector<ListedMode> parse_fourier_list(const fs::path& file, double scale) {
 
 std::string grid_text(int nx, int ny) { return std::to_string(nx) + " x " + std::to_string(ny); }
 
-HeightMap parse_ascii(const fs::path& file, double lx, double ly, double scale, bool require_square) {
+HeightMap parse_ascii(const fs::path& file, double lx, double ly, double scale, bool require_square,
+                      const MapLimit& limit) {
   check_size(file, lx, ly);
-  const std::string text = read_text(file);
+  const std::string text = read_text(file, limit.max_text_bytes());
   std::vector<double> v;
-  v.reserve(text.size() / 8);
+  v.reserve(std::min<std::size_t>(text.size() / 8, std::size_t(limit.nx * limit.ny)));
   long nx = -1, ny = 0, first_line = 0;
   for_each_line(text, [&](long line, const std::vector<std::string_view>& t) {
     const std::string at = "line " + std::to_string(line);
     if (nx < 0) nx = long(t.size()), first_line = line;
+    if (nx > limit.nx)
+      throw SurfaceShapeError(file, at + " has " + std::to_string(t.size()) + " values, more than the " +
+                                       std::to_string(limit.nx) + " columns (points along x) expected");
+    if (ny >= limit.ny)
+      throw SurfaceShapeError(file, at + ": more than the " + std::to_string(limit.ny) +
+                                       " rows (points along y) expected");
     if (long(t.size()) != nx)
       throw SurfaceFileError(file, at + " has " + std::to_string(t.size()) + " values, expected " + std::to_string(nx) +
                                        " like line " + std::to_string(first_line) + " (ragged rows or truncated file)");
@@ -263,7 +282,7 @@ HeightMap parse_ascii(const fs::path& file, double lx, double ly, double scale, 
 }
 
 HeightMap read_hdf5(const fs::path& file, const std::string& dataset, double lx, double ly, double scale,
-                    bool require_square) {
+                    bool require_square, const MapLimit& limit) {
   std::error_code ec;
   if (!fs::exists(file, ec)) throw SurfaceFileError(file, "no such file");
   H5Quiet quiet;
@@ -284,9 +303,14 @@ HeightMap read_hdf5(const fs::path& file, const std::string& dataset, double lx,
   const H5T_class_t cls = type.ok() ? H5Tget_class(type) : H5T_NO_CLASS;
   if (cls != H5T_FLOAT && cls != H5T_INTEGER)
     throw SurfaceFileError(file, "dataset '" + dataset + "' is not numeric (expected floating-point heights)");
-  if (dims[0] == 0 || dims[1] == 0 || dims[0] > (1u << 20) || dims[1] > (1u << 20))
+  // The declared shape, checked before anything of that size is allocated or read.
+  if (dims[0] == 0 || dims[1] == 0)
     throw SurfaceFileError(file, "dataset '" + dataset + "' has unusable extent " + std::to_string(dims[1]) + " x " +
                                      std::to_string(dims[0]));
+  if (dims[1] > hsize_t(limit.nx) || dims[0] > hsize_t(limit.ny))
+    throw SurfaceShapeError(file, "dataset '" + dataset + "' declares " + std::to_string(dims[1]) + " x " +
+                                     std::to_string(dims[0]) + " points (x by y), more than the " +
+                                     std::to_string(limit.nx) + " x " + std::to_string(limit.ny) + " expected");
   // A dataset created but never (fully) written reads as its fill value (a flat surface):
   // refuse it, before allocating what its extent claims.
   if (const std::string missing = unwritten_part(d, dims); !missing.empty())
@@ -311,19 +335,22 @@ HeightMap read_hdf5(const fs::path& file, const std::string& dataset, double lx,
 }  // namespace
 
 // ---------------------------------------------------------------- public readers
-HeightMap read_challenge_hdf5(const fs::path& file) { return read_hdf5(file, "surface", 1.0, 1.0, 1.0, true); }
+HeightMap read_challenge_hdf5(const fs::path& file, MapLimit limit) {
+  return read_hdf5(file, "surface", 1.0, 1.0, 1.0, true, limit);
+}
 
-HeightMap read_challenge_ascii(const fs::path& file, double height_scale) {
-  return parse_ascii(file, 1.0, 1.0, height_scale, true);
+HeightMap read_challenge_ascii(const fs::path& file, double height_scale, MapLimit limit) {
+  return parse_ascii(file, 1.0, 1.0, height_scale, true, limit);
 }
 
 HeightMap read_hdf5_heights(const fs::path& file, const std::string& dataset, double lx, double ly, double height_scale,
-                            bool require_square) {
-  return read_hdf5(file, dataset, lx, ly, height_scale, require_square);
+                            bool require_square, MapLimit limit) {
+  return read_hdf5(file, dataset, lx, ly, height_scale, require_square, limit);
 }
 
-HeightMap read_ascii_heights(const fs::path& file, double lx, double ly, double height_scale, bool require_square) {
-  return parse_ascii(file, lx, ly, height_scale, require_square);
+HeightMap read_ascii_heights(const fs::path& file, double lx, double ly, double height_scale, bool require_square,
+                             MapLimit limit) {
+  return parse_ascii(file, lx, ly, height_scale, require_square, limit);
 }
 
 std::vector<FourierMode> read_fourier_list(const fs::path& file, double scale) {
@@ -334,7 +361,8 @@ std::vector<FourierMode> read_fourier_list(const fs::path& file, double scale) {
 
 HeightMap read_fourier_heights(const fs::path& file, int n, double scale, double box) {
   check_size(file, box, box);
-  const std::vector<ListedMode> listed = parse_fourier_list(file, scale);
+  const std::vector<ListedMode> listed =
+      parse_fourier_list(file, scale, n > 0 ? MapLimit{n, n}.max_text_bytes() : 0.0);
   long kmax = 0;
   for (const ListedMode& l : listed) kmax = std::max({kmax, long(std::abs(l.m.kx)), long(std::abs(l.m.ky))});
   if (n == 0) {

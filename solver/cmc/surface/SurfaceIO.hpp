@@ -42,12 +42,31 @@ class SurfaceFileError : public std::runtime_error {
       : std::runtime_error(file.string() + ": " + what) {}
 };
 
+// The largest map a reader accepts. It is checked against the shape a file declares (an
+// HDF5 dataset's extent) or reaches (an ASCII file's rows and columns, as they are read)
+// before the heights are allocated, so a lying header or an oversized file is an error
+// naming the shape, never an allocation of what it claims. A case passes its own grid
+// (a file may match it or be coarser). Text files are also refused beyond
+// kMaxBytesPerValue bytes per allowed value (plus 1 MiB for comments).
+struct MapLimit {
+  static constexpr long long kMaxSide = 1LL << 20;
+  static constexpr double kMaxBytesPerValue = 100.0;
+  long long nx = kMaxSide, ny = kMaxSide;  // points along x (columns) and y (rows)
+  double max_text_bytes() const { return kMaxBytesPerValue * double(nx) * double(ny) + double(1 << 20); }
+};
+
+// A file whose shape exceeds the MapLimit it was read with (a SurfaceFileError too).
+class SurfaceShapeError : public SurfaceFileError {
+ public:
+  using SurfaceFileError::SurfaceFileError;
+};
+
 // ---- The challenge's formats (heights and box in units of the system size L).
 // HDF5 file with one 2-D, square dataset "surface"; grid lx = ly = 1.
-HeightMap read_challenge_hdf5(const std::filesystem::path& file);
+HeightMap read_challenge_hdf5(const std::filesystem::path& file, MapLimit limit = {});
 // Plain ASCII matrix (whitespace separated, one row per line, '#' comments allowed);
 // must be square; heights multiplied by height_scale (units: caller's); lx = ly = 1.
-HeightMap read_challenge_ascii(const std::filesystem::path& file, double height_scale = 1.0);
+HeightMap read_challenge_ascii(const std::filesystem::path& file, double height_scale = 1.0, MapLimit limit = {});
 
 // ---- Generic height maps with explicit physical size (the caller passes lx, ly).
 // dataset: name of a 2-D floating-point (or integer) dataset. lx <= 0 or ly <= 0: take
@@ -55,9 +74,9 @@ HeightMap read_challenge_ascii(const std::filesystem::path& file, double height_
 // and fail if they are absent.
 HeightMap read_hdf5_heights(const std::filesystem::path& file, const std::string& dataset = "surface",
                             double lx = 0.0, double ly = 0.0, double height_scale = 1.0,
-                            bool require_square = false);
+                            bool require_square = false, MapLimit limit = {});
 HeightMap read_ascii_heights(const std::filesystem::path& file, double lx, double ly,
-                             double height_scale = 1.0, bool require_square = false);
+                             double height_scale = 1.0, bool require_square = false, MapLimit limit = {});
 
 // ---- Fourier-coefficient lists. One mode per line: "kx ky re im" (integers, then two
 // reals; whitespace or commas; '#' comments and blank lines ignored). Either one member
@@ -67,7 +86,8 @@ HeightMap read_ascii_heights(const std::filesystem::path& file, double lx, doubl
 std::vector<FourierMode> read_fourier_list(const std::filesystem::path& file, double scale = 1.0);
 // Synthesise the list on an n x n grid of box lx = ly = box. n == 0: the smallest power
 // of two that holds every mode. A mode with |kx| or |ky| >= n/2 is an error ("out of
-// range"), never silently dropped.
+// range"), never silently dropped. With n > 0 the file may hold at most MapLimit's bytes
+// per mode of the n x n grid.
 HeightMap read_fourier_heights(const std::filesystem::path& file, int n = 0, double scale = 1.0,
                                double box = 1.0);
 

@@ -1,0 +1,13 @@
+# Issue 12 (input sizes and file readers), through the cmc program: bad input exits with
+# code 2 before anything is solved, and nothing is written. The parser's side of each is
+# in tests/test_inputs.cpp (Inputs.*). cmc_cli_test: validation/validation.cmake.
+set(CMC_INPUTS ${CMAKE_BINARY_DIR}/cli-inputs)
+set(CMC_HERTZ ${CMAKE_SOURCE_DIR}/cases/validation/hertz-free.toml)
+# D9: a case name with ../ wrote `cmc validate` results outside --out.
+cmc_cli_test(input.D9_validate_name_escape "rm -rf ${CMC_INPUTS}/d9 && mkdir -p ${CMC_INPUTS}/d9/out && $<TARGET_FILE:cmc> validate ${CMC_HERTZ} --quiet --set grid.n=32 --set case.name=../escaped --out ${CMC_INPUTS}/d9/out; test $? -eq 2 && test ! -e ${CMC_INPUTS}/d9/escaped && test -z \"$(ls -A ${CMC_INPUTS}/d9/out)\"")
+# D10: a 300-byte case name failed only after the solve, when its folder was made.
+string(REPEAT x 300 CMC_LONG_NAME)
+cmc_cli_test(input.D10_long_name_before_solve "rm -rf ${CMC_INPUTS}/d10 && $<TARGET_FILE:cmc> validate ${CMC_HERTZ} --quiet --set grid.n=32 --set case.name=${CMC_LONG_NAME} --out ${CMC_INPUTS}/d10 2>${CMC_INPUTS}-d10.err; test $? -eq 2 && grep -q 'at most 100 bytes' ${CMC_INPUTS}-d10.err && test ! -e ${CMC_INPUTS}/d10")
+# D11: a folder or a pipe as the case file read as an empty case ("missing [case]").
+cmc_cli_test(input.D11_case_is_folder "rm -rf ${CMC_INPUTS}/d11; $<TARGET_FILE:cmc> run ${CMAKE_SOURCE_DIR}/cases --out ${CMC_INPUTS}/d11 2>${CMC_INPUTS}-d11.err; test $? -eq 2 && grep -q 'cases: is a folder, expected a case file (TOML)' ${CMC_INPUTS}-d11.err && test ! -e ${CMC_INPUTS}/d11")
+cmc_cli_test(input.D11_case_from_pipe "rm -rf ${CMC_INPUTS}/d11p; cat ${CMC_HERTZ} | $<TARGET_FILE:cmc> run /dev/stdin --out ${CMC_INPUTS}/d11p 2>${CMC_INPUTS}-d11p.err; test $? -eq 2 && grep -q '/dev/stdin: is not a regular file (a pipe, terminal or device)' ${CMC_INPUTS}-d11p.err && test ! -e ${CMC_INPUTS}/d11p")
