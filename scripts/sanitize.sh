@@ -30,6 +30,9 @@ export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:check_initialization_order=1
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
 export CMC_FFTW_WISDOM="${CMC_FFTW_WISDOM:-$PWD/build-asan/fftw-wisdom}"
 export CMC_THREADS="${CMC_THREADS:-1}"
-[ $# -gt 0 ] || set -- -L 'quick|validation' -LE slow
+# Two tests measure the process's peak memory (ru_maxrss) against a bound: under ASan its
+# shadow memory and quarantine multiply the peak (measured 183 MB against 38 MB estimated),
+# so they run in the plain build only.
+[ $# -gt 0 ] || set -- -L 'quick|validation' -LE slow -E '^(Inputs\.CheckStreamsLargePredictions|Limits\.MemoryEstimateBoundsMeasuredPeak)$'
 cd build-asan
 ctest --output-on-failure -j"$(nproc 2>/dev/null || echo 2)" "$@"
