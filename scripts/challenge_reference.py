@@ -129,7 +129,13 @@ def provenance(run, steps):
     res = [r for r in res if isinstance(r, (int, float))]
     its = [i for i in its if isinstance(i, (int, float))]
     tol = f"{solver.get('tolerance', float('nan')):g} ({solver.get('kind', '?')}"
-    if res:
+    if solver.get("kind") == "quasi_static":
+        # Its residual is the tension change of one more outer step over w/rho, checked
+        # against tension_tolerance; `tolerance` is that of the Polonsky-Keer inner solves.
+        tol += f", tension_tolerance {solver.get('tension_tolerance', float('nan')):g}"
+        if res:
+            tol += f"; final tension residual <= {max(res):.3g}"
+    elif res:
         tol += f"; final residual <= {max(res):.3g}"
     if its:
         tol += f", <= {int(max(its))} iterations"
