@@ -139,3 +139,40 @@ TEST(Scene, StepRecordAndObservablesShareTheContactRule) {
   }
   EXPECT_GT(without, 0.0);
 }
+
+// coarse_graining = "range" (Scene.cpp, coarse_grained_range): on a grid that does not
+// resolve rho, the range becomes sqrt(w / K_ii), so that the law's largest curvature
+// w/rho² equals the point's own stiffness (no bistable point), with w kept; on a grid
+// that resolves rho nothing changes. Dugdale's law refuses the key.
+TEST(Scene, RangeCoarseGrainingRemovesBistabilityAndKeepsW) {
+  for (double range : {1e-6, 1e-9}) {  // m: resolved (w/rho² = 25 E*/L < K_ii = 77 E*/L), unresolved
+    toml::table t = base();
+    t.insert_or_assign("interaction", toml::table{{"kind", "exponential"}, {"work_of_adhesion", 0.05},
+                                                   {"range", range}, {"coarse_graining", "range"}});
+    const Case c = parse_case(t, "mem");
+    Scene s = build_scene(c);
+    const auto& law = std::get<ExponentialAdhesion>(s.interaction);
+    const double w = s.units.energy_per_area(0.05), rho = s.units.length(range);
+    EXPECT_DOUBLE_EQ(law.w, w);
+    const double k = s.half_space->self_stiffness();
+    EXPECT_NEAR(k * s.grid.dx(), 1.2, 0.1);  // the stiffness of one point, ≈ 1.2 E*/dx
+    if (w / (rho * rho) <= k) {
+      EXPECT_DOUBLE_EQ(law.rho, rho) << range;
+      EXPECT_FALSE(s.surface_facts.specified_range) << range;
+    } else {
+      EXPECT_NEAR(w / (law.rho * law.rho), k, 1e-12 * k) << range;
+      ASSERT_TRUE(s.surface_facts.specified_range) << range;
+      EXPECT_NEAR(*s.surface_facts.specified_range, range, 1e-12 * range);
+      EXPECT_GT(law.rho, rho);
+    }
+  }
+  toml::table t = base();
+  t.insert_or_assign("interaction", toml::table{{"kind", "dugdale"}, {"work_of_adhesion", 0.05},
+                                                 {"range", 1e-9}, {"coarse_graining", "range"}});
+  try {
+    parse_case(t, "mem");
+    FAIL() << "coarse_graining with Dugdale accepted";
+  } catch (const CaseError& e) {
+    EXPECT_NE(std::string(e.what()).find("coarse_graining"), std::string::npos) << e.what();
+  }
+}

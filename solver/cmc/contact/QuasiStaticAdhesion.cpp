@@ -138,11 +138,8 @@ QuasiStaticAdhesion::QuasiStaticAdhesion(HalfSpace& hs, const Field& heights, Ex
   if (!(opt_.tension_tolerance > 0.0)) throw std::invalid_argument("QuasiStaticAdhesion: tension_tolerance must be > 0");
   // The diagonal of K: the pressure at a point that holds a unit displacement there and
   // zero everywhere else (the same at every point of a translation-invariant grid).
-  Field delta(hs.transform_size(), 0.0), response(hs.transform_size(), 0.0);
-  delta[0] = 1.0;
-  hs.apply(delta.data(), response.data(), hs.stiffness());
-  k_self_ = response[0];
-  k_response_ = std::move(response);
+  k_response_ = hs.unit_response();
+  k_self_ = k_response_[0];
   if (!(k_self_ > 0.0)) throw std::logic_error("QuasiStaticAdhesion: the half-space's self-stiffness is not positive");
 }
 

@@ -90,6 +90,13 @@ const Field& HalfSpace::stiffness() {
 
 // ---------------------------------------------------------------- transform grid
 
+Field HalfSpace::unit_response() {
+  Field delta(transform_size(), 0.0), response(transform_size(), 0.0);
+  delta[0] = 1.0;
+  apply(delta.data(), response.data(), stiffness());
+  return response;
+}
+
 double HalfSpace::apply(const double* in, double* out, const Field& mul) {
   fourier_.forward(in);
   Complex* s = fourier_.spectrum().data();

@@ -74,6 +74,12 @@ class HalfSpace {
   // out = M in on the transform grid (both of transform_size()); returns in·(M in)
   // = Σ_i in_i (M in)_i, from Parseval inside the multiply. One FFT pair.
   double apply(const double* in, double* out, const Field& multiplier);
+  // K applied to a unit displacement at point 0 of the transform grid: the pressure
+  // field that holds u = 1 there and u = 0 everywhere else. By translation invariance
+  // (of the padded circulant when free) its entry 0 is the diagonal K_ii of every
+  // point: self_stiffness(), ≈ 1.2 E*/Δx on a periodic square grid. One FFT pair each.
+  Field unit_response();
+  double self_stiffness() { return unit_response()[0]; }
 
   // ---- spectral primitives (contact-grid fields, zero-padded when free)
   // out = FFT(f) on the transform grid (unnormalised). One forward transform.

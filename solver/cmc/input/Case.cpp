@@ -334,6 +334,10 @@ void parse_interaction(Section s, SurfaceKind surface, InteractionSpec& in) {
     if (given != 1)
       s.fail("range", exponential ? "exactly one of range (m) or tabor" : "exactly one of range (h0, m) or maugis_lambda");
     if (!exponential) in.smoothing = s.number("smoothing", in.smoothing, "a smoothing width in m", false, true);
+    if (s.has("coarse_graining")) {
+      if (!exponential) s.fail("coarse_graining", "kind = \"exponential\" (Dugdale's law has its own smoothing)");
+      in.coarse_graining = s.choice<CoarseGraining>("coarse_graining", in.coarse_graining);
+    }
   }
   s.finish();
 }
@@ -591,6 +595,7 @@ std::vector<DocumentedDefault> case_defaults() {
       {"interaction", "tabor", "one of three"},
       {"interaction", "maugis_lambda", "one of three"},
       {"interaction", "smoothing", n(in.smoothing)},
+      {"interaction", "coarse_graining", quoted_word(kind_name(in.coarse_graining))},
       {"loading", "control", req},
       {"loading", "values", req},
       {"loading", "unloading", "[]"},

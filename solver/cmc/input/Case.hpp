@@ -70,6 +70,7 @@ struct InteractionSpec {
   // R_c; exponential), maugis_lambda (Dugdale, sphere). 0 = not given.
   double range = 0.0, tabor = 0.0, maugis_lambda = 0.0;
   double smoothing = 0.0;  // m, Dugdale only; 0: the smallest that keeps grid points stable
+  CoarseGraining coarse_graining = CoarseGraining::None;  // exponential only
 };
 
 struct LoadingSpec {

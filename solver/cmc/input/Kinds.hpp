@@ -12,6 +12,10 @@ namespace cmc {
 enum class SurfaceKind { Sphere, Wavy1d, Wavy2d, Flat, SelfAffine, File };
 enum class SurfaceFormat { ChallengeHdf5, ChallengeAscii, Fourier, Hdf5, Ascii };
 enum class InteractionKind { HardWall, Exponential, Dugdale };
+// How an exponential law is put on a grid whose spacing does not resolve its range:
+// None samples it at the grid points; Range lengthens the range to the shortest that
+// leaves no grid point bistable, keeping w (scene/Scene.cpp, coarse_grained_range).
+enum class CoarseGraining { None, Range };
 // Auto: Polonsky-Keer for a hard wall; with exponential adhesion on a loading path
 // (increasing load, no unloading) the quasi-static loading-branch solver; the adhesive CG
 // otherwise. The parser resolves it, so a parsed Case never holds Auto.
@@ -40,6 +44,10 @@ constexpr std::array<KindName<SurfaceFormat>, 5> kind_names(SurfaceFormat) {
 constexpr std::array<KindName<InteractionKind>, 3> kind_names(InteractionKind) {
   using enum InteractionKind;
   return {{{HardWall, "hard_wall"}, {Exponential, "exponential"}, {Dugdale, "dugdale"}}};
+}
+constexpr std::array<KindName<CoarseGraining>, 2> kind_names(CoarseGraining) {
+  using enum CoarseGraining;
+  return {{{None, "none"}, {Range, "range"}}};
 }
 constexpr std::array<KindName<SolverKind>, 4> kind_names(SolverKind) {
   using enum SolverKind;

@@ -28,7 +28,8 @@ struct SurfaceFacts {
   std::optional<double> curvature_radius;           // m: R_c = 1/(rms line-scan curvature)
   std::optional<double> dx_over_cutoff_wavelength;  // self-affine
   // Adhesion: the range, the resolution of it, and single-point bistability.
-  std::optional<double> interaction_range;   // m
+  std::optional<double> interaction_range;   // m: the range the solver uses
+  std::optional<double> specified_range;     // m: the case's range, where coarse-graining changed it
   std::optional<double> dx_over_range;
   std::optional<double> bistability_number;  // w dx / (E* range²)
   std::optional<double> tabor_parameter;     // with a sphere or R_c
