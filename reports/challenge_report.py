@@ -482,7 +482,58 @@ def _grid_table(runs):
     return md_table(["case", "folder", "grid", "dx (nm)", "dx/λ_s", "dx/ρ", "steps", "status", "wall (s)", "μ_T"], rows)
 
 
-def build(results_dir, case_dir, out_dir, notes):
+def _adhesion_resolution(reference_dir):
+    """Issue 13: the challenge's adhesive numbers with error bars, from the scaled-family store
+    (reference/challenge-scaled/scaled_family.json, written by scripts/scaled_family.py)."""
+    path = os.path.join(reference_dir, "challenge-scaled", "scaled_family.json")
+    cmd = "`/usr/bin/python3 scripts/scaled_family.py --s 1 --no-resolved --coarse --grids 2048 4096 --store reference/challenge-scaled`"
+    lines = ["## Adhesion: how the numbers move with the grid, and their error bars", ""]
+    data = load_json(path) if os.path.exists(path) else None
+    if not data:
+        return lines + [f"Not computed yet: {cmd} (after the family's references, same script).", ""]
+    members = {m["s"]: m for m in data.get("members", [])}
+    ch = members.get(1)
+    lines += ["No grid on one machine resolves ρ = 2.071 nm (the published solution used 65536² points, dx ≈ 0.75 ρ). "
+              "The runs below are the challenge at 250 kPa on the loading branch on coarse grids, plain (the "
+              "exponential law at grid points) and with the resolution strategy (`[interaction] coarse_graining = "
+              "\"range\"`). The strategy's error bar is its deviation measured on the scaled challenge family "
+              "(λ_s and w multiplied by s, μ_T = 3: the same dx/ρ and dx/λ_s as the challenge's grid, on a grid "
+              "that resolves ρ there) plus that reference's refinement error: "
+              f"`{rel(os.path.join(reference_dir, 'challenge-scaled', 'README.md'), '.')}`. "
+              "The plain runs carry no error bar: their error is what the family shows for plain runs.", ""]
+    if ch:
+        rows = []
+        est = {e["role"]: e for e in ch.get("estimates", [])}
+        for r in ch["runs"]:
+            e = est.get(r["role"])
+            def cell(short, scale, digits):
+                v = r[short] * scale
+                if e and e[short]["error"] is not None:
+                    return f"{v:.{digits}g} ± {e[short]['error'] * scale:.2g}"
+                return f"{v:.{digits}g}"
+            rows.append([r["role"].split("_")[0], f"{r['n']}²", fmt(r["dx_over_rho"], 3), cell("a_r", 1, 4),
+                         cell("a_rep", 1, 4), cell("mean_gap", 1e6, 5), r["iterations"], fmt(r["wall_s"], 3),
+                         "; ".join(e["measured_on"]) if e and e["measured_on"] else "–"])
+        lines += [md_table(["run", "grid", "dx/ρ", "a_r", "repulsive a_r", "mean gap (µm)", "iterations",
+                            "wall (s)", "strategy error measured on"], rows), ""]
+    else:
+        lines += [f"The challenge's own runs: not computed yet ({cmd}).", ""]
+    fam = [m for s, m in sorted(members.items(), reverse=True) if m.get("reference", {}).get("a_r")]
+    if fam:
+        rows = []
+        for m in fam:
+            ref = m["reference"]
+            rows.append([m["s"], fmt(m["lambda_s_m"] * 1e6, 3), fmt(m["rho_m"] * 1e9, 4), f"{ref['a_r']['grid']}²",
+                         f"{ref['a_r']['value']:.4g} ± {ref['a_r']['refinement_error']:.2g}",
+                         f"{ref['a_rep']['value']:.4g} ± {ref['a_rep']['refinement_error']:.2g}",
+                         f"{ref['mean_gap']['value'] * 1e6:.5g} ± {ref['mean_gap']['refinement_error'] * 1e6:.2g}"])
+        lines += ["Second route: the family's converged values (the resolved grid, ± its refinement error) as s "
+                  "falls toward the challenge (s = 1):", "",
+                  md_table(["s", "λ_s (µm)", "ρ (nm)", "grid", "a_r", "repulsive a_r", "mean gap (µm)"], rows), ""]
+    return lines
+
+
+def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
     os.makedirs(out_dir, exist_ok=True)
     data_dir = os.path.join(out_dir, "data")
     runs = _find_runs(results_dir, notes)
@@ -502,6 +553,7 @@ def build(results_dir, case_dir, out_dir, notes):
                   "(65536² points).", "", _grid_table(runs), ""]
     else:
         lines += ["(none yet)", ""]
+    lines += _adhesion_resolution(reference_dir)
 
     sweep = _load_sweep(runs, out_dir, data_dir, case_dir, lines)
     tabor = _tabor(runs, out_dir, data_dir, case_dir)

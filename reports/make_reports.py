@@ -54,7 +54,7 @@ def main(argv=None):
         ("validation", lambda out, notes: validation_report.build(validation_dirs, a.reference, out, notes)),
         ("performance", lambda out, notes: performance_report.build(os.path.join(a.results, "performance"),
                                                                     a.bench, out, notes)),
-        ("challenge", lambda out, notes: challenge_report.build(a.results, a.cases, out, notes)),
+        ("challenge", lambda out, notes: challenge_report.build(a.results, a.cases, out, notes, a.reference)),
     ]
     status = 0
     for name, job in jobs:

@@ -168,6 +168,54 @@ def _westergaard_profiles(case, summary, folder, ref_dir, out_dir, notes):
     return path
 
 
+def _adhesive_refinement(ref_dir, out_dir):
+    """Issue 13: the error of each adhesive quantity against dx/rho on the scaled challenge
+    family (reference/challenge-scaled/scaled_family.json, scripts/scaled_family.py), plain
+    and with the resolution strategy, on log axes, with the observed order of the plain runs."""
+    path = os.path.join(ref_dir, "challenge-scaled", "scaled_family.json")
+    data = load_json(path) if os.path.exists(path) else None
+    members = [m for m in (data or {}).get("members", []) if m.get("reference", {}).get("a_r")]
+    lines = ["", "## Adhesive refinement (scaled challenge family)", ""]
+    if not members:
+        return lines + ["Not computed yet: `/usr/bin/python3 scripts/scaled_family.py --s 32 --coarse 2 4 6 12 24 "
+                        "--store reference/challenge-scaled`.", ""]
+    quantities = (("a_r", "contact fraction a_r"), ("a_rep", "repulsive fraction"), ("mean_gap", "mean gap"))
+    fig, axes = plt.subplots(1, 3, figsize=(13, 4))
+    rows = []
+    for m in members:
+        ref = m["reference"]
+        for ax, (q, title) in zip(axes, quantities):
+            for kind, marker in (("plain", "o-"), ("range", "s--"), ("refinement", "^")):
+                pts = sorted((r["dx_over_rho"], r[q] / ref[q]["value"] - 1) for r in m["runs"]
+                             if r["role"].split("_")[0] == kind and r["role"].endswith(("rho", "refinement")))
+                if not pts:
+                    continue
+                x = np.array([p[0] for p in pts])
+                e = np.array([p[1] for p in pts])
+                ax.loglog(x, np.maximum(np.abs(e), 1e-5), marker, label=f"s = {m['s']}, {kind}")
+                if kind == "plain":
+                    sel = (x <= 6.5) & (np.abs(e) > 0)
+                    order = np.polyfit(np.log(x[sel]), np.log(np.abs(e[sel])), 1)[0] if sel.sum() >= 2 else None
+                    rows.append([m["s"], title, kind, ", ".join(f"{v:.3g}" for v in x),
+                                 ", ".join(f"{100 * v:+.2f} %" for v in e), fmt(order, 3)])
+                elif kind == "range":
+                    signs = "changes sign" if (e.min() < 0 < e.max()) else "one sign"
+                    rows.append([m["s"], title, kind, ", ".join(f"{v:.3g}" for v in x),
+                                 ", ".join(f"{100 * v:+.2f} %" for v in e), f"– ({signs})"])
+            ax.axhline(ref[q]["refinement_error"] / abs(ref[q]["value"]), color="gray", lw=0.8, ls=":")
+            _label(ax, "dx / ρ", "|relative error| vs the resolved grid", title)
+    axes[0].legend(fontsize=8)
+    fig_path = os.path.join(out_dir, "adhesive_refinement.png")
+    savefig(fig, fig_path)
+    lines += ["Each quantity's relative error against the member's resolved grid (dx ≤ 0.8 ρ), against dx/ρ: "
+              "plain runs (the exponential law at grid points), the resolution strategy (`coarse_graining = "
+              "\"range\"`) and the refinement grid; the dotted line is the reference's refinement error. Observed "
+              "order: least-squares slope of log|error| against log(dx/ρ) over the plain runs with dx ≤ 6.5 ρ. "
+              f"Numbers: `{rel(path, out_dir)}`.", "", f"![adhesive refinement]({os.path.basename(fig_path)})", "",
+              md_table(["s", "quantity", "runs", "dx/ρ", "error", "observed order"], rows), ""]
+    return lines
+
+
 def build(validation_dirs, ref_dir, out_dir, notes):
     os.makedirs(out_dir, exist_ok=True)
     runs = _collect(validation_dirs, notes)
@@ -176,6 +224,7 @@ def build(validation_dirs, ref_dir, out_dir, notes):
         lines += ["No validation results found in " + ", ".join(f"`{d}`" for d in validation_dirs) + ".",
                   "", "Run `scripts/test.sh -L validation` (writes build/validation/) or "
                   "`build/cmc validate cases/validation/*.toml --out build/validation`, then `scripts/report.sh`.", ""]
+        lines += _adhesive_refinement(ref_dir, out_dir)
         return "\n".join(lines)
     rows, ref_rows, figures = [], [], []
     n_pass = n_fail = 0
@@ -234,4 +283,5 @@ def build(validation_dirs, ref_dir, out_dir, notes):
                          f"{get(runs[c][0], 'grid', 'nx')}×{get(runs[c][0], 'grid', 'ny')}",
                          runs[c][0].get("status", "?"), fmt(get(runs[c][0], 'timing', 'wall_s'), 3),
                          fmt(get(runs[c][0], 'timing', 'fft_pairs'))] for c in sorted(runs)])]
+    lines += _adhesive_refinement(ref_dir, out_dir)
     return "\n".join(lines) + "\n"

@@ -513,6 +513,60 @@ TEST(JKR, ForceVersusPenetrationTabor5) {
   EXPECT_LE(res.halved_steps, 2);
 }
 
+// Issue 13, item 4: the range coarse-graining (coarse_grained_range, Interaction.hpp) on the
+// exponential-law sphere, μ_T = 3, s = 1/6. Pull-off (golden-section refined, on a path
+// that unloads from a ≈ 2s through snap-off) on the resolved grid, n = 256 (Δx = 0.75 ρ,
+// the plain law), against n = 48 (Δx = 3.98 ρ) with the strategy (ρ_c = √(2w/K_ii) =
+// 1.60 ρ, so μ_T falls to 1.87) and without it. Measured (2026-11-23): resolved pull-off
+// 1.0280 (3/2)πwR (as JKR.ExponentialPathTabor3 finds at n = 128 and 256); at 4 ρ the
+// strategy is 3.5 % stronger, the plain law 6.2 % stronger (with θ = 1, ρ_c = 1.13 ρ:
+// 3.3 %). Issue 13 asks for 2 %: NOT met. Asserted: the strategy is closer to the
+// resolved pull-off than the plain law on the same grid, and both err on the strong side
+// (the sign the measurement found; a sign change would be a new finding to explain).
+TEST(JKR, PullOffRangeCoarseGrainingAtFourRho) {
+  const double Es = 1, R = 1, s = 1.0 / 6, w = work_for_scale(s), muT = 3.0;
+  const double rho = exponential_range_from_tabor(Es, R, w, muT);
+  const double Fc = 1.5 * pi * w * R;
+  const auto dc = an::jkr_pulloff_displacement_controlled(Es, R, w);
+  const double d_peak = an::jkr_penetration(Es, R, w, 2.0 * s);
+  auto pulloff = [&](int n, bool coarse, double* rho_used) {
+    Grid g{n, n, 1.0, 1.0};
+    auto topo = sphere(g, R, 0.5, 0.5, false);
+    FreeHalfSpace hs(g, Es);
+    *rho_used = coarse ? coarse_grained_range(w, rho, hs.self_stiffness()) : rho;
+    AdhesiveSolver::Options o;
+    o.tolerance = 1e-6;
+    AdhesiveSolver solver(hs, topo.heights, ExponentialAdhesion(w, *rho_used), o);
+    LoadPathOptions lo;
+    lo.pressure_floor = 2 * Fc / g.area();
+    lo.max_halvings = 3;
+    lo.refine_pulloff = 8;
+    ContactState st;
+    const auto res = run_load_path(as_step_solver(solver),
+                                   load_unload(Control::Penetration, 0.4 * d_peak, d_peak, 1.3 * dc.penetration, 1, 10),
+                                   st, lo);
+    EXPECT_TRUE(res.completed) << res.message;
+    for (const auto& r : res.steps) EXPECT_TRUE(r.result.converged) << r.result.message;
+    return res.pulloff_mean_pressure * g.area() / (-Fc);
+  };
+  const int n_fine = 256, n4 = int(std::lround(1.0 / (4.0 * rho)));
+  double r_fine = 0, r_range = 0, r_plain = 0;
+  const double fine = pulloff(n_fine, false, &r_fine);
+  const double range = pulloff(n4, true, &r_range);
+  const double plain = pulloff(n4, false, &r_plain);
+  report("sphere_cg.dx_over_rho.fine", 1.0 / n_fine / rho);
+  report("sphere_cg.dx_over_rho.coarse", 1.0 / n4 / rho);
+  report("sphere_cg.rho_c_over_rho", r_range / rho);
+  report("sphere_cg.pulloff_fine/(1.5 pi w R)", fine);
+  report("sphere_cg.pulloff_range_rel_err", range / fine - 1);
+  report("sphere_cg.pulloff_plain_rel_err", plain / fine - 1);
+  EXPECT_LE(1.0 / n_fine, 0.8 * rho);
+  EXPECT_NEAR(1.0 / n4 / rho, 4.0, 0.1);
+  EXPECT_LT(std::abs(range / fine - 1), std::abs(plain / fine - 1));
+  EXPECT_GT(range, fine);
+  EXPECT_GT(plain, fine);
+}
+
 // Refinement: grid spacing and range shrink together (ρ ∝ √Δx, i.e. w Δx/(E* ρ²) fixed at
 // 0.56 and μ_T ∝ Δx^{-1/2}: 1.5, 2.1, 3.0 for n = 32, 64, 128), and the force at
 // δ = |δ_c| (one solve from a cold start, in contact) approaches JKR's. Measured signed

@@ -14,7 +14,7 @@ enum class SurfaceFormat { ChallengeHdf5, ChallengeAscii, Fourier, Hdf5, Ascii }
 enum class InteractionKind { HardWall, Exponential, Dugdale };
 // How an exponential law is put on a grid whose spacing does not resolve its range:
 // None samples it at the grid points; Range lengthens the range to the shortest that
-// leaves no grid point bistable, keeping w (scene/Scene.cpp, coarse_grained_range).
+// leaves no grid point bistable, keeping w (contact/Interaction.hpp, coarse_grained_range).
 enum class CoarseGraining { None, Range };
 // Auto: Polonsky-Keer for a hard wall; with exponential adhesion on a loading path
 // (increasing load, no unloading) the quasi-static loading-branch solver; the adhesive CG

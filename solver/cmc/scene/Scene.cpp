@@ -112,24 +112,6 @@ void build_topography(const Case& c, Scene& s) {
   s.mean_height = Grid::mean(s.topography.heights);
 }
 
-// Range coarse-graining of the exponential law (issue 13, `coarse_graining = "range"`).
-// A grid point i, its neighbours held, has the energy k_ii u_i²/2 + φ(g_i) per area with
-// k_ii the diagonal of the discrete stiffness (HalfSpace::self_stiffness, ≈ 1.2 E*/Δx).
-// It has one equilibrium for every load iff k_ii + φ''(g) > 0 for all g ≥ 0; the least
-// φ'' is −w/ρ² (at g = 0), so points are bistable when w/ρ² > k_ii (the bistability
-// number w Δx/(E* ρ²) ≳ 1): they snap, and which of them snapped, not the physics,
-// decides the answer. The coarse law keeps w, the energy released per area of contact
-// formed, which fixes the Griffith balance at every contact edge wider than the cohesive
-// zone, and lengthens ρ to the shortest range that leaves every point monostable,
-//   ρ_c = max(ρ, sqrt(w / k_ii)),
-// so that the cohesive zone (≈ E* ρ²/w) spans about one grid spacing. This is the
-// exponential-law form of the cohesive-zone rule of Turon, Dávila, Camanho & Costa, Eng.
-// Fract. Mech. 74, 1665 (2007): lower the interface strength (here w/ρ) at fixed fracture
-// energy until the cohesive zone is resolved by the mesh. On a grid that resolves the
-// range it changes nothing, so refinement converges to the specified law. What it changes
-// is the Tabor parameter, μ_T ρ/ρ_c: the price of the coarse grid, measured on the scaled
-// challenge family (scripts/scaled_family.py, reference/challenge-scaled/).
-double coarse_grained_range(double w, double rho, double k_self) { return std::max(rho, std::sqrt(w / k_self)); }
 
 // The interaction in reduced units (w in E* L, ranges in L), and what it means for the
 // resolution.
