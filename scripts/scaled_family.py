@@ -155,6 +155,12 @@ def atomic_write(path, text):
     os.replace(tmp, path)
 
 
+def strategy_run_near(r, strategy, dx_over_rho):
+    """Whether run r is a family run (dx = k rho) of the strategy within a factor 1.3 of dx_over_rho."""
+    return (r["role"].startswith(strategy + "_") and r["role"].endswith("rho")
+            and abs(math.log(r["dx_over_rho"] / dx_over_rho)) < math.log(1.3))
+
+
 def strategy_errors(members, strategy, dx_over_rho):
     """The strategy's measured relative error per quantity at this dx/rho: the largest, over the
     members with a converged reference, of |strategy run / reference - 1| plus the reference's
@@ -166,8 +172,7 @@ def strategy_errors(members, strategy, dx_over_rho):
         if not ref.get("a_r"):
             continue
         for r in m["runs"]:
-            if r["role"].startswith(strategy + "_") and r["role"].endswith("rho") and \
-                    abs(math.log(r["dx_over_rho"] / dx_over_rho)) < math.log(1.3):
+            if strategy_run_near(r, strategy, dx_over_rho):
                 used.append(f"s = {m['s']} at {r['n']}² (dx = {r['dx_over_rho']:.2f} rho)")
                 for _, short, _ in QUANTITIES:
                     q = ref[short]
@@ -235,8 +240,7 @@ def readme(data):
                 dg = r['mean_gap'] / ref['mean_gap']['value'] - 1
                 dev = f" ({100 * da:+.1f} %, gap {100 * dg:+.2f} %)"
                 for k, (ta, tg) in targets.items():
-                    if r["role"].startswith("range_") and r["role"].endswith("rho") and \
-                            abs(math.log(r["dx_over_rho"] / k)) < math.log(1.3):
+                    if strategy_run_near(r, "range", k):
                         dev += (" target " + ("met" if abs(da) <= ta and abs(dg) <= tg else "NOT met")
                                 + f" (±{100 * ta:g} %, ±{100 * tg:g} %)")
             lines.append(f"| {r['role']}{dev} | {r['n']}² | {r['dx_over_rho']:.2f} | {r['a_r']:.6g} | {r['a_rep']:.6g} | "
