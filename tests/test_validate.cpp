@@ -96,3 +96,37 @@ TEST(Refinement, TwoGridsNoOrder) {
     EXPECT_FALSE(r.order.has_value());
   }
 }
+
+// The Johnson "mean_gap" check: a state that sits on Johnson's p̄–ḡ relation scores ~0,
+// one whose mean pressure is off by 2e-3 p* scores 2e-3, and a state out of contact or at
+// a mean gap where Johnson has no state (above the snap-off gap) is not scored.
+TEST(JohnsonMeanGap, ScoresTheOffsetAndSkipsStatesWithoutAJohnsonState) {
+  const Case c = load_case(std::string(CMC_SOURCE_DIR) + "/cases/validation/johnson-alpha03.toml");
+  const Scene s = build_scene(c);
+  const double h = s.wave_amplitude, lambda = s.wavelength, w = 0.3 * 0.3 * M_PI * M_PI * h * h / (2 * lambda);
+  ASSERT_NEAR(analytic::johnson_alpha(1.0, w, h, lambda), 0.3, 1e-6);
+  const double pstar = analytic::westergaard_full_contact_pressure(1.0, h, lambda);
+  const double a = 0.3 * lambda, gbar = analytic::johnson_mean_gap(1.0, w, h, lambda, a);
+  const std::size_t n = s.grid.size();
+  auto state = [&](double mean_gap, double pbar) {
+    ContactState st;
+    st.gap.assign(n, 0.0);  // the first half closed, the rest carries the mean gap
+    for (std::size_t k = n / 2; k < n; ++k) st.gap[k] = 2.0 * mean_gap;
+    st.pressure.assign(n, pbar);
+    st.mean_pressure = pbar;
+    return st;
+  };
+  const double pj = analytic::johnson_mean_pressure(1.0, w, h, lambda, a);
+  const RunSummary run;
+  std::string def;
+  EXPECT_LT(validation_error(ValidationReference::Johnson, ValidationQuantity::MeanGap, s, {state(gbar, pj)}, run, &def),
+            1e-9);
+  EXPECT_NE(def.find("solved mean gap"), std::string::npos) << def;
+  EXPECT_NEAR(validation_error(ValidationReference::Johnson, ValidationQuantity::MeanGap, s,
+                               {state(gbar, pj + 2e-3 * pstar)}, run),
+              2e-3, 1e-9);
+  ContactState open = state(gbar, pj + 0.1 * pstar);
+  open.gap.assign(n, gbar);  // no closed point
+  ContactState above = state(2.0 * h, 0.1 * pstar);  // ḡ above Johnson's largest mean gap (1.39 h at α = 0.3)
+  EXPECT_EQ(validation_error(ValidationReference::Johnson, ValidationQuantity::MeanGap, s, {open, above}, run), 0.0);
+}

@@ -27,7 +27,8 @@ struct CheckResult {
 // The error of `quantity` for a solved case. For hertz, hertz_periodic and westergaard
 // it is the largest over all steps; for jkr/maugis_dugdale "force" the largest over the
 // steps in contact (out-of-contact steps lie off the reference curve); for johnson
-// "mean_pressure" the largest over the steps with a closed gap. "pulloff" (adhesive
+// "mean_pressure" and "mean_gap" the largest over the steps with a closed gap ("mean_gap":
+// p̄ against Johnson's at the solved mean gap, where Johnson has a state). "pulloff" (adhesive
 // references) is one number for the whole path, from `run`. Throws
 // std::invalid_argument for an unknown reference or quantity.
 double validation_error(ValidationReference reference, ValidationQuantity quantity, const Scene& s,
