@@ -235,6 +235,64 @@ TEST(CheckScoring, ExtraColumnsAreIgnoredAndNoted) {
   EXPECT_NE(json.find("columns not used: mean_gap_m"), std::string::npos);
 }
 
+// The layouts of the challenge's submissions: one curve written with commas, with
+// semicolons, with spaces (reduced units, rows running down), with tabs and no header,
+// and with spaces, no header and an extra column, all score exactly the same; a file
+// without a header and without --columns, or with --columns of the wrong count, is bad
+// input that says what to pass.
+TEST(CheckLayouts, SubmissionLayoutsScoreTheSame) {
+  TempDir d;
+  const fs::path r = write_reference(d, "contact_area_vs_pressure");
+  const Synthetic s = synthetic();
+  auto rows = [&](const std::string& sep, bool reduced, bool down, const std::string& extra) {
+    std::string t;
+    for (std::size_t k = 0; k < s.p.size(); k += 2) {
+      const std::size_t i = down ? s.p.size() - 1 - k : k;
+      t += num(reduced ? s.p[i] / kChallengeEstar : s.p[i]) + sep + num(s.ar[i] * 1.02) + extra + "\n";
+    }
+    return t;
+  };
+  auto score = [&](const std::string& name, const std::string& text, std::vector<std::string> columns = {}) {
+    Options o;
+    o.prediction = d.write(name, text).string();
+    o.quantity = "contact_area_vs_pressure";
+    o.reference_file = r.string();
+    o.columns = std::move(columns);
+    return run_check(o);
+  };
+  const Report base = score("comma.csv", "# commas\npressure_Pa,contact_fraction\n" + rows(",", false, false, ""));
+  // 2 % on every second point, plus the log-log interpolation's curvature in between
+  // (under 1 %, as in MultiplicativePerturbationOnLogAxis).
+  EXPECT_NEAR(base.metrics.max_rel, 0.02, 1e-2);
+  EXPECT_GE(base.metrics.max_rel, 0.02 - 1e-12);
+  const std::vector<Report> same = {
+      score("semicolon.csv", "pressure_Pa;contact_fraction\n" + rows(";", false, false, "")),
+      score("spaces.txt", "# reduced, rows running down\n  p_over_Estar    contact_fraction\n" + rows("   ", true, true, "")),
+      score("tabs.dat", rows("\t", false, false, ""), {"pressure_Pa", "contact_fraction"}),
+      score("extra.dat", rows(" ", true, false, " 7"), {"p_over_Estar", "contact_fraction", "patches"}),
+  };
+  for (const Report& rep : same) {
+    SCOPED_TRACE(rep.prediction.rows);
+    EXPECT_EQ(rep.prediction.rows, base.prediction.rows);
+    EXPECT_NEAR(rep.metrics.max_rel, base.metrics.max_rel, 1e-12);
+    EXPECT_NEAR(rep.metrics.rms_rel, base.metrics.rms_rel, 1e-12);
+    EXPECT_EQ(rep.verdict.pass, base.verdict.pass);
+  }
+  try {
+    score("headerless.dat", rows(" ", false, false, ""));
+    ADD_FAILURE() << "a headerless file without --columns was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("name its columns with --columns"), std::string::npos) << e.what();
+  }
+  try {
+    score("count.dat", rows(" ", false, false, ""), {"pressure_Pa", "contact_fraction", "patches"});
+    ADD_FAILURE() << "--columns of the wrong count was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--columns names 3 columns, the file's rows have 2 whitespace-separated values"),
+              std::string::npos) << e.what();
+  }
+}
+
 TEST(CheckQuantities, EveryChallengeItemHasAQuantity) {
   std::vector<int> items;
   for (const auto& q : quantities()) items.push_back(q.item);
@@ -260,9 +318,9 @@ std::vector<Bad> malformed() {
       {"comments only", "# nothing here\n", "no header row"},
       {"header only", "pressure_Pa,contact_fraction\n", "0 data rows"},
       {"one data row", "pressure_Pa,contact_fraction\n1e4,0.001\n", "1 data row"},
-      {"no header row", "1e4,0.001\n2e4,0.002\n", "expected a column name"},
+      {"no header row", "1e4,0.001\n2e4,0.002\n", ":1: the file has no header row (this line is 2 numbers); name its columns with --columns"},
       {"one column", "pressure_Pa\n1e4\n2e4\n", "names one column"},
-      {"tab separated", "pressure_Pa\tcontact_fraction\n1e4\t0.001\n2e4\t0.002\n", "not separators"},
+      {"separators mixed", "pressure_Pa contact_fraction\n1e4,0.001\n2e4,0.002\n", ":2: expected 2 whitespace-separated values"},
       {"wrong columns", "pressure_Pa,mean_gap_m\n1e4,1e-6\n2e4,0.9e-6\n", "no column for the relative contact area"},
       {"missing abscissa", "load_N,contact_fraction\n1e-3,0.001\n2e-3,0.002\n", "no column for the mean pressure"},
       {"unknown unit", "pressure_psi,contact_fraction\n1,0.001\n2,0.002\n", "unknown unit 'psi'"},

@@ -488,9 +488,10 @@ namespace {
 // The prediction file, streamed row by row through the scorer: the same checks and
 // messages as extract() + compare() on the whole table, with memory bounded by the
 // reference and kMaxEchoedRows. Returns the sampled curve and the metrics.
-std::pair<XY, Metrics> score_prediction(const std::string& path, const QuantitySpec& spec, const XY& ref) {
+std::pair<XY, Metrics> score_prediction(const std::string& path, const std::vector<std::string>& columns,
+                                        const QuantitySpec& spec, const XY& ref) {
   std::ifstream in = reference::open_csv(path);
-  reference::CsvReader reader(in, path, /*keep_comments=*/false);
+  reference::CsvReader reader(in, path, /*keep_comments=*/false, reference::Layout::submissions(columns));
   if (!reader.has_header()) reader.fail_no_header();
   const Table& t = reader.header();
   int xcol = -1, ycol = -1;
@@ -628,7 +629,7 @@ Report run_check(const Options& o) {
   if (!(min_coverage >= 0.0 && min_coverage <= 1.0))
     throw InputError("--min-coverage " + fmt(min_coverage) + ": expected a fraction from 0 to 1");
   r.ref = extract(ref_table, r.spec);
-  std::tie(r.prediction, r.metrics) = score_prediction(o.prediction, r.spec, r.ref);
+  std::tie(r.prediction, r.metrics) = score_prediction(o.prediction, o.columns, r.spec, r.ref);
 
   std::string metric = o.metric, source;
   double tol = 0;

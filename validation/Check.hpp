@@ -160,6 +160,7 @@ std::string report_text(const Report& r);
 struct Options {
   std::string prediction, quantity, reference_file, x, y, metric;
   std::optional<double> tolerance, min_coverage;  // min_coverage in [0, 1]
+  std::vector<std::string> columns;  // names for the prediction's columns (--columns)
 };
 Report run_check(const Options& o);
 

@@ -111,7 +111,32 @@ const std::vector<double>& Table::column(const std::string& name) const {
   return data[std::size_t(i)];
 }
 
-CsvReader::CsvReader(std::istream& in, std::string file, bool keep_comments) : in_(in), keep_comments_(keep_comments) {
+namespace {
+// A whole field that strtod reads as a number.
+bool is_number(const std::string& f) {
+  char* end = nullptr;
+  std::strtod(f.c_str(), &end);
+  return !f.empty() && end && *end == '\0';
+}
+const char* separator_name(char sep) {
+  return sep == ',' ? "comma" : sep == ';' ? "semicolon" : "whitespace";
+}
+}  // namespace
+
+std::vector<std::string> CsvReader::fields(const std::string& s) const {
+  if (sep_ != ' ') return split(s, sep_);
+  std::vector<std::string> out;
+  std::size_t b = s.find_first_not_of(" \t");
+  while (b != std::string::npos) {
+    const std::size_t e = s.find_first_of(" \t", b);
+    out.push_back(s.substr(b, e == std::string::npos ? std::string::npos : e - b));
+    b = e == std::string::npos ? e : s.find_first_not_of(" \t", e);
+  }
+  return out;
+}
+
+CsvReader::CsvReader(std::istream& in, std::string file, bool keep_comments, Layout layout)
+    : in_(in), keep_comments_(keep_comments), layout_(std::move(layout)) {
   t_.file = std::move(file);
   std::string raw;
   while (read_line(raw)) {
@@ -127,9 +152,30 @@ CsvReader::CsvReader(std::istream& in, std::string file, bool keep_comments) : i
         t_.comments.push_back(body);
       continue;
     }
-    const auto fields = split(s, ',');
+    if (layout_.any_separator)
+      sep_ = s.find(',') != std::string::npos ? ',' : s.find(';') != std::string::npos ? ';' : ' ';
+    auto fields = this->fields(s);
     have_header_ = true;
     t_.header_line = line_;
+    bool numbers = layout_.any_separator;
+    for (const auto& f : fields) numbers = numbers && is_number(trim(f));
+    if (numbers) {  // no header row: this line is the first data row
+      if (layout_.columns.empty())
+        throw InputError(where(t_.file, line_) + "the file has no header row (this line is " +
+                         std::to_string(fields.size()) + " numbers); name its columns with --columns, e.g. "
+                         "--columns pressure_Pa,contact_fraction (cmc check --list gives the names)");
+      if (layout_.columns.size() != fields.size())
+        throw InputError(where(t_.file, line_) + "--columns names " + std::to_string(layout_.columns.size()) +
+                         " columns, the file's rows have " + std::to_string(fields.size()) + " " +
+                         separator_name(sep_) + "-separated values");
+      pending_ = s, pending_line_ = line_;
+      fields = layout_.columns;
+    } else if (!layout_.columns.empty()) {
+      if (layout_.columns.size() != fields.size())
+        throw InputError(where(t_.file, line_) + "--columns names " + std::to_string(layout_.columns.size()) +
+                         " columns, the header row has " + std::to_string(fields.size()));
+      fields = layout_.columns;
+    }
     for (std::size_t k = 0; k < fields.size(); ++k) {
       const std::string name = trim(fields[k]);
       if (name.empty())
@@ -149,7 +195,8 @@ CsvReader::CsvReader(std::istream& in, std::string file, bool keep_comments) : i
     if (t_.columns.size() < 2) {
       const bool other_sep = s.find_first_of("\t;") != std::string::npos || s.find(' ') != std::string::npos;
       throw InputError(where(t_.file, line_) + "header row '" + s + "' names one column; expected at least two, "
-                       "separated by commas" + (other_sep ? " (tabs, spaces and semicolons are not separators)" : ""));
+                       "separated by commas" + (layout_.any_separator ? ", semicolons, tabs or spaces"
+                                                : other_sep ? " (tabs, spaces and semicolons are not separators)" : ""));
     }
     t_.data.assign(t_.columns.size(), {});
     return;
@@ -175,34 +222,36 @@ bool CsvReader::read_line(std::string& raw) {
 
 bool CsvReader::next(std::vector<double>& values, int& line) {
   std::string raw;
-  while (read_line(raw)) {
+  while (!pending_.empty() || read_line(raw)) {
+    int at = line_;
+    if (!pending_.empty()) raw = std::move(pending_), pending_.clear(), at = pending_line_;
     const std::string s = trim(raw);
     if (s.empty()) continue;
     if (s[0] == '#') {
       if (keep_comments_) t_.comments.push_back(trim(s.substr(1)));
       continue;
     }
-    const auto fields = split(s, ',');
+    const auto fields = this->fields(s);
     if (fields.size() != t_.columns.size())
-      throw InputError(where(t_.file, line_) + "expected " + std::to_string(t_.columns.size()) +
-                       " comma-separated values (as in the header row, line " + std::to_string(t_.header_line) +
-                       "), found " + std::to_string(fields.size()));
+      throw InputError(where(t_.file, at) + "expected " + std::to_string(t_.columns.size()) + " " +
+                       separator_name(sep_) + "-separated values (as in the header row, line " +
+                       std::to_string(t_.header_line) + "), found " + std::to_string(fields.size()));
     values.resize(fields.size());
     for (std::size_t k = 0; k < fields.size(); ++k) {
       const std::string f = trim(fields[k]);
       const std::string col = "column " + std::to_string(k + 1) + " ('" + t_.columns[k] + "'): ";
-      if (f.empty()) throw InputError(where(t_.file, line_) + col + "empty field, expected a number");
+      if (f.empty()) throw InputError(where(t_.file, at) + col + "empty field, expected a number");
       errno = 0;
       char* end = nullptr;
       const double v = std::strtod(f.c_str(), &end);
       if (end == f.c_str() || *end != '\0')
-        throw InputError(where(t_.file, line_) + col + "'" + f + "' is not a number");
+        throw InputError(where(t_.file, at) + col + "'" + f + "' is not a number");
       if (!std::isfinite(v) || (errno == ERANGE && std::abs(v) > 1))
-        throw InputError(where(t_.file, line_) + col + "'" + f +
+        throw InputError(where(t_.file, at) + col + "'" + f +
                          "' is not a finite number (NaN and infinity are not allowed)");
       values[k] = v;
     }
-    line = line_;
+    line = at;
     return true;
   }
   return false;

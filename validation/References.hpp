@@ -73,12 +73,24 @@ Table read_csv(const std::string& path, std::size_t min_rows = 1);  // file miss
 // The same rules, one row at a time, for files too large to hold (`cmc check` streams a
 // prediction through it): the constructor reads up to and including the header row,
 // next() the following data rows. Lines longer than kMaxLineBytes are an error.
+//
+// A prediction (`cmc check`) may use the layouts that the challenge's participants
+// submitted (Layout::submissions): values separated by commas, semicolons, tabs or spaces
+// (the header row decides, and data rows follow it), and a file without a header row
+// (its first non-comment line is all numbers) when `columns` names its columns.
+struct Layout {
+  bool any_separator = false;        // else commas only (cmc's own CSV files)
+  std::vector<std::string> columns;  // names for a file without a header row; given with
+                                     // a header row, they must match its column count and replace it
+  static Layout submissions(std::vector<std::string> columns = {}) { return {true, std::move(columns)}; }
+};
+
 class CsvReader {
  public:
   static constexpr std::size_t kMaxLineBytes = 1 << 20;
   // keep_comments: also keep '#' lines after the header in header().comments (a
   // streaming reader passes false, so that its memory does not grow with the file).
-  CsvReader(std::istream& in, std::string file, bool keep_comments = true);
+  CsvReader(std::istream& in, std::string file, bool keep_comments = true, Layout layout = {});
   // Metadata, comments before the header, the columns and the header's line; no data.
   const Table& header() const { return t_; }
   bool has_header() const { return have_header_; }
@@ -92,10 +104,15 @@ class CsvReader {
 
  private:
   bool read_line(std::string& raw);
+  std::vector<std::string> fields(const std::string& s) const;  // split at the separator
   std::istream& in_;
   Table t_;
   int line_ = 0;
   bool have_header_ = false, keep_comments_ = true;
+  Layout layout_;
+  char sep_ = ',';  // ' ' means runs of spaces and tabs
+  std::string pending_;  // a headerless file's first data row
+  int pending_line_ = 0;
 };
 // Opens `path` for a CsvReader: a regular file, else InputError.
 std::ifstream open_csv(const std::string& path);

@@ -21,7 +21,7 @@ namespace cmc::app {
 
 namespace {
 const char* kCheckHelp = R"(usage: cmc check PREDICTION.csv --quantity Q [--reference FILE] [--out DIR]
-                 [--tolerance T] [--metric M] [--min-coverage F]
+                 [--tolerance T] [--metric M] [--min-coverage F] [--columns A,B,...]
        cmc check PREDICTION.csv --reference FILE [--x COL --y COL] [--out DIR] ...
        cmc check --list
 
@@ -30,9 +30,17 @@ common range, interpolating in the representation the challenge asks for (log
 axes where it says so), prints the errors and a verdict, and with --out writes
 DIR/check.json and the overlay figure DIR/check.png (reports/plot_check.py).
 
-PREDICTION.csv: '#' comment lines, a header row naming the columns, one row per
-point; column names say the quantity and unit, e.g. pressure_Pa,contact_fraction
-or p_over_Estar,contact_fraction (see --list and reference/README.md).
+PREDICTION.csv: one quantity per file, one row per point; '#' lines are comments.
+Layouts understood (those of the challenge's submissions):
+  - values separated by commas, semicolons, tabs or spaces (runs of spaces count
+    as one); the first non-comment line decides, and every row follows it;
+  - a header row naming the columns: the names say the quantity and the unit,
+    SI or reduced, e.g. pressure_Pa,contact_fraction or p_over_Estar contact_fraction
+    (cmc check --list gives every name and unit; reference/README.md);
+  - no header row (the first line is numbers): name the columns with
+    --columns, e.g. --columns pressure_Pa,contact_fraction. --columns also
+    renames the columns of a file whose header uses other names.
+Extra columns are ignored; rows may run up or down the abscissa.
 
   --quantity Q    a challenge quantity (cmc check --list); its stored reference is
                   reference/challenge/Q.csv (where it exists; else --reference is needed)
@@ -42,6 +50,8 @@ or p_over_Estar,contact_fraction (see --list and reference/README.md).
   --tolerance T   tolerance for the verdict (default: the reference's, else the
                   quantity's default)
   --metric M      max_abs | rms_abs | max_rel | rms_rel (default: as the tolerance)
+  --columns A,B,...  names for the prediction's columns, in file order (for a
+                  file without a header row, or to replace its header's names)
   --min-coverage F  the fraction of the reference's range (on its abscissa, in the
                   representation) the prediction must cover, 0 to 1 (default: the
                   reference's '# min_coverage:', else 0.5); less is a FAIL
@@ -119,7 +129,7 @@ int cmd_check(int argc, char** argv) {
     else rest.push_back(argv[i]);
   }
   const Args a = parse_args(int(rest.size()), rest.data(), 2,
-                            {"--quantity", "--reference", "--tolerance", "--metric", "--x", "--y", "--min-coverage"});
+                            {"--quantity", "--reference", "--tolerance", "--metric", "--x", "--y", "--min-coverage", "--columns"});
   if (a.help) return std::fputs(kCheckHelp, stdout), kOk;
   if (list) return list_quantities(), kOk;
   if (!a.overrides.empty()) throw CaseError("cmc check takes no --set (see cmc check --help)");
@@ -132,6 +142,19 @@ int cmd_check(int argc, char** argv) {
   o.metric = a.option("--metric");
   o.x = a.option("--x");
   o.y = a.option("--y");
+  if (const std::string cols = a.option("--columns"); !cols.empty()) {
+    std::string cur;
+    for (char ch : cols + ",") {
+      if (ch != ',') {
+        cur += ch;
+        continue;
+      }
+      if (cur.empty()) throw CaseError("--columns " + cols + ": expected comma-separated column names, none empty");
+      o.columns.push_back(cur);
+      cur.clear();
+    }
+    if (o.columns.size() < 2) throw CaseError("--columns " + cols + ": expected at least two column names");
+  }
   if (const std::string t = a.option("--tolerance"); !t.empty()) {
     char* end = nullptr;
     const double v = std::strtod(t.c_str(), &end);

@@ -82,6 +82,7 @@ std::optional<RefinementGrid> finished(const fs::path& dir, const Case& c, int n
 }
 
 RefinementGrid run_grid(const fs::path& dir, const Case& c, int n, bool quiet) {
+  print_memory_plan(c, quiet);
   Scene scene = build_scene(c);
   const RunSummary run = run_case_to(c, scene, dir.string(), /*resume=*/true, quiet);
   RefinementGrid g{n, status_name(run.status), scene.units.to_m(scene.grid.dx()), {}, {}};

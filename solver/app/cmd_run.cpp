@@ -37,6 +37,7 @@ int cmd_run(int argc, char** argv) {
   if (a.out.empty()) throw CaseError("cmc run needs --out DIR (see cmc run --help)");
   const Case c = load_case(a.positional[0], a.overrides);
   const OutputLock lock(a.out);  // before the scene is built: a second run on DIR stops at once
+  print_memory_plan(c, a.quiet);
   Scene scene = build_scene(c);
   const RunSummary run = run_case_to(c, scene, a.out, a.resume, a.quiet);
   if (run.status != RunStatus::Converged) {

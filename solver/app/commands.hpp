@@ -33,6 +33,9 @@ Args parse_args(int argc, char** argv, int first, const std::vector<std::string>
 // in summary.json), iteration, residual, elapsed time and, once a step has finished, the
 // estimated time left (elapsed per step finished since `first_step` x steps left; a
 // resumed run starts at its first unfinished step).
+// One line on stderr before anything large is allocated: the grid, the memory the run
+// will hold at its peak (estimate_memory, counted from the code) and what is available.
+void print_memory_plan(const Case& c, bool quiet);
 Progress make_progress(bool quiet, int* step, std::chrono::steady_clock::time_point t0, int total_steps = 0,
                        int first_step = 0);
 

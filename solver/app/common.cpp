@@ -36,6 +36,15 @@ Args parse_args(int argc, char** argv, int first, const std::vector<std::string>
   return a;
 }
 
+void print_memory_plan(const Case& c, bool quiet) {
+  if (quiet) return;
+  const MemoryEstimate e = estimate_memory(c);
+  const std::optional<double> avail = available_memory();
+  std::fprintf(stderr, "%s: %d x %d points, about %s of memory at the peak (%s)%s%s\n", c.name.c_str(), c.grid.nx,
+               c.grid.ny, memory_text(e.bytes).c_str(), e.what.c_str(), avail ? "; available: " : "",
+               avail ? memory_text(*avail).c_str() : "");
+}
+
 Progress make_progress(bool quiet, int* step, std::chrono::steady_clock::time_point t0, int total_steps,
                        int first_step) {
   if (quiet || !isatty(STDERR_FILENO)) return {};
