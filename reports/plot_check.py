@@ -52,6 +52,11 @@ def main(argv):
     px, py = keep(pred["x"], pred["y"])
     top.plot(rx, ry, "-", color="black", lw=1.5, label="reference: " + (c.get("reference_name") or "reference"))
     top.plot(px, py, "o", ms=3.5, color="tab:red", mfc="none", label="prediction")
+    # The reference's own error band, where it has one (at the evaluation points).
+    elo, ehi = ev.get("reference_low") or [], ev.get("reference_high") or []
+    if elo and len(elo) == len(ev["x"]):
+        top.fill_between(ev["x"], [max(v, 1e-300) if logy else v for v in elo], ehi, color="gray", alpha=0.3,
+                         lw=0, label="reference error band")
     lo, hi = c["common_range"]
     for a in (top, bot):
         a.axvspan(lo, hi, color="tab:blue", alpha=0.07, lw=0)
@@ -80,7 +85,17 @@ def main(argv):
     # The tolerance band where the metric is a bound on the plotted difference.
     tol = v["tolerance"]
     band = None
-    if v["metric"].startswith("max_"):
+    if v["metric"] == "max_band" and elo and len(elo) == len(ex):
+        if logy:
+            lo_d = [math.log10(l / r) if l > 0 else -1e300 for l, r in zip(elo, er)]
+            hi_d = [math.log10(h / r) for h, r in zip(ehi, er)]
+        else:
+            s = m.get("rel_scale") or 1.0
+            lo_d = [(l - r) / s for l, r in zip(elo, er)]
+            hi_d = [(h - r) / s for h, r in zip(ehi, er)]
+        lo_d = [max(x, min(d) - 1) if x == -1e300 else x for x in lo_d]
+        bot.fill_between(ex, lo_d, hi_d, color="gray", alpha=0.3, lw=0)
+    elif v["metric"].startswith("max_"):
         if logy:
             band = (tol, -tol) if v["metric"] == "max_abs" else (math.log10(1 + tol), math.log10(max(1 - tol, 1e-300)))
         elif v["metric"] == "max_rel":

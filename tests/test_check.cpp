@@ -293,6 +293,70 @@ TEST(CheckLayouts, SubmissionLayoutsScoreTheSame) {
   }
 }
 
+// A reference with an error band ("# band:"): a_r ± 5 % of a_r. On the log y axis the
+// band spans log10(0.95 a_r) .. log10(1.05 a_r); a prediction 3 % above lies at
+// log10(1.03)/log10(1.05) = 0.606 bands (PASS), one 10 % above at log10(1.10)/log10(1.05)
+// = 1.953 bands (FAIL, "by up to 1.95 times"), one 10 % below at
+// log10(1/0.9)/log10(1/0.95) = 2.054 bands. --tolerance brings back the plain metric.
+TEST(CheckBand, ScoredInUnitsOfTheReferencesBand) {
+  TempDir d;
+  const Synthetic s = synthetic();
+  ref::RunProvenance how;
+  how.case_file = "synthetic";
+  how.grid = "none";
+  how.solver_tolerance = "none";
+  how.date = "2000-01-01T00:00:00Z";
+  std::vector<double> err;
+  for (double a : s.ar) err.push_back(0.05 * a);
+  ref::Curve c = ref::make_run_curve("contact_area_vs_pressure", "contact_area_vs_pressure", "synthetic", how,
+                                     {{"pressure_Pa", "Pa", "", s.p},
+                                      {"contact_fraction", "1", "", s.ar},
+                                      {"contact_fraction_err", "1", "half-width", err}},
+                                     "pressure_Pa", "contact_fraction", "log-log", "5 % band (synthetic)", 0.5,
+                                     "max_rel");
+  c.band = "contact_fraction_err";
+  const fs::path r = d.path / "banded.csv";
+  ref::write_curve(r.string(), c);
+  EXPECT_EQ(ref::read_curve(r.string()).band, "contact_fraction_err");
+  auto pred = [&](double factor) {
+    std::string text = "pressure_Pa,contact_fraction\n";
+    for (std::size_t i = 0; i < s.p.size(); ++i) text += num(s.p[i]) + "," + num(s.ar[i] * factor) + "\n";
+    return d.write("pred.csv", text);
+  };
+  const Report in = check(pred(1.03), "contact_area_vs_pressure", r);
+  ASSERT_TRUE(in.metrics.has_band);
+  EXPECT_NEAR(in.metrics.max_band, std::log10(1.03) / std::log10(1.05), 1e-9);
+  EXPECT_EQ(in.verdict.metric, "max_band");
+  EXPECT_TRUE(in.verdict.pass);
+  EXPECT_NE(report_text(in).find("inside the reference's error band"), std::string::npos) << report_text(in);
+  const Report out = check(pred(1.10), "contact_area_vs_pressure", r);
+  EXPECT_NEAR(out.metrics.max_band, std::log10(1.10) / std::log10(1.05), 1e-9);
+  EXPECT_FALSE(out.verdict.pass);
+  EXPECT_NE(report_text(out).find("outside the reference's error band by up to 1.95"), std::string::npos)
+      << report_text(out);
+  EXPECT_NE(report_json(out).find("\"max_band\""), std::string::npos);
+  const Report below = check(pred(0.90), "contact_area_vs_pressure", r);
+  EXPECT_NEAR(below.metrics.max_band, std::log10(1 / 0.90) / std::log10(1 / 0.95), 1e-9);
+  // An explicit tolerance scores the plain metric (max_rel 0.10 against 0.2: a pass).
+  const Report plain = check(pred(1.10), "contact_area_vs_pressure", r, 0.2);
+  EXPECT_EQ(plain.verdict.metric, "max_rel");
+  EXPECT_TRUE(plain.verdict.pass);
+  // A band that is not a half-width > 0 in y's unit is refused, naming the column.
+  std::string text = ref::format_curve(c);
+  const auto bad = [&](const std::string& from, const std::string& to) {
+    std::string t = text;
+    const auto at = t.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    t.replace(at, from.size(), to);
+    return d.write("bad.csv", t);
+  };
+  EXPECT_THROW(ref::read_curve(bad("# band: contact_fraction_err", "# band: nonexistent").string()), InputError);
+  EXPECT_THROW(ref::read_curve(bad("# unit.contact_fraction_err: 1", "# unit.contact_fraction_err: percent").string()),
+               InputError);
+  c.columns[2].values[3] = -1e-3;
+  EXPECT_THROW(ref::format_curve(c), std::invalid_argument);
+}
+
 TEST(CheckQuantities, EveryChallengeItemHasAQuantity) {
   std::vector<int> items;
   for (const auto& q : quantities()) items.push_back(q.item);

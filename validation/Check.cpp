@@ -253,11 +253,13 @@ std::string default_reference_path(const std::string& quantity) {
 }
 
 // ============================================================================ extraction
-XY extract(const Table& t, const QuantitySpec& spec) {
+XY extract(const Table& t, const QuantitySpec& spec, const std::string& band_column) {
   int xcol = -1, ycol = -1;
   XY c = axes_of(t, spec, xcol, ycol);
   const auto& xs = t.data[std::size_t(xcol)];
   const auto& ys = t.data[std::size_t(ycol)];
+  if (!band_column.empty())
+    for (double b : t.column(band_column)) c.band.push_back(b * c.y_to_si);
   if (xs.size() < 2)
     throw InputError(t.file + ": " + std::to_string(xs.size()) + " data row(s); a curve needs at least 2");
   // Direction from the ends, so a repeated or misplaced first value is named as such.
@@ -280,6 +282,7 @@ XY extract(const Table& t, const QuantitySpec& spec) {
   if (!increasing) {
     std::reverse(c.x.begin(), c.x.end());
     std::reverse(c.y.begin(), c.y.end());
+    std::reverse(c.band.begin(), c.band.end());
     std::reverse(c.line.begin(), c.line.end());
   }
   c.rows = c.x.size();
@@ -294,12 +297,15 @@ double Metrics::get(const std::string& metric) const {
   if (metric == "rms_abs") return rms_abs;
   if (metric == "max_rel") return max_rel;
   if (metric == "rms_rel") return rms_rel;
-  throw InputError("unknown metric '" + metric + "' (expected max_abs, rms_abs, max_rel or rms_rel)");
+  if (metric == "max_band" && has_band) return max_band;
+  throw InputError("unknown metric '" + metric + "' (expected max_abs, rms_abs, max_rel or rms_rel" +
+                   (has_band ? ", or max_band" : "") + ")");
 }
 
 namespace {
 struct Transformed {
   std::vector<double> X, Y;
+  std::vector<double> up, down;  // the band's half-widths above and below Y (in Y), if any
   std::size_t excluded = 0;
 };
 Transformed transform(const XY& c, Representation rep, const std::string& what) {
@@ -311,6 +317,12 @@ Transformed transform(const XY& c, Representation rep, const std::string& what) 
     }
     t.X.push_back(rep.log_x ? std::log10(c.x[i]) : c.x[i]);
     t.Y.push_back(rep.log_y ? std::log10(c.y[i]) : c.y[i]);
+    if (c.band.empty()) continue;
+    const double e = c.band[i], y = c.y[i];
+    // On a log axis y ± e is log10(y + e) above and log10(y - e) below (no lower edge,
+    // i.e. any smaller value is inside, when e >= y).
+    t.up.push_back(rep.log_y ? std::log10(1 + e / y) : e);
+    t.down.push_back(rep.log_y ? (e < y ? -std::log10(1 - e / y) : INFINITY) : e);
   }
   if (t.X.size() < 2)
     throw InputError(c.file + ": only " + std::to_string(t.X.size()) + " point(s) of the " + what +
@@ -420,7 +432,14 @@ class Scorer {
       m.eval_x.push_back(from_rep(e.X, lx));
       m.eval_pred.push_back(from_rep(e.yp, ly));
       m.eval_ref.push_back(from_rep(e.yr, ly));
+      if (have_band_) {
+        m.eval_lo.push_back(ly ? (std::isinf(e.down) ? 0.0 : from_rep(e.yr - e.down, ly)) : e.yr - e.down);
+        m.eval_hi.push_back(from_rep(e.yr + e.up, ly));
+      }
     }
+    m.has_band = have_band_;
+    m.max_band = max_band_;
+    m.x_at_max_band = from_rep(x_at_max_band_, lx);
     m.eval_echo_stride = eval_.stride();
     return m;
   }
@@ -430,8 +449,20 @@ class Scorer {
     double X = 0, Y = 0;
   };
   struct Eval {
-    double X = 0, yp = 0, yr = 0, ea = 0, er = 0;
+    double X = 0, yp = 0, yr = 0, ea = 0, er = 0, up = 0, down = 0;
   };
+  // The band's half-width at X, linear between the reference's points; an infinite lower
+  // half-width (band reaching zero on a log axis) stays infinite between two such points
+  // and takes the finite neighbour's value otherwise.
+  double interp_band(const std::vector<double>& B, double X) const {
+    auto it = std::upper_bound(R_.X.begin(), R_.X.end(), X);
+    if (it == R_.X.begin()) return B.front();
+    if (it == R_.X.end()) return B.back();
+    const std::size_t j = std::size_t(it - R_.X.begin());
+    const double a = B[j - 1], b = B[j], t = (X - R_.X[j - 1]) / (R_.X[j] - R_.X[j - 1]);
+    if (std::isinf(a) || std::isinf(b)) return std::isinf(a) && std::isinf(b) ? INFINITY : std::isinf(a) ? b : a;
+    return a + t * (b - a);
+  }
   Eval at(double X, const Pt& l, const Pt& r) {
     Eval e;
     e.X = X;
@@ -443,6 +474,13 @@ class Scorer {
     e.yr = interp(R_.X, R_.Y, X);
     const double d = e.yp - e.yr;
     e.ea = std::abs(d);
+    if (!R_.up.empty()) {
+      e.up = interp_band(R_.up, X), e.down = interp_band(R_.down, X);
+      const double half = d >= 0 ? e.up : e.down;
+      const double b = d == 0 ? 0.0 : half > 0 ? std::abs(d) / half : INFINITY;
+      if (!have_band_ || b > max_band_ || (b == max_band_ && X < x_at_max_band_)) max_band_ = b, x_at_max_band_ = X;
+      have_band_ = true;
+    }
     e.er = rep_.log_y ? std::abs(std::pow(10.0, d) - 1) : 0.0;
     // The largest error; among equal ones the smallest abscissa, as a sweep from the left.
     if (!have_max_ || e.ea > max_abs_ || (e.ea == max_abs_ && X < x_at_max_)) max_abs_ = e.ea, x_at_max_ = X;
@@ -477,7 +515,8 @@ class Scorer {
   Representation rep_;
   Sampler<Eval> eval_;
   Pt prev_;
-  bool have_prev_ = false, have_max_ = false;
+  bool have_prev_ = false, have_max_ = false, have_band_ = false;
+  double max_band_ = 0, x_at_max_band_ = 0;
   std::size_t kept_ = 0, subsegments_ = 0;
   double xmin_ = INFINITY, xmax_ = -INFINITY, lo_ = INFINITY, hi_ = -INFINITY;
   double max_abs_ = 0, x_at_max_ = 0, max_rel_log_ = 0, scale_ = 0, sa_ = 0, sr_log_ = 0;
@@ -628,12 +667,17 @@ Report run_check(const Options& o) {
   }
   if (!(min_coverage >= 0.0 && min_coverage <= 1.0))
     throw InputError("--min-coverage " + fmt(min_coverage) + ": expected a fraction from 0 to 1");
-  r.ref = extract(ref_table, r.spec);
+  r.ref = extract(ref_table, r.spec, ref_curve.band);
   std::tie(r.prediction, r.metrics) = score_prediction(o.prediction, o.columns, r.spec, r.ref);
 
   std::string metric = o.metric, source;
   double tol = 0;
-  if (o.tolerance) {
+  if (r.metrics.has_band && !o.tolerance && (o.metric.empty() || o.metric == "max_band")) {
+    // The reference's own uncertainty decides: inside its band passes.
+    tol = 1.0;
+    metric = "max_band";
+    source = "the reference's error band, column '" + ref_curve.band + "' of " + r.reference_file;
+  } else if (o.tolerance) {
     tol = *o.tolerance;
     source = "--tolerance";
   } else if (ref_curve.tolerance) {
@@ -726,7 +770,10 @@ std::string report_json(const Report& r) {
                               {"rel_definition",
                                r.spec.rep.log_y ? std::string("|y_pred/y_ref - 1|")
                                                 : std::string("|y_pred - y_ref| / max|y_ref| over the common range")},
-                              {"rel_scale", m.rel_scale}}},
+                              {"rel_scale", m.rel_scale},
+                              {"has_band", m.has_band},
+                              {"max_band", m.max_band},
+                              {"x_at_max_band", m.x_at_max_band}}},
       {"verdict", toml::table{{"pass", r.verdict.pass},
                               {"metric", r.verdict.metric},
                               {"value", r.verdict.value},
@@ -746,13 +793,15 @@ std::string report_json(const Report& r) {
                                  {"y_range", toml::array{r.prediction.y_min, r.prediction.y_max}},
                                  {"x", arr(r.prediction.x)},
                                  {"y", arr(r.prediction.y)}}},
-      {"reference", toml::table{{"x", arr(r.ref.x)}, {"y", arr(r.ref.y)}}},
+      {"reference", toml::table{{"x", arr(r.ref.x)}, {"y", arr(r.ref.y)}, {"band", arr(r.ref.band)}}},
       {"evaluation", toml::table{{"points", (long long)m.points},
                                  {"echoed_points", (long long)m.eval_x.size()},
                                  {"echo_stride", (long long)m.eval_echo_stride},
                                  {"x", arr(m.eval_x)},
                                  {"prediction", arr(m.eval_pred)},
-                                 {"reference", arr(m.eval_ref)}}},
+                                 {"reference", arr(m.eval_ref)},
+                                 {"reference_low", arr(m.eval_lo)},
+                                 {"reference_high", arr(m.eval_hi)}}},
   };
   return cmc::to_json(t);
 }
@@ -773,11 +822,21 @@ std::string report_text(const Report& r) {
   s << "rms abs error   " << fmt(m.rms_abs) << " " << absu << "\n";
   s << "max rel error   " << fmt(m.max_rel) << "\n";
   s << "rms rel error   " << fmt(m.rms_rel) << "\n";
+  if (m.has_band)
+    s << "max deviation   " << fmt(m.max_band) << " x the reference's error band (at " << fmt(m.x_at_max_band)
+      << "; <= 1 is inside it)\n";
   for (const auto& n : r.notes) s << "note            " << n << "\n";
   const Verdict& v = r.verdict;
   const bool within = v.value <= v.tolerance;
-  s << "verdict         " << (v.pass ? "PASS" : "FAIL") << ": " << v.metric << " = " << fmt(v.value)
-    << (within ? " <= " : " > ") << "tolerance " << fmt(v.tolerance) << " (" << v.source << ")\n";
+  if (v.metric == "max_band")
+    s << "verdict         " << (v.pass ? "PASS" : "FAIL") << ": "
+      << (within ? "inside the reference's error band (max_band = " + fmt(v.value) + " <= 1"
+                 : "outside the reference's error band by up to " + fmt(v.value) + " times its half-width (at " +
+                       fmt(m.x_at_max_band) + " " + axis_unit(r.spec, true))
+      << "; " << v.source << ")\n";
+  else
+    s << "verdict         " << (v.pass ? "PASS" : "FAIL") << ": " << v.metric << " = " << fmt(v.value)
+      << (within ? " <= " : " > ") << "tolerance " << fmt(v.tolerance) << " (" << v.source << ")\n";
   if (!v.covered) s << "                FAIL: " << v.reason << "\n";
   return s.str();
 }

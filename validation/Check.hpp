@@ -18,6 +18,12 @@
 //   5. Verdict: pass when the chosen metric (max_abs, rms_abs, max_rel, rms_rel) is at
 //      most the tolerance. Tolerance from --tolerance, else the reference file's
 //      "# tolerance:" line, else the quantity's default below.
+//      A reference with an error band ("# band: <column>", the half-width e of y at
+//      each point) is scored against it instead, unless --tolerance or --metric is
+//      given: at each evaluation point the band is interpolated like y (in the
+//      representation: on a log y axis it spans log10(y - e) .. log10(y + e)), and
+//      max_band = the largest |d| over the band's half-width on d's side. Pass when
+//      max_band <= 1 (inside the band); otherwise it says by how much, in bands.
 //   6. Coverage: the common range must be at least min_coverage of the reference's range
 //      on the abscissa, in the representation (from --min-coverage, else the reference
 //      file's "# min_coverage:" line, else kDefaultMinCoverage); otherwise the verdict is
@@ -91,6 +97,7 @@ struct XY {
   std::string x_column, y_column;  // as in the file
   double x_to_si = 1, y_to_si = 1;
   std::vector<double> x, y;
+  std::vector<double> band;  // the reference's uncertainty of y (half-width, SI), or empty
   std::vector<int> line;  // file line of each point
   std::vector<std::string> ignored_columns;
   // A streamed prediction holds a sample of its rows in x, y, line: every echo_stride-th
@@ -102,7 +109,8 @@ struct XY {
 // Picks the abscissa and ordinate columns of `spec` from a table (see QuantitySpec),
 // converts them to SI, and checks that x is strictly monotonic (a decreasing x is
 // reversed). Throws InputError naming the file, line/column and what was expected.
-XY extract(const Table& t, const QuantitySpec& spec);
+// band_column: also read that column as the uncertainty of y (same unit as y).
+XY extract(const Table& t, const QuantitySpec& spec, const std::string& band_column = "");
 
 // A spec for comparing two files column by column without unit conversion: the columns
 // named x and y (exact names), in the given representation (generic `cmc check
@@ -120,7 +128,12 @@ struct Metrics {
   std::size_t points = 0;        // evaluation points
   std::size_t excluded_prediction = 0, excluded_reference = 0;  // <= 0 on a log axis
   std::vector<double> eval_x, eval_pred, eval_ref;  // SI; a sample of the points when eval_echo_stride > 1
+  std::vector<double> eval_lo, eval_hi;              // the reference's band there (SI), when it has one
   std::size_t eval_echo_stride = 1;
+  // Against a reference with an error band: the largest |d| in units of the band's
+  // half-width on d's side (in the representation), and where. <= 1: inside the band.
+  bool has_band = false;
+  double max_band = 0, x_at_max_band = 0;
   double get(const std::string& metric) const;  // throws InputError for an unknown name
 };
 

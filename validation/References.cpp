@@ -331,6 +331,17 @@ std::string format_curve(const Curve& c) {
     has_y |= col.name == c.y;
   }
   need(has_x && has_y && c.x != c.y, "x and y must name two different columns");
+  if (!c.band.empty()) {
+    const Column* b = nullptr;
+    const Column* y = nullptr;
+    for (const auto& col : c.columns) {
+      if (col.name == c.band) b = &col;
+      if (col.name == c.y) y = &col;
+    }
+    need(b && b != y && b->name != c.x, "band must name a third column");
+    need(b->unit == y->unit, "band column " + b->name + " must have y's unit (" + y->unit + ")");
+    for (double v : b->values) need(v > 0, "band column " + b->name + " holds a value <= 0");
+  }
   for (const auto& [k, v] : c.extra) need(valid_key(k) && one_line(v), "bad metadata '" + k + "'");
   for (const auto* s : {&c.name, &c.quantity, &c.title, &c.source, &c.estimated_error, &c.tolerance_metric})
     need(one_line(*s), "metadata must be one line each");
@@ -350,6 +361,7 @@ std::string format_curve(const Curve& c) {
   kv("x", c.x);
   kv("y", c.y);
   kv("representation", c.representation);
+  if (!c.band.empty()) kv("band", c.band);
   kv("estimated_error", c.estimated_error);
   if (c.tolerance) {
     kv("tolerance", short_num(*c.tolerance));
@@ -410,6 +422,21 @@ Curve curve_from_table(const Table& t) {
   } catch (const InputError& e) {
     throw InputError(t.file + ": " + e.what());
   }
+  if (auto band = t.get("band")) {
+    c.band = *band;
+    const std::vector<double>& b = t.column(c.band);
+    if (c.band == c.x || c.band == c.y)
+      throw InputError(t.file + ": '# band: " + c.band + "' must name a third column, not x or y");
+    const std::string unit_b = t.require("unit." + c.band), unit_y = t.require("unit." + c.y);
+    auto bare = [](const std::string& u) { return u.substr(0, u.find(" (")); };
+    if (bare(unit_b) != bare(unit_y))
+      throw InputError(t.file + ": band column '" + c.band + "' is in " + bare(unit_b) + ", y ('" + c.y + "') in " +
+                       bare(unit_y) + ": the band is a half-width in y's unit");
+    for (std::size_t i = 0; i < b.size(); ++i)
+      if (!(b[i] > 0))
+        throw InputError(t.file + ":" + std::to_string(t.row_line[i]) + ": band column '" + c.band + "': " +
+                         short_num(b[i]) + " is not a half-width > 0");
+  }
   c.estimated_error = t.require("estimated_error");
   if (auto tol = t.get("tolerance")) {
     char* end = nullptr;
@@ -421,7 +448,7 @@ Curve curve_from_table(const Table& t) {
   }
   static const std::vector<std::string> fixed = {"cmc-reference-csv", "name", "quantity", "title", "source",
                                                  "columns", "x", "y", "representation", "estimated_error",
-                                                 "tolerance", "tolerance_metric"};
+                                                 "tolerance", "tolerance_metric", "band"};
   for (const auto& [k, v] : t.meta)
     if (std::find(fixed.begin(), fixed.end(), k) == fixed.end() && k.rfind("unit.", 0) != 0) c.extra.emplace_back(k, v);
   return c;

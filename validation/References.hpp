@@ -132,6 +132,10 @@ struct Curve {
   std::string estimated_error;    // free text with a number and what it bounds
   std::optional<double> tolerance;
   std::string tolerance_metric = "max_rel";
+  // The column holding the reference's own uncertainty of y ("# band: <column>"): a
+  // half-width > 0 in y's unit at every row (y ± band). Empty: no band. `cmc check`
+  // scores a prediction in units of it where it is given.
+  std::string band;
 };
 
 // The file text of a curve (deterministic: fixed key order, "%.12e", no trailing spaces).

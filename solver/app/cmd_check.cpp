@@ -50,6 +50,10 @@ Extra columns are ignored; rows may run up or down the abscissa.
   --tolerance T   tolerance for the verdict (default: the reference's, else the
                   quantity's default)
   --metric M      max_abs | rms_abs | max_rel | rms_rel (default: as the tolerance)
+                  A reference with an error band ('# band: COLUMN', its own
+                  uncertainty) is scored against it unless --tolerance or --metric
+                  is given: PASS inside the band, else FAIL saying by how much, in
+                  units of the band (max_band).
   --columns A,B,...  names for the prediction's columns, in file order (for a
                   file without a header row, or to replace its header's names)
   --min-coverage F  the fraction of the reference's range (on its abscissa, in the

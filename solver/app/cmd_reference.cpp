@@ -33,7 +33,9 @@ the stored files byte for byte.
             x, y, representation, estimated_error (strings); [provenance] cmc_version,
             case_file, grid, solver_tolerance, date, command; [[columns]] name, unit,
             meaning, values = [numbers]; optional extra = [["key", "value"], ...],
-            written after the provenance (scripts/challenge_reference.py writes it).
+            written after the provenance (scripts/challenge_reference.py writes it);
+            optional band = "COLUMN": the column holding y's uncertainty (a half-width
+            > 0 in y's unit), which cmc check scores predictions against.
 )";
 
 std::string slurp(const std::filesystem::path& p) {

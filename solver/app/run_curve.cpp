@@ -64,6 +64,11 @@ int write_run_curve(const std::string& spec_file, const std::string& out) {
                                   need_string(t, spec_file, "x"), need_string(t, spec_file, "y"),
                                   need_string(t, spec_file, "representation"),
                                   need_string(t, spec_file, "estimated_error"), std::nullopt);
+    // The column holding the reference's uncertainty of y (half-width, y's unit), if any.
+    if (const auto band = t["band"]) {
+      if (!band.is_string()) throw CaseError(spec_file + ": key 'band': expected the name of a column (a string)");
+      c.band = *band.value<std::string>();
+    }
     // Further "key: value" lines (parameters, sampling, generator ...), after the
     // provenance, in the spec's order: extra = [["key", "value"], ...].
     if (const auto* more = t["extra"].as_array())
