@@ -321,8 +321,8 @@ Transformed transform(const XY& c, Representation rep, const std::string& what) 
     const double e = c.band[i], y = c.y[i];
     // On a log axis y ± e is log10(y + e) above and log10(y - e) below (no lower edge,
     // i.e. any smaller value is inside, when e >= y).
-    t.up.push_back(rep.log_y ? std::log10(1 + e / y) : e);
-    t.down.push_back(rep.log_y ? (e < y ? -std::log10(1 - e / y) : INFINITY) : e);
+    t.up.push_back(rep.log_y ? std::log1p(e / y) / std::log(10.0) : e);
+    t.down.push_back(rep.log_y ? (e < y ? -std::log1p(-e / y) / std::log(10.0) : INFINITY) : e);
   }
   if (t.X.size() < 2)
     throw InputError(c.file + ": only " + std::to_string(t.X.size()) + " point(s) of the " + what +
@@ -477,7 +477,11 @@ class Scorer {
     if (!R_.up.empty()) {
       e.up = interp_band(R_.up, X), e.down = interp_band(R_.down, X);
       const double half = d >= 0 ? e.up : e.down;
-      const double b = d == 0 ? 0.0 : half > 0 ? std::abs(d) / half : INFINITY;
+      const double b = d == 0 ? 0.0 : std::abs(d) / half;
+      if (!std::isfinite(b))
+        throw InputError("the reference's error band is too narrow to score against at " +
+                         fmt(from_rep(X, rep_.log_x)) + " (its half-width " + fmt(half) + " in the " +
+                         representation_name(rep_) + " representation, the difference " + fmt(d) + ")");
       if (!have_band_ || b > max_band_ || (b == max_band_ && X < x_at_max_band_)) max_band_ = b, x_at_max_band_ = X;
       have_band_ = true;
     }

@@ -5,8 +5,10 @@
 // then scored as a prediction of every challenge quantity against its stored reference
 // curve (reference/challenge/*.csv, read once; a fixed synthetic curve for quantities
 // without one): column choice and units (extract), comparison (compare), verdict and both
-// reports. The same bytes are also taken as a reference file in cmc's format (the
-// generic `cmc check FILE --reference FILE` path, through run_check).
+// reports. The same bytes are also streamed as `cmc check` reads a prediction (any
+// separator, with or without a header: run_check for each quantity with a stored
+// reference), and taken as a reference file in cmc's format (the generic `cmc check FILE
+// --reference FILE` path, through run_check; a '# band:' column included).
 //
 // Bad input must end in an InputError (the documented error, exit code 2); anything else
 // thrown is a finding. A comparison that succeeds must keep compare()'s promises:
@@ -61,8 +63,15 @@ void check_metrics(const check::Metrics& m, const std::string& what) {
   require(m.x_lo <= m.x_hi, what + ": empty common range");
   for (double v : {m.max_abs, m.rms_abs, m.max_rel, m.rms_rel})
     require(std::isfinite(v) && v >= 0, what + ": error measure not finite and non-negative");
-  require(m.eval_x.size() == m.points && m.eval_pred.size() == m.points && m.eval_ref.size() == m.points,
+  // Every point, or (a streamed prediction, run_check) an even sample of at most
+  // kMaxEchoedRows and the last one.
+  const std::size_t n = m.eval_echo_stride == 1 ? m.points : m.eval_x.size();
+  require(n <= m.points && (m.eval_echo_stride == 1 || n <= check::kMaxEchoedRows + 1),
+          what + ": evaluation sample larger than the points or the cap");
+  require(m.eval_x.size() == n && m.eval_pred.size() == n && m.eval_ref.size() == n,
           what + ": evaluation arrays of the wrong length");
+  require(!m.has_band || (m.eval_lo.size() == n && m.eval_hi.size() == n && std::isfinite(m.max_band) && m.max_band >= 0),
+          what + ": band arrays of the wrong length, or max_band not finite and non-negative");
 }
 
 template <class F>
@@ -98,6 +107,22 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       });
     }
   });
+  // The same bytes as a prediction the way cmc check streams it (the submissions'
+  // layouts: any separator, with or without a header row), against two stored references
+  // (log-log and lin-log; each run_check reads its reference file, so not all of them).
+  file.write(text);
+  for (const char* id : {"gap_distribution", "stress_distribution"}) {
+    const check::QuantitySpec& q = check::quantity(id);
+    std::error_code ec;
+    if (!std::filesystem::exists(check::default_reference_path(q.id), ec)) continue;
+    expect_input_error_or_ok("run_check as " + q.id, [&] {
+      check::Options o;
+      o.prediction = file.path();
+      o.quantity = q.id;
+      const check::Report r = check::run_check(o);
+      check_metrics(r.metrics, "run_check as " + q.id);
+    });
+  }
   // The same bytes as a reference file (the generic path of cmc check).
   file.write(text);
   expect_input_error_or_ok("run_check with the input as reference", [&] {
@@ -107,6 +132,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const check::Report r = check::run_check(o);
     check_metrics(r.metrics, "generic check");
     require(r.metrics.max_abs == 0, "a curve compared with itself has errors");
+    require(!r.metrics.has_band || r.metrics.max_band == 0, "a curve compared with itself lies outside its band");
     require(!check::report_json(r).empty() && !check::report_text(r).empty(), "empty report");
   });
   return 0;

@@ -167,6 +167,17 @@ def check_corpus():
     write(d, "pred-gap-reduced.csv", "# my run\ngap_over_L,pdf_times_L\n1e-4,3\n1e-3,50\n1e-2,7\n")
     write(d, "pred-stress-decreasing.csv", "stress_kPa,density_per_MPa,extra\n500,0.1,1\n100,2,2\n-20,0.5,3\n")
     write(d, "pred-bom.csv", "\ufeffy_um,gap_nm\n0,10\n50,20\n100,15\n")
+    # The submissions' layouts: spaces, tabs, semicolons; a headerless file is bad input
+    # unless --columns names its columns (which the fuzzer does not pass).
+    write(d, "pred-spaces.txt", "# p/E*  a_r\n p_over_Estar   contact_fraction\n 1e-3  2.2e-3\n 1e-2   2.4e-2\n")
+    write(d, "pred-tabs-semicolons.txt", "gap_nm;density_per_nm\n1;0.5\n10;0.05\n")
+    write(d, "pred-headerless.txt", "1e4\t0.001\n2e4\t0.002\n")
+    # A reference with its own error band (# band:), in cmc's format.
+    write(d, "ref-band.csv", "# cmc-reference-csv: 1\n# name: band\n# quantity: contact_area_vs_pressure\n"
+          "# source: cmc run\n# unit.pressure_Pa: Pa\n# unit.contact_fraction: 1\n# unit.contact_fraction_err: 1\n"
+          "# columns: pressure_Pa,contact_fraction,contact_fraction_err\n# x: pressure_Pa\n# y: contact_fraction\n"
+          "# representation: log-log\n# band: contact_fraction_err\n# estimated_error: test\n"
+          "pressure_Pa,contact_fraction,contact_fraction_err\n1e4,0.001,1e-4\n1e5,0.01,2e-3\n1e6,0.1,0.2\n")
     # Inputs of findings (tests/test_check.cpp, "overflow in SI", "errors overflow").
     write(d, "regress-si-overflow.csv", "patch_area_m2,density_per_nm2\n1e-12,1e300\n1e-11,1e300\n")
     write(d, "regress-error-overflow.csv", "y_m,gap_m\n0,1e308\n1e-5,-1e308\n")
