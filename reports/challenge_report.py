@@ -20,10 +20,25 @@ import re
 
 import numpy as np
 
-from common import (CHALLENGE, case_name, finite, fmt, get, h5_open, load_json, md_table, plt, rel, savefig,
-                    step_groups, write_csv)
+from common import (CHALLENGE, case_name, finite, fmt, get, h5_open, load_json, md_table, plt, rel,
+                    run_strategy_error, savefig, step_groups, write_csv)
 
 P0 = CHALLENGE["p0"]
+
+
+def _band(run, short):
+    """The range coarse-graining's relative error for `short` (a_r, mean_gap) measured on the
+    scaled challenge family at this run's dx/rho (reports/common.py), or None (a plain run, or
+    no family run near its dx/rho)."""
+    got = run_strategy_error(run.s, short)
+    return got[1] if got else None
+
+
+def _pm(v, relerr, digits=4, scale=1.0):
+    """A table cell: the value, with ± its error where there is one."""
+    if v is None:
+        return fmt(None)
+    return fmt(v * scale, digits) + (f" ± {fmt(relerr * abs(v) * scale, 2)}" if relerr else "")
 
 
 class Run:
@@ -193,7 +208,11 @@ def _load_sweep(runs, out_dir, data_dir, case_dir, lines):
             continue
         pt = np.array([s["p"] / r.Estar for s in pts])
         ar = np.array([s["ar"] for s in pts])
+        band_ar, band_gap = _band(r, "a_r"), _band(r, "mean_gap")
         line, = a1.loglog(pt, ar, "o-", ms=4, label=f"{r.label}: a_r")
+        if band_ar:
+            a1.fill_between(pt, ar * (1 - band_ar), ar * (1 + band_ar), color=line.get_color(), alpha=0.2, lw=0,
+                            label=f"{r.label}: ± {100 * band_ar:.3g} % (strategy error, scaled family)")
         corr = [(s["p"] / r.Estar, s["ar_corr"]) for s in pts if s["ar_corr"] is not None]
         if corr:
             a1.loglog([c[0] for c in corr], [c[1] for c in corr], "s--", ms=3, mfc="none", color=line.get_color(),
@@ -209,8 +228,8 @@ def _load_sweep(runs, out_dir, data_dir, case_dir, lines):
         csv = os.path.join(data_dir, f"load_sweep__{r.tag()}.csv")
         write_csv(csv, cols, f"cmc challenge load sweep: {r.name}, grid {r.nx}x{r.ny}, from {r.folder}\n"
                              "checkable with: cmc check FILE --quantity contact_area_vs_pressure | mean_gap_vs_pressure")
-        rows = [[fmt(s["p"] / 1e3, 4), fmt(s["p"] / r.Estar, 3), fmt(s["ar"], 4), fmt(s["ar_corr"], 4),
-                 fmt(s["gap"] * 1e6 if s["gap"] is not None else None, 4), fmt(s["n_patches"]),
+        rows = [[fmt(s["p"] / 1e3, 4), fmt(s["p"] / r.Estar, 3), _pm(s["ar"], band_ar), fmt(s["ar_corr"], 4),
+                 _pm(s["gap"], band_gap, scale=1e6), fmt(s["n_patches"]),
                  "yes" if s["converged"] else "**no**"] for s in pts]
         tables.append((r, csv, rows))
     a1.axhline(0.75, color="gray", ls=":", lw=0.8)
@@ -235,7 +254,12 @@ def _load_sweep(runs, out_dir, data_dir, case_dir, lines):
         pts = sorted((st for st in r.steps if st["p"] and st["p"] > 0 and st["gap"] is not None), key=lambda s: s["p"])
         if pts:
             any_gap = True
-            ax.semilogx([s["p"] / r.Estar for s in pts], [s["gap"] * 1e6 for s in pts], "o-", ms=4, label=r.label)
+            x, g = np.array([s["p"] / r.Estar for s in pts]), np.array([s["gap"] * 1e6 for s in pts])
+            line, = ax.semilogx(x, g, "o-", ms=4, label=r.label)
+            band = _band(r, "mean_gap")
+            if band:
+                ax.fill_between(x, g * (1 - band), g * (1 + band), color=line.get_color(), alpha=0.2, lw=0,
+                                label=f"{r.label}: ± {100 * band:.3g} % (strategy error, scaled family)")
     if any_gap:
         ax.set_xlabel("p / (E* ḡ)   (E* ḡ = 25 MPa)")
         ax.set_ylabel("mean gap ū (µm)")
@@ -291,7 +315,7 @@ def _tabor(runs, out_dir, data_dir, case_dir):
         csvs.append(csv)
         for r, st in items:
             rows.append([fmt(st["tabor"], 4), r.name, f"{r.nx}²", fmt(st["p"] / 1e3 if st["p"] else None, 4),
-                         fmt(st["ar"], 4), fmt(st["rep"], 4), fmt(st["gap"] * 1e9 if st["gap"] is not None else None, 5)])
+                         _pm(st["ar"], _band(r, "a_r")), fmt(st["rep"], 4), _pm(st["gap"], _band(r, "mean_gap"), 5, 1e9)])
     for what, ylabel, scale, fname, title in (("ar", "relative contact area a_r", 1.0, "contact_area_vs_tabor.png",
                                                "6. contact area vs Tabor coefficient"),
                                               ("gap", "mean gap ū (nm)", 1e9, "mean_gap_vs_tabor.png",
@@ -299,10 +323,17 @@ def _tabor(runs, out_dir, data_dir, case_dir):
         fig, ax = plt.subplots(figsize=(6, 4.4))
         drawn = False
         for key, items in sorted(groups.items()):
-            xy = [(st["tabor"], st[what] * scale) for _, st in items if st[what] is not None and st["tabor"] > 0]
+            use = [(r, st) for r, st in items if st[what] is not None and st["tabor"] > 0]
+            xy = [(st["tabor"], st[what] * scale) for _, st in use]
             if xy:
                 drawn = True
-                ax.semilogx([p[0] for p in xy], [p[1] for p in xy], "o-", ms=4, label=f"grid {key[0]}×{key[1]}")
+                line, = ax.semilogx([p[0] for p in xy], [p[1] for p in xy], "o-", ms=4, label=f"grid {key[0]}×{key[1]}")
+                # Each mu_T has its own rho, so its own dx/rho and strategy error: error bars.
+                bands = [_band(r, "a_r" if what == "ar" else "mean_gap") for r, _ in use]
+                if any(bands):
+                    ax.errorbar([p[0] for p in xy], [p[1] for p in xy], yerr=[(b or 0) * abs(p[1]) for b, p in zip(bands, xy)],
+                                fmt="none", ecolor=line.get_color(), capsize=3, lw=0.8,
+                                label="strategy error (scaled family; none where not measured)")
         if not drawn:
             plt.close(fig)
             res["area" if what == "ar" else "gap"] = "not computed yet — the Tabor runs carry no " + \
@@ -603,8 +634,15 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
         return (path, rows, [t[1] for t in tables])
 
     sweep_cols = ["run", "p (kPa)", "p/(E*ḡ)", "a_r", "a_r corrected", "mean gap (µm)", "patches", "converged"]
+    band_note = ["Error bands (shaded, and ± in the tables): for runs with the range coarse-graining "
+                 "(`interaction.coarse_graining = \"range\"`), the strategy's error measured on the scaled challenge "
+                 "family at the run's dx/ρ (deviation from the family's converged reference plus that reference's "
+                 "refinement error; `reference/challenge-scaled/`). It was measured at μ_T = 3 and 250 kPa; that it "
+                 "holds at other loads and μ_T is assumed, not measured. Plain runs at dx ≫ ρ carry no band: their "
+                 "error is unknown (see \"Adhesion: how the numbers move with the grid\"). The solvers are "
+                 "deterministic, so there is no round-off spread.", ""]
     section(2, "Contact area as a function of pressure (log-log; 1 − a_r for the approach to full contact)",
-            area_rows(sweep["area"]), sweep_cols)
+            area_rows(sweep["area"]), sweep_cols, band_note)
     gap = _hist_figure(dists, "gap_hist_edges", "gap_hist_density", "log", "log", 1e6, 1e-6,
                        "gap g (µm)", "probability density P(g) (1/µm)", "3. gap distribution (contact points excluded)",
                        os.path.join(out_dir, "gap_distribution.png"), data_dir, ("gap_m", "density_per_m"),
@@ -621,7 +659,8 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
     section(5, "Interfacial stress spectrum (log-log)", _spectrum(dists, out_dir, data_dir),
             ["run", "p (kPa)", "q points", "q range (1/m)"])
     tabor_cols = ["μ_T", "run", "grid", "p (kPa)", "a_r", "repulsive fraction", "mean gap (nm)"]
-    section(6, "Contact area as a function of the Tabor coefficient (log μ_T)", tabor["area"], tabor_cols)
+    section(6, "Contact area as a function of the Tabor coefficient (log μ_T)", tabor["area"], tabor_cols,
+            band_note[:1] + ["Each μ_T has its own ρ, hence its own dx/ρ and its own error bar.", ""])
     section(7, "Mean gap as a function of the Tabor coefficient (log μ_T)", _no_rows(tabor["gap"]), tabor_cols,
             ["Numbers: the table of item 6.", ""])
     section(8, "Mean gap as a function of pressure (log pressure)", _no_rows(area_rows(sweep["gap"])), sweep_cols,

@@ -185,3 +185,65 @@ def rel(path, start):
         return os.path.relpath(path, start)
     except ValueError:
         return path
+
+
+# ---------------------------------------------------------------- the scaled challenge family
+# Its store (scripts/scaled_family.py --store) and the coarse-grid strategy's measured error,
+# shared by scripts/scaled_family.py, scripts/challenge_reference.py and the challenge report.
+FAMILY_STORE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "reference", "challenge-scaled",
+                            "scaled_family.json")
+# (summary key, short name, unit) of the quantities the family records.
+FAMILY_QUANTITIES = (("contact_fraction", "a_r", "1"), ("repulsive_fraction", "a_rep", "1"),
+                     ("mean_gap", "mean_gap", "m"))
+
+
+def family_members(path=FAMILY_STORE):
+    """The members of the family's store, or [] when there is none."""
+    d = load_json(path)
+    return d.get("members", []) if isinstance(d, dict) else []
+
+
+def strategy_run_near(r, strategy, dx_over_rho):
+    """Whether run r is a family run (dx = k rho) of the strategy within a factor 1.3 of dx_over_rho."""
+    return (r["role"].startswith(strategy + "_") and r["role"].endswith("rho")
+            and abs(math.log(r["dx_over_rho"] / dx_over_rho)) < math.log(1.3))
+
+
+def strategy_errors(members, strategy, dx_over_rho):
+    """The strategy's measured relative error per quantity at this dx/rho: the largest, over the
+    members with a converged reference, of |strategy run / reference - 1| plus the reference's
+    own relative refinement error, from the run whose dx/rho is within a factor 1.3 of the given
+    one. None where no member has such a run."""
+    err, used = {}, []
+    for m in members:
+        ref = m.get("reference", {})
+        if not ref.get("a_r"):
+            continue
+        for r in m["runs"]:
+            if strategy_run_near(r, strategy, dx_over_rho):
+                used.append(f"s = {m['s']} at {r['n']}² (dx = {r['dx_over_rho']:.2f} rho)")
+                for _, short, _ in FAMILY_QUANTITIES:
+                    q = ref[short]
+                    e = abs(r[short] / q["value"] - 1) + q["refinement_error"] / abs(q["value"])
+                    err[short] = max(err.get(short, 0.0), e)
+    return (err, used) if used else (None, [])
+
+
+def run_strategy_error(summary, short, members=None):
+    """For a run (its summary.json) with interaction.coarse_graining = "range": its dx over the
+    case's range rho, and the strategy's relative error for `short` (a_r, a_rep, mean_gap) measured
+    on the family at that dx/rho with what it was measured on; (dx/rho, None, []) where the family
+    has no run near; None for a plain run."""
+    inter = get(summary, "case", "interaction", default={}) or {}
+    if inter.get("coarse_graining") != "range":
+        return None
+    facts = summary.get("surface_facts") or {}
+    rho = facts.get("specified_range") or facts.get("interaction_range")
+    g = summary.get("grid") or {}
+    dx = g.get("dx_m") or g.get("dx")
+    if not (finite(rho) and rho > 0 and finite(dx) and dx > 0):
+        return None
+    k = dx / rho
+    err, used = strategy_errors(family_members() if members is None else members, "range", k)
+    return k, (err or {}).get(short), used
+

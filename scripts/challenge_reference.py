@@ -43,7 +43,7 @@ import numpy as np
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 sys.path.insert(0, os.path.join(ROOT, "reports"))
 from challenge_report import Run, _centers, _observables  # noqa: E402  (the report's extraction)
-from common import CHALLENGE, load_json  # noqa: E402
+from common import CHALLENGE, FAMILY_STORE, load_json, run_strategy_error  # noqa: E402
 
 RHO, LAMBDA_S, P0 = CHALLENGE["rho"], CHALLENGE["lambda_s"], CHALLENGE["p0"]
 GENERATOR = "scripts/challenge_reference.py (extraction: reports/challenge_report.py)"
@@ -58,6 +58,8 @@ def curve_spec(c):
     """The TOML spec `cmc reference --run-curve` reads (solver/app/run_curve.cpp)."""
     lines = [f"{k} = {_toml_str(c[k])}" for k in ("name", "quantity", "title", "x", "y", "representation",
                                                    "estimated_error")]
+    if c.get("band"):
+        lines.append(f"band = {_toml_str(c['band'])}")
     prov_keys = ("cmc_version", "case_file", "grid", "solver_tolerance", "date", "command")
     more = [(k, v) for k, v in c["extra"] if k not in prov_keys]
     lines.append("extra = [" + ", ".join(f"[{_toml_str(k)}, {_toml_str(v)}]" for k, v in more) + "]")
@@ -200,6 +202,44 @@ def adhesive_error(run, hw, keys):
             + hw_context(hw, keys) + " (between a curve and this one, compare shapes, not digits)")
 
 
+# ------------------------------------------------------------------ the strategy's error band
+def strategy_band(run, short):
+    """For a run with the range coarse-graining (interaction.coarse_graining = "range"): the
+    strategy's relative error for quantity `short` (a_r, mean_gap) as measured on the scaled
+    challenge family at the same dx/rho (reports/common.py strategy_errors: the family run
+    within a factor 1.3 of this dx/rho, its deviation from the family's converged reference
+    plus that reference's refinement error), and a sentence saying what it rests on. None for a
+    plain run or where the family has no run near this dx/rho."""
+    got = run_strategy_error(run.s, short)
+    if got is None:
+        return None, ""
+    k, rel, used = got
+    store = _rel(FAMILY_STORE)
+    if rel is None:
+        return None, (f"range coarse-graining at dx = {k:.3g} rho: the scaled family ({store}) has no strategy run "
+                      "within a factor 1.3 of this dx/rho, so no error band")
+    return rel, (f"band: the range coarse-graining's error measured on the scaled challenge family at the same "
+                 f"dx/rho ({k:.3g} rho; {'; '.join(used)}; {store}): +-{100 * rel:.3g} % (deviation from the "
+                 "family's converged reference plus that reference's refinement error). Measured at mu_T = 3 and "
+                 "250 kPa; that it holds at this point's load and mu_T is assumed, not measured. The solver is "
+                 "deterministic (same bits on a rerun): no round-off spread")
+
+
+def with_band(curve, run, short):
+    """Adds the strategy's error band to a curve of a range run (column <y>_err, '# band:')."""
+    rel, text = strategy_band(run, short)
+    if text:
+        curve["estimated_error"] = text
+    if rel is None:
+        return curve
+    y = curve["columns"][1]
+    curve["columns"].append((y[0] + "_err", y[1], "half-width of the error band: " + y[2],
+                             [rel * abs(v) for v in y[3]]))
+    curve["band"] = y[0] + "_err"
+    curve["title"] = curve["title"].replace(" (not converged)", " (range coarse-graining, with error band)")
+    return curve
+
+
 # ------------------------------------------------------------------ curves
 def _clean(x, y, log_x, log_y):
     x, y = np.asarray(x, float), np.asarray(y, float)
@@ -315,12 +355,12 @@ def sweep_curves(runs, hw):
                      ["mean_gap"], "log-lin")):
                 if any(v is None for v in col[3]):
                     continue
-                curves.append(dict(name=q, quantity=q, item=item,
-                                   title=f"Challenge item {item}: {q.replace('_', ' ')}, cmc {r.nx}^2 (not converged)",
-                                   columns=[("pressure_Pa", "Pa", "mean pressure", ps), col], x="pressure_Pa",
-                                   y=col[0], representation=rep,
-                                   extra=prov + [("sampling", samp), ("generator", GENERATOR)],
-                                   estimated_error=adhesive_error(r, hw, keys)))
+                curves.append(with_band(dict(
+                    name=q, quantity=q, item=item,
+                    title=f"Challenge item {item}: {q.replace('_', ' ')}, cmc {r.nx}^2 (not converged)",
+                    columns=[("pressure_Pa", "Pa", "mean pressure", ps), col], x="pressure_Pa", y=col[0],
+                    representation=rep, extra=prov + [("sampling", samp), ("generator", GENERATOR)],
+                    estimated_error=adhesive_error(r, hw, keys)), r, "a_r" if item == 2 else "mean_gap"))
     # Tabor sweep: one run per mu_T (at the reference load) on the finest grid that has >= 2.
     by_grid = {}
     for r in runs:
@@ -343,14 +383,35 @@ def sweep_curves(runs, hw):
                                                              [st["gap"] for _, st in items]), ["mean_gap"])):
             if any(v is None for v in col[3]):
                 continue
-            curves.append(dict(name=q, quantity=q, item=item,
-                               title=f"Challenge item {item}: {q.replace('_', ' ')} at 250 kPa, cmc {r0.nx}^2 "
-                                     "(not converged)",
-                               columns=[("tabor", "1", "Tabor coefficient mu_T", mus), col], x="tabor", y=col[0],
-                               representation="log-lin",
-                               extra=prov + [("sampling", f"{len(items)} runs, the step nearest 250 kPa of each"),
-                                             ("generator", GENERATOR)],
-                               estimated_error=adhesive_error(r0, hw, keys)))
+            c = dict(name=q, quantity=q, item=item,
+                     title=f"Challenge item {item}: {q.replace('_', ' ')} at 250 kPa, cmc {r0.nx}^2 (not converged)",
+                     columns=[("tabor", "1", "Tabor coefficient mu_T", mus), col], x="tabor", y=col[0],
+                     representation="log-lin",
+                     extra=prov + [("sampling", f"{len(items)} runs, the step nearest 250 kPa of each"),
+                                   ("generator", GENERATOR)],
+                     estimated_error=adhesive_error(r0, hw, keys))
+            # A band where every run carries the strategy's measured error (each mu_T has its
+            # own rho, hence its own dx/rho).
+            short = "a_r" if item == 6 else "mean_gap"
+            bands = [strategy_band(r, short) for r, _ in items]
+            if all(rel is not None for rel, _ in bands):
+                c["columns"].append((col[0] + "_err", col[1], "half-width of the error band: " + col[2],
+                                     [rel * abs(v) for (rel, _), v in zip(bands, col[3])]))
+                c["band"] = col[0] + "_err"
+                c["title"] = c["title"].replace(" (not converged)", " (range coarse-graining, with error band)")
+                per = ", ".join(f"mu_T = {m:.3g}: +-{100 * rel:.3g} %" for m, (rel, _) in zip(mus, bands))
+                c["estimated_error"] = (
+                    f"band per point ({per}): the range coarse-graining's error measured on the scaled challenge "
+                    f"family ({_rel(FAMILY_STORE)}) at that point's dx/rho (deviation from the family's converged "
+                    "reference plus that reference's refinement error). Measured at mu_T = 3 and 250 kPa; that it "
+                    "holds at the other mu_T is assumed, not measured. The solver is deterministic (same bits on a "
+                    "rerun): no round-off spread")
+            elif any(text for _, text in bands):
+                missing = [f"{m:.3g}" for m, (rel, _) in zip(mus, bands) if rel is None]
+                c["estimated_error"] = ("range coarse-graining; no error band: the scaled family has no strategy run "
+                                        f"near the dx/rho of mu_T = {', '.join(missing)} (scripts/scaled_family.py "
+                                        "--coarse K adds one). " + c["estimated_error"])
+            curves.append(c)
     return curves
 
 
@@ -461,8 +522,12 @@ def main():
                     glob.glob(os.path.join(a.results, "challenge-tabor-sweep", "*", "summary.json"))):
         s2 = load_json(f, notes)
         kind = (((s2 or {}).get("case") or {}).get("interaction") or {}).get("kind", "")
-        if isinstance(s2, dict) and s2.get("status") == "converged" and kind not in ("", "hard_wall", "none"):
-            sweep_runs.append(Run(s2, os.path.dirname(f)))
+        if isinstance(s2, dict) and kind not in ("", "hard_wall", "none"):
+            run = Run(s2, os.path.dirname(f))
+            # A load sweep whose last steps did not converge still gives its converged steps
+            # (sweep_curves keeps only those and says how many); a single run must converge.
+            if s2.get("status") == "converged" or (s2.get("status") == "not_converged" and run.is_load_sweep()):
+                sweep_runs.append(run)
     curves += sweep_curves(sweep_runs, hw)
     for n in notes:
         print("challenge_reference: note: " + str(n), file=sys.stderr)

@@ -41,6 +41,9 @@ import subprocess
 import sys
 import tempfile
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "reports"))
+from common import FAMILY_QUANTITIES as QUANTITIES, strategy_errors, strategy_run_near  # noqa: E402
+
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 CASE = "cases/challenge/scaled-family.toml"
 L = 1.0e-4                 # m, the case's grid.size
@@ -48,7 +51,6 @@ LAMBDA_S1, W1 = 0.1e-6, 0.05  # the challenge's cutoff (m) and work of adhesion 
 # The resolution strategy's runs: the coarse grids with the range coarse-graining
 # (cases/README.md, [interaction] coarse_graining; solver/cmc/contact/Interaction.hpp, coarse_grained_range).
 STRATEGY = {"range": ['interaction.coarse_graining="range"']}
-QUANTITIES = (("contact_fraction", "a_r", "1"), ("repulsive_fraction", "a_rep", "1"), ("mean_gap", "mean_gap", "m"))
 
 
 def member_sets(s):
@@ -153,32 +155,6 @@ def atomic_write(path, text):
     with os.fdopen(fd, "w", encoding="utf-8") as f:
         f.write(text)
     os.replace(tmp, path)
-
-
-def strategy_run_near(r, strategy, dx_over_rho):
-    """Whether run r is a family run (dx = k rho) of the strategy within a factor 1.3 of dx_over_rho."""
-    return (r["role"].startswith(strategy + "_") and r["role"].endswith("rho")
-            and abs(math.log(r["dx_over_rho"] / dx_over_rho)) < math.log(1.3))
-
-
-def strategy_errors(members, strategy, dx_over_rho):
-    """The strategy's measured relative error per quantity at this dx/rho: the largest, over the
-    members with a converged reference, of |strategy run / reference - 1| plus the reference's
-    own relative refinement error, from the run whose dx/rho is within a factor 1.3 of the given
-    one. None where no member has such a run."""
-    err, used = {}, []
-    for m in members:
-        ref = m.get("reference", {})
-        if not ref.get("a_r"):
-            continue
-        for r in m["runs"]:
-            if strategy_run_near(r, strategy, dx_over_rho):
-                used.append(f"s = {m['s']} at {r['n']}² (dx = {r['dx_over_rho']:.2f} rho)")
-                for _, short, _ in QUANTITIES:
-                    q = ref[short]
-                    e = abs(r[short] / q["value"] - 1) + q["refinement_error"] / abs(q["value"])
-                    err[short] = max(err.get(short, 0.0), e)
-    return (err, used) if used else (None, [])
 
 
 def estimates(members):
