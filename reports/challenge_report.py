@@ -27,9 +27,9 @@ P0 = CHALLENGE["p0"]
 
 
 def _band(run, short):
-    """The range coarse-graining's relative error for `short` (a_r, mean_gap) measured on the
-    scaled challenge family at this run's dx/rho (reports/common.py), or None (a plain run, or
-    no family run near its dx/rho)."""
+    """The relative error for `short` (a_r, mean_gap) that the run's strategy (range coarse-
+    graining or plain) has on the scaled challenge family at this run's dx/rho
+    (reports/common.py), or None (no exponential adhesion, or no family run near its dx/rho)."""
     got = run_strategy_error(run.s, short)
     return got[1] if got else None
 
@@ -634,13 +634,14 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
         return (path, rows, [t[1] for t in tables])
 
     sweep_cols = ["run", "p (kPa)", "p/(E*ḡ)", "a_r", "a_r corrected", "mean gap (µm)", "patches", "converged"]
-    band_note = ["Error bands (shaded, and ± in the tables): for runs with the range coarse-graining "
-                 "(`interaction.coarse_graining = \"range\"`), the strategy's error measured on the scaled challenge "
-                 "family at the run's dx/ρ (deviation from the family's converged reference plus that reference's "
-                 "refinement error; `reference/challenge-scaled/`). It was measured at μ_T = 3 and 250 kPa; that it "
-                 "holds at other loads and μ_T is assumed, not measured. Plain runs at dx ≫ ρ carry no band: their "
-                 "error is unknown (see \"Adhesion: how the numbers move with the grid\"). The solvers are "
-                 "deterministic, so there is no round-off spread.", ""]
+    band_note = ["Error bands (shaded, and ± in the tables): for adhesive runs, the error that the run's "
+                 "strategy (the range coarse-graining, `interaction.coarse_graining = \"range\"`, or the plain "
+                 "interaction) has on the scaled challenge family at the run's dx/ρ (deviation from the family's "
+                 "converged reference plus that reference's refinement error; `reference/challenge-scaled/`). It was "
+                 "measured at μ_T = 3 and 250 kPa; that it holds at other loads and μ_T is assumed, not measured. A "
+                 "run whose dx/ρ the family has not measured carries no band. The solvers are deterministic, so there "
+                 "is no round-off spread. Hard-wall runs have no band here; their grid error is that of the hard-wall "
+                 "refinement study (README).", ""]
     section(2, "Contact area as a function of pressure (log-log; 1 − a_r for the approach to full contact)",
             area_rows(sweep["area"]), sweep_cols, band_note)
     gap = _hist_figure(dists, "gap_hist_edges", "gap_hist_density", "log", "log", 1e6, 1e-6,

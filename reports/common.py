@@ -230,13 +230,14 @@ def strategy_errors(members, strategy, dx_over_rho):
 
 
 def run_strategy_error(summary, short, members=None):
-    """For a run (its summary.json) with interaction.coarse_graining = "range": its dx over the
-    case's range rho, and the strategy's relative error for `short` (a_r, a_rep, mean_gap) measured
-    on the family at that dx/rho with what it was measured on; (dx/rho, None, []) where the family
-    has no run near; None for a plain run."""
+    """For an adhesive run with exponential adhesion (its summary.json): its dx over the case's
+    range rho, and the relative error for `short` (a_r, a_rep, mean_gap) that its strategy
+    (interaction.coarse_graining "range", else "plain") has on the family at that dx/rho, with what
+    it was measured on; (dx/rho, None, []) where the family has no run near; None for other runs."""
     inter = get(summary, "case", "interaction", default={}) or {}
-    if inter.get("coarse_graining") != "range":
+    if inter.get("kind") != "exponential":
         return None
+    strategy = "range" if inter.get("coarse_graining") == "range" else "plain"
     facts = summary.get("surface_facts") or {}
     rho = facts.get("specified_range") or facts.get("interaction_range")
     g = summary.get("grid") or {}
@@ -244,6 +245,6 @@ def run_strategy_error(summary, short, members=None):
     if not (finite(rho) and rho > 0 and finite(dx) and dx > 0):
         return None
     k = dx / rho
-    err, used = strategy_errors(family_members() if members is None else members, "range", k)
+    err, used = strategy_errors(family_members() if members is None else members, strategy, k)
     return k, (err or {}).get(short), used
 

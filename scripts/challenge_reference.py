@@ -204,21 +204,22 @@ def adhesive_error(run, hw, keys):
 
 # ------------------------------------------------------------------ the strategy's error band
 def strategy_band(run, short):
-    """For a run with the range coarse-graining (interaction.coarse_graining = "range"): the
-    strategy's relative error for quantity `short` (a_r, mean_gap) as measured on the scaled
-    challenge family at the same dx/rho (reports/common.py strategy_errors: the family run
-    within a factor 1.3 of this dx/rho, its deviation from the family's converged reference
-    plus that reference's refinement error), and a sentence saying what it rests on. None for a
-    plain run or where the family has no run near this dx/rho."""
+    """For an exponential-adhesion run: the relative error for quantity `short` (a_r, mean_gap)
+    that its strategy (range coarse-graining, or plain) has on the scaled challenge family at the
+    same dx/rho (reports/common.py strategy_errors: the family run within a factor 1.3 of this
+    dx/rho, its deviation from the family's converged reference plus that reference's refinement
+    error), and a sentence saying what it rests on. None where the family has no run near."""
     got = run_strategy_error(run.s, short)
     if got is None:
         return None, ""
     k, rel, used = got
     store = _rel(FAMILY_STORE)
+    what = ("the range coarse-graining" if (((run.s.get("case") or {}).get("interaction") or {})
+                                           .get("coarse_graining") == "range") else "the plain (unmodified) interaction")
     if rel is None:
-        return None, (f"range coarse-graining at dx = {k:.3g} rho: the scaled family ({store}) has no strategy run "
-                      "within a factor 1.3 of this dx/rho, so no error band")
-    return rel, (f"band: the range coarse-graining's error measured on the scaled challenge family at the same "
+        return None, (f"{what} at dx = {k:.3g} rho: the scaled family ({store}) has no run of it within a factor "
+                      "1.3 of this dx/rho, so no error band")
+    return rel, (f"band: the error of {what} measured on the scaled challenge family at the same "
                  f"dx/rho ({k:.3g} rho; {'; '.join(used)}; {store}): +-{100 * rel:.3g} % (deviation from the "
                  "family's converged reference plus that reference's refinement error). Measured at mu_T = 3 and "
                  "250 kPa; that it holds at this point's load and mu_T is assumed, not measured. The solver is "
@@ -236,7 +237,7 @@ def with_band(curve, run, short):
     curve["columns"].append((y[0] + "_err", y[1], "half-width of the error band: " + y[2],
                              [rel * abs(v) for v in y[3]]))
     curve["band"] = y[0] + "_err"
-    curve["title"] = curve["title"].replace(" (not converged)", " (range coarse-graining, with error band)")
+    curve["title"] = curve["title"].replace(" (not converged)", " (with error band)")
     return curve
 
 
@@ -398,17 +399,17 @@ def sweep_curves(runs, hw):
                 c["columns"].append((col[0] + "_err", col[1], "half-width of the error band: " + col[2],
                                      [rel * abs(v) for (rel, _), v in zip(bands, col[3])]))
                 c["band"] = col[0] + "_err"
-                c["title"] = c["title"].replace(" (not converged)", " (range coarse-graining, with error band)")
+                c["title"] = c["title"].replace(" (not converged)", " (with error band)")
                 per = ", ".join(f"mu_T = {m:.3g}: +-{100 * rel:.3g} %" for m, (rel, _) in zip(mus, bands))
                 c["estimated_error"] = (
-                    f"band per point ({per}): the range coarse-graining's error measured on the scaled challenge "
+                    f"band per point ({per}): the strategy's error measured on the scaled challenge "
                     f"family ({_rel(FAMILY_STORE)}) at that point's dx/rho (deviation from the family's converged "
                     "reference plus that reference's refinement error). Measured at mu_T = 3 and 250 kPa; that it "
                     "holds at the other mu_T is assumed, not measured. The solver is deterministic (same bits on a "
                     "rerun): no round-off spread")
             elif any(text for _, text in bands):
                 missing = [f"{m:.3g}" for m, (rel, _) in zip(mus, bands) if rel is None]
-                c["estimated_error"] = ("range coarse-graining; no error band: the scaled family has no strategy run "
+                c["estimated_error"] = ("no error band: the scaled family has no run of this strategy "
                                         f"near the dx/rho of mu_T = {', '.join(missing)} (scripts/scaled_family.py "
                                         "--coarse K adds one). " + c["estimated_error"])
             curves.append(c)
