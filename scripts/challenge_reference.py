@@ -146,7 +146,42 @@ def provenance(run, steps):
     return [("cmc_version", str(s.get("cmc_version") or "?")), ("case_file", case_file),
             ("grid", _grid_text(run)), ("solver_tolerance", tol),
             ("date", _mtime_utc(os.path.join(run.folder, "summary.json"))),
-            ("command", f"cmc run {case_file} --out {_rel(run.folder)}")]
+            ("command", f"cmc run {case_file} --out {_rel(run.folder)}{_overrides(s)}")]
+
+
+def _toml_value(v):
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, str):
+        return json.dumps(v)
+    if isinstance(v, list):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    return repr(v)
+
+
+def _overrides(summary):
+    """The --set options the run was given, as far as its resolved case shows them: every key of
+    the case file whose resolved value differs, and the strategy key when the file lacks it."""
+    path = summary.get("case_file")
+    try:
+        import tomllib
+        with open(os.path.join(ROOT, path) if path and not os.path.isabs(path) else path, "rb") as f:
+            file = tomllib.load(f)
+    except (OSError, TypeError, ValueError, ImportError):
+        return ""
+    case = summary.get("case") or {}
+    out = []
+    for sec, keys in sorted(case.items()):
+        if not isinstance(keys, dict):
+            continue
+        for k, v in sorted(keys.items()):
+            fv = (file.get(sec) or {}).get(k)
+            absent = k not in (file.get(sec) or {})
+            if (not absent and fv != v and not (isinstance(fv, (int, float)) and isinstance(v, (int, float))
+                                                and abs(fv - v) <= 1e-12 * abs(v))) or \
+                    (absent and (sec, k) == ("interaction", "coarse_graining") and v != "none"):
+                out.append(f" --set '{sec}.{k}={_toml_value(v)}'")
+    return "".join(out)
 
 
 # ------------------------------------------------------------------ hard-wall refinement (context)
@@ -463,12 +498,24 @@ def readme(curves, out_dir, hw, ref_run, ref_step):
                                         "(`cases/challenge/reference-load.toml`)")
             L.append(f"- `{q}` (item {item}): not yet computed, run {how}, then regenerate.")
         L.append("")
+    banded = [c for c in curves if c.get("band")]
     L += ["## Accuracy", "",
           "The adhesive runs use the challenge's grid 2048² (dx = 48.8 nm = λ_s/2.05 ≈ 24 ρ, ρ = 2.071 nm), far "
           "coarser than the ≈ 0.75 ρ of the published solution (65536²). The adhesive neck is not resolved and "
-          "every grid point is bistable, so these curves are **not converged**, and their error is **not estimated "
-          "by a refinement study** yet (each file's `estimated_error` says so). No `tolerance` is stored, so "
-          "`cmc check` uses each quantity's default acceptance.", ""]
+          "every grid point is bistable, so these curves are **not converged**.", ""]
+    if banded:
+        L += ["**Error bands.** " + ", ".join(f"`{c['quantity']}.csv`" for c in banded) + " carry the reference's "
+              "own uncertainty as a column (`# band: <y>_err`, the half-width in y's unit), and `cmc check` scores a "
+              "prediction against it (inside the band passes; outside, it says by how much in units of the band). "
+              "The band is the error that the run's strategy (the plain interaction, or the range coarse-graining) "
+              "has on the scaled challenge family (`reference/challenge-scaled/`: converged at s = 32, "
+              "dx = 0.8 ρ(s)) at the same dx/ρ: its deviation from the family's converged value plus that value's "
+              "refinement error. It was measured at μ_T = 3 and 250 kPa; that it holds at the other loads and μ_T "
+              "of the sweeps is **assumed, not measured** (each file's `estimated_error` says so, per point for "
+              "the Tabor sweep). The solvers are deterministic, so there is no round-off spread.", ""]
+    L += ["The distributions and profiles (items 1, 3, 4, 5, 9) have **no error estimate** yet (each file's "
+          "`estimated_error` says so): the family measures a_r, the repulsive a_r and the mean gap only. No "
+          "`tolerance` is stored, so `cmc check` uses each quantity's default acceptance for them.", ""]
     if hw:
         n1, n2 = hw["grids"]
         L += [f"For context only, the **hard-wall** problem at the same load (`{hw['folder']}`"
@@ -482,10 +529,14 @@ def readme(curves, out_dir, hw, ref_run, ref_step):
               "(`reports/challenge/data/*__challenge-hardwall_2048.csv`) are not stored here: the hard wall is not "
               "the challenge's problem.", ""]
     L += ["## Regenerate", "",
+          "The commands that made the stored files, with their `--set` options, are in each file's `command` line. "
+          "In general:", "",
           "```",
           "build/cmc run cases/challenge/reference-load.toml --out results/challenge-reference   # items 1, 3, 4, 5, 9",
           "build/cmc run cases/challenge/load-sweep.toml --out results/challenge-load-sweep      # items 2, 8",
           "scripts/tabor_sweep.sh                                                                 # items 6, 7",
+          "/usr/bin/python3 scripts/scaled_family.py --s 32 --coarse 2 4 6 8 12 24 --store reference/challenge-scaled"
+          "   # the bands",
           "build/cmc refine cases/challenge/reference-load-hardwall.toml --grids 2048 4096     # hard-wall context",
           "/usr/bin/python3 scripts/challenge_reference.py        # rewrites reference/challenge/*.csv and this README",
           "build/cmc check reports/challenge/data/gap_distribution__challenge-reference_2048.csv --quantity gap_distribution",
