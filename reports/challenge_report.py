@@ -21,7 +21,7 @@ import re
 import numpy as np
 
 from common import (CHALLENGE, case_name, finite, fmt, get, h5_open, load_json, md_table, plt, rel,
-                    run_strategy_error, savefig, step_groups, write_csv)
+                    run_strategy_error, savefig, step_groups, transfer_caveat, write_csv)
 
 P0 = CHALLENGE["p0"]
 
@@ -547,6 +547,9 @@ def _adhesion_resolution(reference_dir):
                          "; ".join(e["measured_on"]) if e and e["measured_on"] else "–"])
         lines += [md_table(["run", "grid", "dx/ρ", "a_r", "repulsive a_r", "mean gap (µm)", "iterations",
                             "wall (s)", "strategy error measured on"], rows), ""]
+        caveat = transfer_caveat(list(members.values()))
+        if caveat:
+            lines += ["**Caveat.** " + caveat, ""]
     else:
         lines += [f"The challenge's own runs: not computed yet ({cmd}).", ""]
     fam = [m for s, m in sorted(members.items(), reverse=True) if m.get("reference", {}).get("a_r")]
@@ -641,7 +644,7 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
                  "measured at μ_T = 3 and 250 kPa; that it holds at other loads and μ_T is assumed, not measured. A "
                  "run whose dx/ρ the family has not measured carries no band. The solvers are deterministic, so there "
                  "is no round-off spread. Hard-wall runs have no band here; their grid error is that of the hard-wall "
-                 "refinement study (README).", ""]
+                 "refinement study (README). " + transfer_caveat(), ""]
     section(2, "Contact area as a function of pressure (log-log; 1 − a_r for the approach to full contact)",
             area_rows(sweep["area"]), sweep_cols, band_note)
     gap = _hist_figure(dists, "gap_hist_edges", "gap_hist_density", "log", "log", 1e6, 1e-6,

@@ -250,3 +250,44 @@ def run_strategy_error(summary, short, members=None):
     err, used = strategy_errors(family_members() if members is None else members, strategy, k)
     return k, (err or {}).get(short), used
 
+
+def transfer_check(members=None):
+    """Whether the family's member with a converged reference behaves like the challenge (s = 1)
+    on coarse grids: for each s = 1 grid with both a plain and a range run, the ratio range/plain
+    of a_r there and in the family at the same dx/rho (within a factor 1.3). Returns
+    [(n, dx/rho, ratio at s = 1, s, ratio in the family)]; [] when the store lacks the runs. The
+    strategy errors transfer to s = 1 only if the ratios agree."""
+    members = family_members() if members is None else members
+    out = []
+    for m1 in members:
+        if m1.get("reference", {}).get("a_r"):
+            continue
+        runs1 = {r["role"]: r for r in m1["runs"]}
+        for role, p1 in runs1.items():
+            if not role.startswith("plain_") or "range_" + role[6:] not in runs1:
+                continue
+            r1 = runs1["range_" + role[6:]]
+            k = p1["dx_over_rho"]
+            for m in members:
+                if not m.get("reference", {}).get("a_r"):
+                    continue
+                near = [r for r in m["runs"] if r["role"].endswith("rho") and r["role"].split("_")[0] in ("plain", "range")
+                        and abs(math.log(r["dx_over_rho"] / k)) < math.log(1.3)]
+                by = {r["role"].split("_")[0]: r for r in near}
+                if "plain" in by and "range" in by:
+                    out.append((p1["n"], k, r1["a_r"] / p1["a_r"], m["s"], by["range"]["a_r"] / by["plain"]["a_r"]))
+    return out
+
+
+def transfer_caveat(members=None):
+    """One sentence on transfer_check for error statements, or "" when it cannot be made."""
+    rows = transfer_check(members)
+    if not rows:
+        return ""
+    parts = "; ".join(f"{n}^2 (dx = {k:.3g} rho): {a:.3f} at s = 1 against {b:.3f} at s = {s}" for n, k, a, s, b in rows)
+    agree = all(abs(math.log(a / b)) < math.log(1.05) for _, _, a, _, b in rows)
+    return (f"Transfer check, a_r of the range run over the plain run at the same dx/rho: {parts}. "
+            + ("They agree within 5 %, as the transfer assumes." if agree else
+               "They do not agree, so the family member does not reproduce the challenge's coarse-grid behaviour "
+               "and the band is indicative, not a bound (the families at s = 16 and 8 are needed to settle it)."))
+

@@ -43,7 +43,7 @@ import numpy as np
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 sys.path.insert(0, os.path.join(ROOT, "reports"))
 from challenge_report import Run, _centers, _observables  # noqa: E402  (the report's extraction)
-from common import CHALLENGE, FAMILY_STORE, load_json, run_strategy_error  # noqa: E402
+from common import CHALLENGE, FAMILY_STORE, load_json, run_strategy_error, transfer_caveat  # noqa: E402
 
 RHO, LAMBDA_S, P0 = CHALLENGE["rho"], CHALLENGE["lambda_s"], CHALLENGE["p0"]
 GENERATOR = "scripts/challenge_reference.py (extraction: reports/challenge_report.py)"
@@ -258,7 +258,7 @@ def strategy_band(run, short):
                  f"dx/rho ({k:.3g} rho; {'; '.join(used)}; {store}): +-{100 * rel:.3g} % (deviation from the "
                  "family's converged reference plus that reference's refinement error). Measured at mu_T = 3 and "
                  "250 kPa; that it holds at this point's load and mu_T is assumed, not measured. The solver is "
-                 "deterministic (same bits on a rerun): no round-off spread")
+                 "deterministic (same bits on a rerun): no round-off spread. " + transfer_caveat())
 
 
 def with_band(curve, run, short):
@@ -441,7 +441,7 @@ def sweep_curves(runs, hw):
                     f"family ({_rel(FAMILY_STORE)}) at that point's dx/rho (deviation from the family's converged "
                     "reference plus that reference's refinement error). Measured at mu_T = 3 and 250 kPa; that it "
                     "holds at the other mu_T is assumed, not measured. The solver is deterministic (same bits on a "
-                    "rerun): no round-off spread")
+                    "rerun): no round-off spread. " + transfer_caveat())
             elif any(text for _, text in bands):
                 missing = [f"{m:.3g}" for m, (rel, _) in zip(mus, bands) if rel is None]
                 c["estimated_error"] = ("no error band: the scaled family has no run of this strategy "
@@ -512,7 +512,8 @@ def readme(curves, out_dir, hw, ref_run, ref_step):
               "dx = 0.8 ρ(s)) at the same dx/ρ: its deviation from the family's converged value plus that value's "
               "refinement error. It was measured at μ_T = 3 and 250 kPa; that it holds at the other loads and μ_T "
               "of the sweeps is **assumed, not measured** (each file's `estimated_error` says so, per point for "
-              "the Tabor sweep). The solvers are deterministic, so there is no round-off spread.", ""]
+              "the Tabor sweep). The solvers are deterministic, so there is no round-off spread.", "",
+              "**Caveat.** " + (transfer_caveat() or "No transfer check possible (the store lacks the runs)."), ""]
     L += ["The distributions and profiles (items 1, 3, 4, 5, 9) have **no error estimate** yet (each file's "
           "`estimated_error` says so): the family measures a_r, the repulsive a_r and the mean gap only. No "
           "`tolerance` is stored, so `cmc check` uses each quantity's default acceptance for them.", ""]
