@@ -117,9 +117,11 @@ class Run:
 def _find_runs(results_dir, notes):
     """Challenge runs: every results/**/summary.json whose case name starts with
     "challenge" (results/challenge*/ by convention; also e.g. results/refine/<run>/),
-    except the validation and performance folders."""
+    except the validation and performance folders and the scaled family's runs (other
+    problems, s != 1, or the challenge with other settings: the family's own section reads
+    them from its store)."""
     files = set(glob.glob(os.path.join(results_dir, "**", "summary.json"), recursive=True))
-    skip = (os.path.join(results_dir, "validation") + os.sep, os.path.join(results_dir, "performance") + os.sep)
+    skip = tuple(os.path.join(results_dir, d) + os.sep for d in ("validation", "performance", "scaled-family"))
     runs = []
     for f in sorted(files):
         if f.startswith(skip):

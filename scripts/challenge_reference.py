@@ -478,7 +478,7 @@ def readme(curves, out_dir, hw, ref_run, ref_step):
         if c is None:
             continue
         grid = dict(c["extra"])["grid"].split(" (")[0]
-        run = dict(c["extra"])["command"].split("--out ")[-1]
+        run = dict(c["extra"])["command"].split("--out ")[-1].split(" --set ")[0]
         L.append(f"| `{q}.csv` | {item} | `{c['columns'][0][0]}`, `{c['columns'][1][0]}` | {c['representation']} | "
                  f"{len(c['columns'][0][3])} | `{run}` | {grid} |")
     L.append("")
