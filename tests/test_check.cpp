@@ -66,14 +66,20 @@ Synthetic synthetic() {
   return s;
 }
 
-fs::path write_reference(const TempDir& d, const std::string& quantity, std::optional<double> tol = 0.05,
-                         const std::string& metric = "max_rel") {
-  const Synthetic s = synthetic();
+// The provenance of the synthetic references.
+ref::RunProvenance synthetic_provenance() {
   ref::RunProvenance how;
   how.case_file = "synthetic";
   how.grid = "none";
   how.solver_tolerance = "none";
   how.date = "2000-01-01T00:00:00Z";
+  return how;
+}
+
+fs::path write_reference(const TempDir& d, const std::string& quantity, std::optional<double> tol = 0.05,
+                         const std::string& metric = "max_rel") {
+  const Synthetic s = synthetic();
+  const ref::RunProvenance how = synthetic_provenance();
   ref::Curve c;
   if (quantity == "contact_area_vs_pressure")
     c = ref::make_run_curve(quantity, quantity, "synthetic", how,
@@ -301,11 +307,7 @@ TEST(CheckLayouts, SubmissionLayoutsScoreTheSame) {
 TEST(CheckBand, ScoredInUnitsOfTheReferencesBand) {
   TempDir d;
   const Synthetic s = synthetic();
-  ref::RunProvenance how;
-  how.case_file = "synthetic";
-  how.grid = "none";
-  how.solver_tolerance = "none";
-  how.date = "2000-01-01T00:00:00Z";
+  const ref::RunProvenance how = synthetic_provenance();
   std::vector<double> err;
   for (double a : s.ar) err.push_back(0.05 * a);
   ref::Curve c = ref::make_run_curve("contact_area_vs_pressure", "contact_area_vs_pressure", "synthetic", how,
