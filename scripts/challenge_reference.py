@@ -261,19 +261,22 @@ def strategy_band(run, short):
                  "deterministic (same bits on a rerun): no round-off spread. " + transfer_caveat())
 
 
-def with_band(curve, run, short):
-    """Adds the strategy's error band to a curve of a range run (column <y>_err, '# band:')."""
-    rel, text = strategy_band(run, short)
-    if text:
-        curve["estimated_error"] = text
-    if rel is None:
-        return curve
+def add_band(curve, rels):
+    """Appends the error band to a curve: column <y>_err = rel x |y| per point, '# band:'."""
     y = curve["columns"][1]
     curve["columns"].append((y[0] + "_err", y[1], "half-width of the error band: " + y[2],
-                             [rel * abs(v) for v in y[3]]))
+                             [rel * abs(v) for rel, v in zip(rels, y[3])]))
     curve["band"] = y[0] + "_err"
     curve["title"] = curve["title"].replace(" (not converged)", " (with error band)")
     return curve
+
+
+def with_band(curve, run, short):
+    """Adds the strategy's error band to a curve of one adhesive run (every point the same dx/rho)."""
+    rel, text = strategy_band(run, short)
+    if text:
+        curve["estimated_error"] = text
+    return curve if rel is None else add_band(curve, [rel] * len(curve["columns"][1][3]))
 
 
 # ------------------------------------------------------------------ curves
@@ -431,10 +434,7 @@ def sweep_curves(runs, hw):
             short = "a_r" if item == 6 else "mean_gap"
             bands = [strategy_band(r, short) for r, _ in items]
             if all(rel is not None for rel, _ in bands):
-                c["columns"].append((col[0] + "_err", col[1], "half-width of the error band: " + col[2],
-                                     [rel * abs(v) for (rel, _), v in zip(bands, col[3])]))
-                c["band"] = col[0] + "_err"
-                c["title"] = c["title"].replace(" (not converged)", " (with error band)")
+                add_band(c, [rel for rel, _ in bands])
                 per = ", ".join(f"mu_T = {m:.3g}: +-{100 * rel:.3g} %" for m, (rel, _) in zip(mus, bands))
                 c["estimated_error"] = (
                     f"band per point ({per}): the strategy's error measured on the scaled challenge "

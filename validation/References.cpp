@@ -182,9 +182,7 @@ CsvReader::CsvReader(std::istream& in, std::string file, bool keep_comments, Lay
         throw InputError(where(t_.file, line_) + "header row: column " + std::to_string(k + 1) +
                          " has no name (expected comma-separated column names, e.g. "
                          "'pressure_Pa,contact_fraction')");
-      char* end = nullptr;
-      std::strtod(name.c_str(), &end);
-      if (end && *end == '\0')
+      if (is_number(name))
         throw InputError(where(t_.file, line_) + "header row: column " + std::to_string(k + 1) + " is the number '" +
                          name + "', expected a column name: the file needs a header row naming its columns, "
                          "e.g. 'pressure_Pa,contact_fraction'");
