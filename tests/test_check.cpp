@@ -461,6 +461,19 @@ TEST(CheckMalformed, ArgumentsAndReferences) {
   setenv("CMC_REFERENCE_DIR", d.path.c_str(), 1);  // no challenge/ folder there
   EXPECT_NE(message(x).find("no stored reference for quantity 'contact_area_vs_pressure' yet"), std::string::npos);
   EXPECT_NE(message(x).find("--reference"), std::string::npos);
+  // --adhesionless reads challenge/adhesionless/Q.csv of the same folder, and only that.
+  x.adhesionless = true;
+  EXPECT_NE(message(x).find("no stored adhesionless reference for quantity 'contact_area_vs_pressure' yet"),
+            std::string::npos);
+  fs::create_directories(d.path / "challenge" / "adhesionless");
+  fs::copy_file(r, d.path / "challenge" / "adhesionless" / "contact_area_vs_pressure.csv");
+  EXPECT_EQ(message(x), "(accepted)");
+  EXPECT_EQ(run_check(x).reference_file, (d.path / "challenge" / "adhesionless" / "contact_area_vs_pressure.csv").string());
+  x.quantity = "contact_area_vs_tabor";
+  EXPECT_NE(message(x).find("the Tabor-parameter quantities have none"), std::string::npos);
+  x = o;  // with an explicit reference file, --adhesionless would be ignored: refused instead
+  x.adhesionless = true;
+  EXPECT_NE(message(x).find("--adhesionless chooses the stored adhesionless reference"), std::string::npos);
   unsetenv("CMC_REFERENCE_DIR");
   // A reference that is not in the reference format.
   x = o;

@@ -248,8 +248,9 @@ QuantitySpec generic_spec(const std::string& quantity, const std::string& x, con
   return s;
 }
 
-std::string default_reference_path(const std::string& quantity) {
-  return reference::default_reference_dir() + "/challenge/" + quantity + ".csv";
+std::string default_reference_path(const std::string& quantity, bool adhesionless) {
+  return reference::default_reference_dir() + (adhesionless ? "/challenge/adhesionless/" : "/challenge/") + quantity +
+         ".csv";
 }
 
 // ============================================================================ extraction
@@ -630,12 +631,19 @@ Report run_check(const Options& o) {
   if (challenge) r.spec = quantity(o.quantity);
   r.prediction_file = o.prediction;
   r.reference_file = o.reference_file;
+  if (o.adhesionless && !(challenge && r.reference_file.empty()))
+    throw InputError("--adhesionless chooses the stored adhesionless reference of a challenge quantity: give it with "
+                     "--quantity Q and without --reference");
   if (challenge && r.reference_file.empty()) {
-    r.reference_file = default_reference_path(o.quantity);
+    r.reference_file = default_reference_path(o.quantity, o.adhesionless);
     std::error_code ec;
     if (!std::filesystem::exists(r.reference_file, ec))
-      throw InputError("no stored reference for quantity '" + o.quantity + "' yet (" + r.reference_file +
-                       " does not exist; challenge reference curves come from cmc runs): pass --reference FILE");
+      throw InputError("no stored " + std::string(o.adhesionless ? "adhesionless " : "") + "reference for quantity '" +
+                       o.quantity + "' yet (" + r.reference_file + " does not exist" +
+                       (o.adhesionless ? "; the Tabor-parameter quantities have none, the Tabor parameter being one "
+                                         "of adhesion"
+                                       : "; challenge reference curves come from cmc runs") +
+                       "): pass --reference FILE");
   }
   if (!o.metric.empty()) Metrics{}.get(o.metric);  // validates the name
   // Read both files before anything else, so every input error surfaces here.

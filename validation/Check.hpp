@@ -174,10 +174,12 @@ struct Options {
   std::string prediction, quantity, reference_file, x, y, metric;
   std::optional<double> tolerance, min_coverage;  // min_coverage in [0, 1]
   std::vector<std::string> columns;  // names for the prediction's columns (--columns)
+  bool adhesionless = false;  // --adhesionless: the stored adhesionless reference of the quantity
 };
 Report run_check(const Options& o);
 
 // Path of the stored reference for a challenge quantity.
-std::string default_reference_path(const std::string& quantity);
+// adhesionless: the challenge's surface under the hard wall alone (reference/challenge/adhesionless/).
+std::string default_reference_path(const std::string& quantity, bool adhesionless = false);
 
 }  // namespace cmc::check

@@ -20,7 +20,7 @@ extern char** environ;
 namespace cmc::app {
 
 namespace {
-const char* kCheckHelp = R"(usage: cmc check PREDICTION.csv --quantity Q [--reference FILE] [--out DIR]
+const char* kCheckHelp = R"(usage: cmc check PREDICTION.csv --quantity Q [--adhesionless] [--reference FILE] [--out DIR]
                  [--tolerance T] [--metric M] [--min-coverage F] [--columns A,B,...]
        cmc check PREDICTION.csv --reference FILE [--x COL --y COL] [--out DIR] ...
        cmc check --list
@@ -44,6 +44,9 @@ Extra columns are ignored; rows may run up or down the abscissa.
 
   --quantity Q    a challenge quantity (cmc check --list); its stored reference is
                   reference/challenge/Q.csv (where it exists; else --reference is needed)
+  --adhesionless  with --quantity: score against the same surface without adhesion
+                  (hard wall; reference/challenge/adhesionless/Q.csv), for the
+                  quantities that have one (not those against the Tabor parameter)
   --reference F   the reference curve (cmc reference CSV format); without
                   --quantity the columns are matched by name (--x/--y, default the
                   reference's x and y) and no units are converted
@@ -82,6 +85,12 @@ void list_quantities() {
     std::printf("%-26s %-8s y: %s\n", "", "", names(q.y).c_str());
     std::printf("%-26s %-8s default tolerance %g on %s; challenge item %d: %s\n", "", "", q.tolerance,
                 q.metric.c_str(), q.item, q.title.c_str());
+    std::error_code ec;
+    auto stored = [&](bool adhesionless) {
+      return std::filesystem::exists(check::default_reference_path(q.id, adhesionless), ec) ? "yes" : "no";
+    };
+    std::printf("%-26s %-8s stored reference: with adhesion %s, adhesionless (--adhesionless) %s\n", "", "",
+                stored(false), stored(true));
   }
 }
 
@@ -126,10 +135,11 @@ void draw_figure(const std::filesystem::path& json, const std::filesystem::path&
 }  // namespace
 
 int cmd_check(int argc, char** argv) {
-  bool list = false;
+  bool list = false, adhesionless = false;
   std::vector<char*> rest;
   for (int i = 0; i < argc; ++i) {
     if (i >= 2 && std::string(argv[i]) == "--list") list = true;
+    else if (i >= 2 && std::string(argv[i]) == "--adhesionless") adhesionless = true;
     else rest.push_back(argv[i]);
   }
   const Args a = parse_args(int(rest.size()), rest.data(), 2,
@@ -142,6 +152,7 @@ int cmd_check(int argc, char** argv) {
   check::Options o;
   o.prediction = a.positional[0];
   o.quantity = a.option("--quantity");
+  o.adhesionless = adhesionless;
   o.reference_file = a.option("--reference");
   o.metric = a.option("--metric");
   o.x = a.option("--x");
