@@ -42,7 +42,8 @@ import numpy as np
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 sys.path.insert(0, os.path.join(ROOT, "reports"))
-from challenge_report import Run, _centers, _observables  # noqa: E402  (the report's extraction)
+from challenge_report import (Run, _centers, _find_runs, _merged_sweeps, _observables,  # noqa: E402
+                              _reference_load_runs, grid_change, refinement_band)  # (the report's extraction)
 from common import CHALLENGE, FAMILY_STORE, load_json, run_strategy_error, transfer_caveat  # noqa: E402
 
 RHO, LAMBDA_S, P0 = CHALLENGE["rho"], CHALLENGE["lambda_s"], CHALLENGE["p0"]
@@ -290,10 +291,38 @@ def _clean(x, y, log_x, log_y):
     return x[m], y[m], int(len(x) - m.sum())
 
 
-def reference_load_curves(run, hw, notes):
+def _with_refinement_band(curve, x, y, xf, yf, log_x, log_y, n, nf, base_error):
+    """Adds the band |y - y_finer(x)| (refinement_band, the report's) to a curve of the run at the
+    reference load: points outside the finer curve's range (or where both grids agree exactly)
+    carry no band and are left out, and `sampling` says how many."""
+    b = refinement_band(x, y, xf, yf, log_x, log_y)
+    keep = np.isfinite(b) & (b > 0)
+    curve["columns"][0] = curve["columns"][0][:3] + (x[keep],)
+    curve["columns"][1] = curve["columns"][1][:3] + (y[keep],)
+    y_col = curve["columns"][1]
+    curve["columns"].append((y_col[0] + "_err", y_col[1], "half-width of the error band: " + y_col[2], b[keep]))
+    curve["band"] = y_col[0] + "_err"
+    dropped = int(len(x) - keep.sum())
+    if dropped:
+        extra = dict(curve["extra"])
+        extra["sampling"] += (f"; {dropped} point(s) outside the {nf}^2 curve's range left out (no band there)")
+        curve["extra"] = list(extra.items())
+    curve["title"] = curve["title"].replace(" (not converged)", " (with error band)")
+    med = float(np.median(b[keep] / np.abs(y[keep]))) if keep.any() else float("nan")
+    curve["estimated_error"] = (f"band: per point, |this curve ({n}^2) - the same run on the next finer grid ({nf}^2)|, "
+                                "the finer curve interpolated in the representation (median "
+                                f"{100 * med:.2g} % of the value): the change under one refinement, a lower estimate "
+                                "of the grid error. " + base_error)
+    return curve
+
+
+def reference_load_curves(run, hw, notes, finer=None):
+    """Items 1, 3, 4, 5, 9 from the run at the reference load; `finer` = (run, step) of the same
+    case on the next finer grid gives the distributions and the spectrum their bands."""
     obs, st = _observables(run, notes)
     if not obs:
         return [], st
+    fobs = _observables(finer[0], notes)[0] if finer else {}
     # The summary and result.h5 must belong to the same run (a run may be being rewritten).
     with h5py.File(run.h5path, "r") as f:
         g = f.get(f"step_{int(st['index']):04d}")
@@ -306,7 +335,11 @@ def reference_load_curves(run, hw, notes):
              f"branch {st['branch'] or '?'}, contact fraction {st['ar']:.4g}")
     params = (f"challenge defaults (E* = {run.Estar / 1e6:g} MPa, L = {run.size * 1e3:g} mm, H = 0.8, "
               f"lambda_r = 20 um, lambda_s = 0.1 um, gamma0 = 50 mJ/m^2, rho = {RHO * 1e9:.4g} nm, "
-              f"mu_T = {run.run_tabor:.4g}) {label}" if run.run_tabor else label)
+              f"mu_T = {run.run_tabor:.4g}) {label}" if run.adhesive and run.run_tabor else
+              f"challenge surface without adhesion (hard wall; E* = {run.Estar / 1e6:g} MPa, L = "
+              f"{run.size * 1e3:g} mm, H = 0.8, lambda_r = 20 um, lambda_s = 0.1 um) {label}")
+    conv = " (not converged)" if run.adhesive else ""
+    base = (lambda keys: adhesive_error(run, hw, keys)) if run.adhesive else (lambda keys: "")
     curves = []
 
     def hist(q, item, title, ek, dk, log_x, log_y, xcol, ycol, rep, keys, what):
@@ -317,10 +350,14 @@ def reference_load_curves(run, hw, notes):
                 f"{'geometric' if log_x else 'arithmetic'} bin centres; {what}")
         if dropped:
             samp += f"; {dropped} empty bin(s) left out (zero density on a log axis)"
-        curves.append(dict(name=q, quantity=q, item=item, title=title + f", cmc {run.nx}^2 (not converged)",
-                           columns=[xcol + (x,), ycol + (y,)], x=xcol[0], y=ycol[0], representation=rep,
-                           extra=prov + [("parameters", params), ("sampling", samp), ("generator", GENERATOR)],
-                           estimated_error=adhesive_error(run, hw, keys)))
+        c = dict(name=q, quantity=q, item=item, title=title + f", cmc {run.nx}^2{conv}",
+                 columns=[xcol + (x,), ycol + (y,)], x=xcol[0], y=ycol[0], representation=rep,
+                 extra=prov + [("parameters", params), ("sampling", samp), ("generator", GENERATOR)],
+                 estimated_error=base(keys) or "no band: no run of this case on a finer grid")
+        if ek in fobs and dk in fobs and len(fobs[ek]) == len(fobs[dk]) + 1:
+            _with_refinement_band(c, x, y, _centers(fobs[ek], log_x), fobs[dk], log_x, log_y, run.nx, finer[0].nx,
+                                  base(keys))
+        curves.append(c)
 
     hist("patch_size_distribution", 1, "Challenge item 1: contact patch size distribution", "patch_area_edges",
          "patch_area_density", True, True, ("patch_area_m2", "m^2", "contact patch area, bin centre"),
@@ -341,13 +378,18 @@ def reference_load_curves(run, hw, notes):
         samp = f"{len(q)} wavenumbers from result.h5 step_{int(st['index']):04d}/observables/stress_spectrum_q, _C"
         if dropped:
             samp += f"; {dropped} non-positive value(s) left out"
-        curves.append(dict(name="stress_spectrum", quantity="stress_spectrum", item=5,
-                           title=f"Challenge item 5: interfacial stress spectrum, cmc {run.nx}^2 (not converged)",
-                           columns=[("q_per_m", "1/m", "wavenumber q", x),
-                                    ("C_Pa2m2", "Pa^2 m^2", "isotropic stress spectrum, integral d^2q C = variance", y)],
-                           x="q_per_m", y="C_Pa2m2", representation="log-log",
-                           extra=prov + [("parameters", params), ("sampling", samp), ("generator", GENERATOR)],
-                           estimated_error=adhesive_error(run, hw, ["max_pressure", "contact_perimeter"])))
+        keys = ["max_pressure", "contact_perimeter"]
+        c = dict(name="stress_spectrum", quantity="stress_spectrum", item=5,
+                 title=f"Challenge item 5: interfacial stress spectrum, cmc {run.nx}^2{conv}",
+                 columns=[("q_per_m", "1/m", "wavenumber q", x),
+                          ("C_Pa2m2", "Pa^2 m^2", "isotropic stress spectrum, integral d^2q C = variance", y)],
+                 x="q_per_m", y="C_Pa2m2", representation="log-log",
+                 extra=prov + [("parameters", params), ("sampling", samp), ("generator", GENERATOR)],
+                 estimated_error=base(keys) or "no band: no run of this case on a finer grid")
+        qf, Cf = fobs.get("stress_spectrum_q"), fobs.get("stress_spectrum_C")
+        if qf is not None and Cf is not None and len(qf) == len(Cf):
+            _with_refinement_band(c, x, y, qf, Cf, True, True, run.nx, finer[0].nx, base(keys))
+        curves.append(c)
 
     ys = obs.get("cross_section_y")
     x0 = ((run.s.get("case") or {}).get("observables") or {}).get("cross_section_x")
@@ -363,43 +405,82 @@ def reference_load_curves(run, hw, notes):
         x, y, _ = _clean(ys, v, False, False)
         what = "gap" if q.endswith("gap") else "stress"
         curves.append(dict(name=q, quantity=q, item=9,
-                           title=f"Challenge item 9: {what} along {where}, cmc {run.nx}^2 (not converged)",
+                           title=f"Challenge item 9: {what} along {where}, cmc {run.nx}^2{conv}",
                            columns=[("y_m", "m", f"position y along {where}") + (x,), col + (y,)],
                            x="y_m", y=col[0], representation="lin-lin",
                            extra=prov + [("parameters", params),
                                          ("sampling", f"every grid point of the line ({len(x)}), from result.h5 "
                                                       f"step_{int(st['index']):04d}/observables/cross_section_*"),
                                          ("generator", GENERATOR)],
-                           estimated_error=adhesive_error(run, hw, keys)))
+                           estimated_error="no band: a profile at fixed y moves by a grid spacing wherever a contact "
+                                           "line crosses it, so a pointwise comparison of two grids measures where the "
+                                           "lines sit, not an error of the values (the distributions carry the grid "
+                                           "error of the same fields). " + base(keys)))
     return curves, st
 
 
-def sweep_curves(runs, hw):
-    """Items 2 and 8 (adhesive load sweep) and 6 and 7 (adhesive Tabor sweep), when run."""
+def load_sweep_curves(runs, hw, adhesive, ref_pair):
+    """Items 2 and 8 of one problem from its load sweep on the finest grid that has one (several
+    runs of the same case and grid joined, as the report joins them: reports/challenge_report.py
+    _merged_sweeps). Adhesive: the strategy's band; adhesionless: the grid change of the run at the
+    reference load (ref_pair, coarsest first), applied at every load."""
+    merged = [m for m in _merged_sweeps(runs) if m[0].adhesive == adhesive]
+    if not merged:
+        return []
+    r, pts, shared = max(merged, key=lambda m: m[0].nx or 0)
+    pts = [s for s in pts if s["converged"]]
+    ps = np.array([s["p"] for s in pts])
+    if len(pts) < 2 or not np.all(np.diff(ps) > 0):
+        return []
+    used = list(dict.fromkeys(s["run"] for s in pts))
+    provs = [provenance(u, [s for s in pts if s["run"] is u]) for u in used]
+    prov = provs[0]
+    if len(used) > 1:
+        prov = [(k, v if k not in ("solver_tolerance", "command", "date") else
+                 " ; ".join(dict(pv)[k] for pv in provs)) for k, v in prov]
+    samp = (f"{len(pts)} converged load steps, sorted by mean pressure"
+            + (f", joined from {len(used)} runs ({', '.join(_rel(u.folder) for u in used)}); where two share a load "
+               "the step of the longer continuation is kept" if len(used) > 1 else "")
+            + ("" if adhesive else "; the hard wall (no adhesion)"))
+    title_tail = " (not converged)" if adhesive else ""
     curves = []
-    sweeps = sorted((r for r in runs if r.is_load_sweep()), key=lambda r: -(r.nx or 0) * (r.ny or 0))
-    if sweeps:
-        r = sweeps[0]  # the finest grid
-        pts = sorted((s for s in r.steps if s["p"] and s["p"] > 0 and s["ar"] is not None and s["converged"]),
-                     key=lambda s: s["p"])
-        ps = np.array([s["p"] for s in pts])
-        if len(pts) >= 2 and np.all(np.diff(ps) > 0):
-            prov = provenance(r, pts)
-            samp = f"{len(pts)} converged load steps of {len(r.steps)}, loading order sorted by mean pressure"
-            for q, item, col, keys, rep in (
-                    ("contact_area_vs_pressure", 2, ("contact_fraction", "1", "relative contact area a_r",
-                                                     [s["ar"] for s in pts]),
-                     ["contact_fraction", "contact_fraction_corrected"], "log-log"),
-                    ("mean_gap_vs_pressure", 8, ("mean_gap_m", "m", "mean gap", [s["gap"] for s in pts]),
-                     ["mean_gap"], "log-lin")):
-                if any(v is None for v in col[3]):
-                    continue
-                curves.append(with_band(dict(
-                    name=q, quantity=q, item=item,
-                    title=f"Challenge item {item}: {q.replace('_', ' ')}, cmc {r.nx}^2 (not converged)",
-                    columns=[("pressure_Pa", "Pa", "mean pressure", ps), col], x="pressure_Pa", y=col[0],
-                    representation=rep, extra=prov + [("sampling", samp), ("generator", GENERATOR)],
-                    estimated_error=adhesive_error(r, hw, keys)), r, "a_r" if item == 2 else "mean_gap"))
+    for q, item, key, short, col, keys, rep in (
+            ("contact_area_vs_pressure", 2, "ar", "a_r", ("contact_fraction", "1", "relative contact area a_r"),
+             ["contact_fraction", "contact_fraction_corrected"], "log-log"),
+            ("mean_gap_vs_pressure", 8, "gap", "mean_gap", ("mean_gap_m", "m", "mean gap"), ["mean_gap"], "log-lin")):
+        vals = [s[key] for s in pts]
+        if any(v is None for v in vals):
+            continue
+        c = dict(name=q, quantity=q, item=item,
+                 title=f"Challenge item {item}: {q.replace('_', ' ')}" + ("" if adhesive else " without adhesion")
+                       + f", cmc {r.nx}^2{title_tail}",
+                 columns=[("pressure_Pa", "Pa", "mean pressure", ps), col + (vals,)], x="pressure_Pa", y=col[0],
+                 representation=rep, extra=prov + [("sampling", samp), ("generator", GENERATOR)],
+                 estimated_error=adhesive_error(r, hw, keys) if adhesive else "no band: no refinement of the run at 250 kPa")
+        if adhesive:
+            c = with_band(c, r, short)
+        else:
+            ch = _grid_change_of(ref_pair, key)
+            if ch:
+                add_band(c, [ch[0]] * len(pts))
+                c["estimated_error"] = (
+                    f"band: +-{100 * ch[0]:.2g} % at every load, the relative change of this quantity at 250 kPa "
+                    f"from {ch[1]}; that it holds at the other loads is assumed, not measured (the counted contact "
+                    "area's grid error is a perimeter effect, relatively smaller as the contact grows). The solver is "
+                    "deterministic (same bits on a rerun): no round-off spread.")
+        curves.append(c)
+    return curves
+
+
+def _grid_change_of(pair, key):
+    """(relative change, 'N^2 to M^2 (folders)') of a step quantity between the two coarsest grids."""
+    got = grid_change(pair, key)
+    return got and (got[0], f"{got[1].nx}^2 to {got[2].nx}^2 ({_rel(got[1].folder)}, {_rel(got[2].folder)})")
+
+
+def tabor_curves(runs, hw):
+    """Items 6 and 7 (adhesive Tabor sweep), when run."""
+    curves = []
     # Tabor sweep: one run per mu_T (at the reference load) on the finest grid that has >= 2.
     by_grid = {}
     for r in runs:
@@ -461,6 +542,47 @@ MISSING_HOW = {2: "`build/cmc run cases/challenge/load-sweep.toml --out results/
                7: "`scripts/tabor_sweep.sh` (results/challenge-tabor-sweep/mu_T_*/)"}
 
 
+def files_table(curves):
+    """The README's table of stored files, one row per curve in the challenge's item order."""
+    have = {c["quantity"]: c for c in curves}
+    L = ["| file | item | columns (SI) | repr. | points | band | run | grid |", "|---|---|---|---|---|---|---|---|"]
+    for q, item in ALL:
+        c = have.get(q)
+        if c is None:
+            continue
+        grid = dict(c["extra"])["grid"].split(" (")[0]
+        run = " ; ".join(cmd.split("--out ")[-1].split(" --set ")[0] for cmd in dict(c["extra"])["command"].split(" ; "))
+        L.append(f"| `{q}.csv` | {item} | `{c['columns'][0][0]}`, `{c['columns'][1][0]}` | {c['representation']} | "
+                 f"{len(c['columns'][0][3])} | {'yes' if c.get('band') else 'no'} | `{run}` | {grid} |")
+    return L + [""]
+
+
+def readme_adhesionless(curves, pair):
+    L = ["# Challenge reference curves without adhesion", "",
+         "The challenge's surface pressed on the half-space with the hard wall alone (no adhesion): the adhesionless "
+         "counterpart that the problem definition compares with (\"increased by roughly 50 % as compared to the "
+         "adhesionless case\"). `cmc check PRED.csv --quantity Q --adhesionless` scores against these files. Same "
+         "format and provenance as [../README.md](../README.md); generated by the same command "
+         "(`/usr/bin/python3 scripts/challenge_reference.py`). Items 6 and 7 (against the Tabor parameter) have no "
+         "adhesionless counterpart.", "", "## Files", ""] + files_table(curves)
+    if len(pair) >= 2:
+        (r0, a), (r1, b) = pair[0], pair[1]
+        L += ["## Accuracy", "",
+              f"The hard-wall problem converges under refinement (no adhesion range to resolve). The bands are the "
+              f"change of each curve between {r0.nx}² and {r1.nx}² (`{_rel(r0.folder)}`, `{_rel(r1.folder)}`): per "
+              f"point for the distributions and the spectrum; for the load sweep (only run on {r0.nx}²) the relative "
+              f"change at 250 kPa (contact fraction {a['ar']:.5g} → {b['ar']:.5g}, mean gap {a['gap'] * 1e6:.6g} → "
+              f"{b['gap'] * 1e6:.6g} µm), applied at every load (assumed). A change under one refinement is a lower "
+              "estimate of the grid error; the counted contact area converges as dx, its perimeter-corrected value "
+              "much faster (see each file's `estimated_error`).", ""]
+    L += ["## Regenerate", "", "```",
+          "build/cmc run cases/challenge/reference-load-hardwall.toml --out results/challenge-hardwall",
+          "build/cmc run cases/challenge/reference-load-hardwall.toml --set grid.n=4096 --out results/challenge-hardwall-n4096",
+          "build/cmc run cases/challenge/load-sweep-hardwall.toml --out results/challenge-load-sweep-hardwall",
+          "/usr/bin/python3 scripts/challenge_reference.py", "```", ""]
+    return "\n".join(L)
+
+
 def readme(curves, out_dir, hw, ref_run, ref_step):
     have = {c["quantity"]: c for c in curves}
     L = ["# Challenge reference curves", "",
@@ -471,17 +593,9 @@ def readme(curves, out_dir, hw, ref_run, ref_step):
          "command) is in each file's header.", "",
          "Generated by `/usr/bin/python3 scripts/challenge_reference.py` (deterministic given the runs; the "
          "`date` is the run's summary.json modification time). Do not edit the CSV files by hand.", "",
-         "## Files", "",
-         "| file | item | columns (SI) | repr. | points | run | grid |", "|---|---|---|---|---|---|---|"]
-    for q, item in ALL:
-        c = have.get(q)
-        if c is None:
-            continue
-        grid = dict(c["extra"])["grid"].split(" (")[0]
-        run = dict(c["extra"])["command"].split("--out ")[-1].split(" --set ")[0]
-        L.append(f"| `{q}.csv` | {item} | `{c['columns'][0][0]}`, `{c['columns'][1][0]}` | {c['representation']} | "
-                 f"{len(c['columns'][0][3])} | `{run}` | {grid} |")
-    L.append("")
+         "## Files", ""] + files_table(curves) + [
+         "Without adhesion (the same surface under the hard wall alone): [adhesionless/](adhesionless/README.md), "
+         "`cmc check --adhesionless`.", ""]
     if ref_run is not None and ref_step is not None:
         L += [f"Items 1, 3, 4, 5 and 9 are the step at p = {ref_step['p']:.6g} Pa (target 250 kPa) of "
               f"`{_rel(ref_run.folder)}` (case `{ref_run.s.get('case_file')}`, {ref_run.name}: the challenge's "
@@ -514,9 +628,20 @@ def readme(curves, out_dir, hw, ref_run, ref_step):
               "of the sweeps is **assumed, not measured** (each file's `estimated_error` says so, per point for "
               "the Tabor sweep). The solvers are deterministic, so there is no round-off spread.", "",
               "**Caveat.** " + (transfer_caveat() or "No transfer check possible (the store lacks the runs)."), ""]
-    L += ["The distributions and profiles (items 1, 3, 4, 5, 9) have **no error estimate** yet (each file's "
-          "`estimated_error` says so): the family measures a_r, the repulsive a_r and the mean gap only. No "
-          "`tolerance` is stored, so `cmc check` uses each quantity's default acceptance for them.", ""]
+    dist = [c for c in curves if c["item"] in (1, 3, 4, 5)]
+    if any(c.get("band") for c in dist):
+        L += ["**Distributions and spectrum** (items 1, 3, 4, 5): the band is, per point, the change of the curve "
+              "from this grid to the same case on the next finer grid (the finer curve interpolated in the "
+              "representation; points outside its range are left out). That is the grid error of the numerics at "
+              "this dx/ρ, a lower estimate: both grids leave ρ unresolved, which the family measures for a_r and the "
+              "mean gap only. Each file's `estimated_error` gives the median relative half-width.", ""]
+    else:
+        L += ["The distributions (items 1, 3, 4, 5) have **no error estimate**: no run of the reference-load case "
+              "on a finer grid (`--set grid.n=4096`).", ""]
+    L += ["The **cross sections** (item 9) carry no band: a profile at fixed y moves by a grid spacing wherever a "
+          "contact line crosses it, so a pointwise comparison of two grids measures where the lines sit rather than "
+          "an error of the values. No `tolerance` is stored, so `cmc check` uses the quantity's default acceptance "
+          "for it.", ""]
     if hw:
         n1, n2 = hw["grids"]
         L += [f"For context only, the **hard-wall** problem at the same load (`{hw['folder']}`"
@@ -526,14 +651,15 @@ def readme(curves, out_dir, hw, ref_run, ref_step):
             L.append(f"| {HW_LABELS[k]} | {a:.6g} | {b:.6g} | {100 * d:.2g} % |")
         L += ["", f"(SI units; relative change = |value at {n2}² − value at {n1}²| / |value at {n2}²|, from "
               "`cmc refine`'s refinement.json. The raw contact "
-              "fraction converges slowly, the perimeter-corrected one much faster.) The hard-wall curves at 2048² "
-              "(`reports/challenge/data/*__challenge-hardwall_2048.csv`) are not stored here: the hard wall is not "
-              "the challenge's problem.", ""]
+              "fraction converges slowly, the perimeter-corrected one much faster.) The hard-wall curves are in "
+              "[adhesionless/](adhesionless/README.md).", ""]
     L += ["## Regenerate", "",
           "The commands that made the stored files, with their `--set` options, are in each file's `command` line. "
           "In general:", "",
           "```",
           "build/cmc run cases/challenge/reference-load.toml --out results/challenge-reference   # items 1, 3, 4, 5, 9",
+          "build/cmc run cases/challenge/reference-load.toml --set grid.n=4096 --out results/challenge-reference-n4096"
+          "   # their bands",
           "build/cmc run cases/challenge/load-sweep.toml --out results/challenge-load-sweep      # items 2, 8",
           "scripts/tabor_sweep.sh                                                                 # items 6, 7",
           "/usr/bin/python3 scripts/scaled_family.py --s 32 --coarse 2 4 6 8 12 24 --store reference/challenge-scaled"
@@ -550,47 +676,44 @@ def readme(curves, out_dir, hw, ref_run, ref_step):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--results", default=os.path.join(ROOT, "results"))
-    ap.add_argument("--reference-run", default=None, help="default: RESULTS/challenge-reference")
     ap.add_argument("--hardwall-refine", default=None, help="default: RESULTS/refine/reference-load-hardwall")
     ap.add_argument("--out", default=os.path.join(ROOT, "reference", "challenge"))
     ap.add_argument("--cmc", default=os.path.join(ROOT, "build", "cmc"), help="the cmc that formats the curves")
     a = ap.parse_args()
-    ref_dir = a.reference_run or os.path.join(a.results, "challenge-reference")
     hw = hardwall_refinement(a.hardwall_refine or os.path.join(a.results, "refine", "reference-load-hardwall"))
     notes = []
-    curves, ref_run, ref_step = [], None, None
-    summary = os.path.join(ref_dir, "summary.json")
-    s = load_json(summary, notes)
-    if isinstance(s, dict):
-        ref_run = Run(s, ref_dir)
-        if ref_run.status != "converged":
-            sys.exit(f"challenge_reference: {summary}: status {ref_run.status!r}, not converged")
-        c, ref_step = reference_load_curves(ref_run, hw, notes)
-        curves += c
-    else:
-        print(f"challenge_reference: no {summary} (is the run being rewritten? retry later)", file=sys.stderr)
-    # Adhesive sweeps (hard-wall runs are not the challenge's problem).
-    sweep_runs = []
-    for f in sorted(glob.glob(os.path.join(a.results, "challenge-load-sweep*", "summary.json")) +
-                    glob.glob(os.path.join(a.results, "challenge-tabor-sweep", "*", "summary.json"))):
-        s2 = load_json(f, notes)
-        kind = (((s2 or {}).get("case") or {}).get("interaction") or {}).get("kind", "")
-        if isinstance(s2, dict) and kind not in ("", "hard_wall", "none"):
-            run = Run(s2, os.path.dirname(f))
-            # A load sweep whose last steps did not converge still gives its converged steps
-            # (sweep_curves keeps only those and says how many); a single run must converge.
-            if s2.get("status") == "converged" or (s2.get("status") == "not_converged" and run.is_load_sweep()):
-                sweep_runs.append(run)
-    curves += sweep_curves(sweep_runs, hw)
+    # The report's discovery: every results/**/summary.json of a challenge case (not the scaled family).
+    runs = []
+    for r in _find_runs(a.results, notes):
+        # A load sweep whose last steps did not converge still gives its converged steps (the
+        # sweep curves keep only those and say how many); a single run must converge.
+        if r.status == "converged" or (r.status == "not_converged" and r.is_load_sweep()):
+            runs.append(r)
+    written = {}
+    for adhesive in (True, False):
+        out = a.out if adhesive else os.path.join(a.out, "adhesionless")
+        pair = _reference_load_runs(runs, adhesive)
+        curves, ref_run, ref_step = [], None, None
+        if pair:
+            ref_run = pair[0][0]
+            c, ref_step = reference_load_curves(ref_run, hw, notes, pair[1] if len(pair) > 1 else None)
+            curves += c
+        curves += load_sweep_curves(runs, hw, adhesive, pair)
+        if adhesive:
+            curves += tabor_curves([r for r in runs if r.name.startswith("challenge-tabor")], hw)
+        for c in curves:
+            path = os.path.join(out, c["quantity"] + ".csv")
+            text = write_curve(a.cmc, c, path)
+            print(f"challenge_reference: {_rel(path)}: {len(c['columns'][0][3])} points, {len(text)} bytes")
+        written[adhesive] = (curves, pair)
+        if adhesive:
+            write_atomically(os.path.join(out, "README.md"), readme(curves, out, hw, ref_run, ref_step))
+        else:
+            write_atomically(os.path.join(out, "README.md"), readme_adhesionless(curves, pair))
+        print(f"challenge_reference: {_rel(os.path.join(out, 'README.md'))}")
     for n in notes:
         print("challenge_reference: note: " + str(n), file=sys.stderr)
-    for c in curves:
-        path = os.path.join(a.out, c["quantity"] + ".csv")
-        text = write_curve(a.cmc, c, path)
-        print(f"challenge_reference: {_rel(path)}: {len(c['columns'][0][3])} points, {len(text)} bytes")
-    write_atomically(os.path.join(a.out, "README.md"), readme(curves, a.out, hw, ref_run, ref_step))
-    print(f"challenge_reference: {_rel(os.path.join(a.out, 'README.md'))}")
-    if not curves:
+    if not written[True][0]:
         sys.exit("challenge_reference: no curves: no adhesive challenge run with observables found")
 
 
