@@ -238,6 +238,14 @@ TEST(Case, SolverKindAutoAndExplicit) {
   EXPECT_NE(e.find("needs [interaction] kind = \"exponential\""), std::string::npos) << e;
   e = error_of(adhesive + "[solver]\ntension_tolerance = -1\n");
   EXPECT_NE(e.find("[solver] tension_tolerance"), std::string::npos) << e;
+  // Polonsky-Keer's stiffness preconditioner: on by default, off on request, a boolean.
+  EXPECT_TRUE(load_case(write(adhesive)).solver.precondition);
+  c = load_case(write(std::string(kGood) + "\n[solver]\nprecondition = false\n"));
+  EXPECT_FALSE(c.solver.precondition);
+  EXPECT_EQ(c.resolved["solver"]["precondition"].value<bool>(), false);
+  e = error_of(std::string(kGood) + "\n[solver]\nprecondition = \"yes\"\n");
+  EXPECT_NE(e.find("[solver] precondition"), std::string::npos) << e;
+  EXPECT_NE(e.find("true or false"), std::string::npos) << e;
 }
 
 TEST(Case, KindsAreTyped) {

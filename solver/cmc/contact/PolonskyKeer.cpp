@@ -70,7 +70,10 @@ class PkRun {
         ContactState& st)
       : hs_(hs), h_(h), opt_(o), h_scale_(h_scale), n_(h.size()), force_(target.control == Control::MeanPressure),
         target_(force_ ? target.value : 0.0), p_(st.pressure), w_(st.displacement), t_(n_, 0.0),
-        delta_(force_ ? st.penetration : target.value), spectral_(hs, h) {}
+        delta_(force_ ? st.penetration : target.value), spectral_(hs, h),
+        precondition_(o.precondition && hs.periodic()) {
+    if (precondition_) z_.assign(n_, 0.0);
+  }
 
   void run(SolveResult& res);
   std::string failure;
@@ -84,6 +87,7 @@ class PkRun {
   GapSums gap_sums() const;
   bool restart_from_overlap();
   double direction(double beta, double tbar);
+  double preconditioned_direction(double tbar);
   bool project(double tau);
   void exact() {
     spectral_.set_pressure(p_, sigma_, w_);
@@ -104,6 +108,9 @@ class PkRun {
   double sigma_ = 1.0;  // the pressure is sigma_ p_: the last load scaling, applied lazily
   int since_exact_ = 0;  // linear spectral steps since p̂ was last taken from p
   bool conjugate_ = false;  // PK's δ flag: false restarts steepest descent
+  bool precondition_;
+  Field z_;                 // preconditioned gap K g on Ic (precondition_ only)
+  double gz_old_ = 1.0;     // Σ_Ic g z of the previous direction
 };
 
 void PkRun::initial_pressure() {
@@ -186,6 +193,51 @@ double PkRun::direction(double beta, double tbar) {
                const double g = w[i] - d;
                t[i] = g + beta * (t[i] - tbar);
                sgt += g * t[i];
+             } else {
+               t[i] = 0.0;
+             }
+           }
+           acc.v += sgt;
+         }).v;
+}
+
+// (c) with the stiffness preconditioner: z = P K P g (made load-neutral on Ic under load
+// control), β = Σ g z / (Σ g z)_old, t = z + β (t − t̄). One FFT pair. Returns Σ g t.
+double PkRun::preconditioned_direction(double tbar) {
+  double* z = z_.data();
+  double* t = t_.data();
+  const double* w = w_.data();
+  const double* p = p_.data();
+  const double d = delta_;
+  Grid::parallel_for(n_, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) z[i] = p[i] > 0.0 ? w[i] - d : 0.0;
+  });
+  hs_.apply(z, z, hs_.stiffness());
+  struct Acc {
+    double zsum = 0.0, nc = 0.0;
+    void merge(const Acc& o) { zsum += o.zsum, nc += o.nc; }
+  };
+  const Acc a = Grid::parallel_reduce<Acc>(n_, [&](std::size_t b, std::size_t e, Acc& acc) {
+    Acc s;
+    for (std::size_t i = b; i < e; ++i)
+      if (p[i] > 0.0) s.zsum += z[i], s.nc += 1.0;
+    acc.merge(s);
+  });
+  const double zbar = force_ && a.nc > 0.0 ? a.zsum / a.nc : 0.0;
+  const double gz = Grid::parallel_reduce<SumReduction>(n_, [&](std::size_t b, std::size_t e, SumReduction& acc) {
+                      double s = 0.0;
+                      for (std::size_t i = b; i < e; ++i)
+                        if (p[i] > 0.0) s += (w[i] - d) * (z[i] - zbar);
+                      acc.v += s;
+                    }).v;
+  const double beta = conjugate_ && gz_old_ > 0.0 ? gz / gz_old_ : 0.0;
+  gz_old_ = gz;
+  return Grid::parallel_reduce<SumReduction>(n_, [&](std::size_t b, std::size_t e, SumReduction& acc) {
+           double sgt = 0.0;
+           for (std::size_t i = b; i < e; ++i) {
+             if (p[i] > 0.0) {
+               t[i] = (z[i] - zbar) + beta * (t[i] - tbar);
+               sgt += (w[i] - d) * t[i];
              } else {
                t[i] = 0.0;
              }
@@ -289,7 +341,8 @@ void PkRun::run(SolveResult& res) {
     const double beta = conjugate_ ? G / G_old : 0.0;
     if (beta == 0.0) ++res.diagnostics.restarts;
     G_old = G;
-    const double sgt = direction(beta, force_ ? S.tsum / S.nc : 0.0);
+    const double tbar = force_ ? S.tsum / S.nc : 0.0;
+    const double sgt = precondition_ ? preconditioned_direction(tbar) : direction(beta, tbar);
     // (d) curvature along t from its transform alone (one forward transform)
     const double denom = spectral_.set_direction(t_);
     double tau;

@@ -161,6 +161,7 @@ SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st) {
   po.tolerance = opt_.tolerance;
   po.max_iterations = opt_.max_iterations;
   po.recompute_every = opt_.recompute_every;
+  po.precondition = opt_.precondition;
   PolonskyKeer pk(hs_, hp, po);  // its residual scale is that of h (hp == h here)
   ContactState inner;
   const bool warm = st.gap.size() == n && st.pressure.size() == n;

@@ -79,6 +79,7 @@ class QuasiStaticAdhesion {
     double tension_tolerance = 1e-3;
     int max_outer = 1000;
     int recompute_every = 32;  // passed to Polonsky-Keer
+    bool precondition = true;  // passed to Polonsky-Keer (its stiffness preconditioner)
     bool predict_jumps = true;  // the nonlinear Jacobi prediction (off: the plain iteration)
     bool cascade = true;        // jumps that trigger jumps within an outer step (needs predict_jumps)
   };

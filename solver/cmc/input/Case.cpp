@@ -408,6 +408,7 @@ void parse_solver(Section s, const InteractionSpec& in, const LoadingSpec& l, So
       s.integer("recompute_every", sv.recompute_every, "a positive number of iterations", 1, CaseLimits::kMaxIterations));
   sv.tension_tolerance = s.number("tension_tolerance", sv.tension_tolerance,
                                   "a relative change of the adhesive tension (quasi_static)", true);
+  sv.precondition = s.boolean("precondition", sv.precondition);
   s.finish();
 }
 
@@ -609,6 +610,7 @@ std::vector<DocumentedDefault> case_defaults() {
       {"solver", "max_iterations", n(sv.max_iterations)},
       {"solver", "recompute_every", n(sv.recompute_every)},
       {"solver", "tension_tolerance", n(sv.tension_tolerance)},
+      {"solver", "precondition", b(sv.precondition)},
       {"output", "fields", b(c.write_fields)},
       {"observables", "enabled", b(o.enabled)},
       {"observables", "cross_section_x", n(ObservablesSpec::kCrossSectionFraction) + " size"},

@@ -93,6 +93,9 @@ struct SolverSpec {
   int recompute_every = 32;
   // quasi_static only: outer convergence on the adhesive tension (QuasiStaticAdhesion.hpp).
   double tension_tolerance = 1e-3;
+  // Polonsky-Keer (also inside quasi_static): precondition its conjugate gradients with the
+  // half-space's stiffness on a periodic boundary (PolonskyKeer.hpp).
+  bool precondition = true;
 };
 
 struct ValidationCheck {

@@ -87,7 +87,9 @@ Options solver_options(const SolverSpec& spec, const Progress& progress) {
 // Polonsky–Keer (hard wall): no instabilities, so the steps are solved one after the other.
 void run_polonsky_keer(const Case& c, const Scene& s, Run& run, std::size_t first, ContactState& state,
                        const Progress& progress) {
-  PolonskyKeer solver(*s.half_space, s.topography.heights, solver_options<PolonskyKeer::Options>(c.solver, progress));
+  auto po = solver_options<PolonskyKeer::Options>(c.solver, progress);
+  po.precondition = c.solver.precondition;
+  PolonskyKeer solver(*s.half_space, s.topography.heights, po);
   for (std::size_t k = first; k < s.targets.size(); ++k) {
     test_point("solve");
     const SolveResult r = solver.solve(s.targets[k], state);
@@ -103,6 +105,7 @@ void run_quasi_static(const Case& c, const Scene& s, Run& run, std::size_t first
                       const Progress& progress) {
   auto o = solver_options<QuasiStaticAdhesion::Options>(c.solver, progress);
   o.tension_tolerance = c.solver.tension_tolerance;
+  o.precondition = c.solver.precondition;
   QuasiStaticAdhesion solver(*s.half_space, s.topography.heights, std::get<ExponentialAdhesion>(s.interaction), o);
   for (std::size_t k = first; k < s.targets.size(); ++k) {
     test_point("solve");
