@@ -200,7 +200,7 @@ HEADLINE = (("ar", "a_r", "relative contact area a_r", 1.0, 4),
             ("gap", "mean_gap", "mean gap ū (µm)", 1e6, 5))
 
 
-def _headline_errors(pair, adhesive):
+def _headline_errors(pair, adhesive, reference_dir):
     """{step key: (relative error, [sources])} for the shown run of a problem: the change to the next
     finer grid (local runs, else the family store's s = 1 runs) and, for adhesive runs, the
     strategy's error on the scaled family (reports/common.py); the error is the larger of the two."""
@@ -209,6 +209,11 @@ def _headline_errors(pair, adhesive):
     for key, short, _, _, _ in HEADLINE:
         srcs, errs = [], []
         change = _grid_change(pair, key) or (_family_grid_change(r, short) if adhesive and short else None)
+        if change is None and not adhesive and key in ("ar", "gap"):
+            q = "contact_area_vs_pressure" if key == "ar" else "mean_gap_vs_pressure"
+            b, ref = _stored_rel_band(reference_dir, q, False, [st["p"]])
+            if b is not None and np.isfinite(b[0]):
+                change = (float(b[0]), f"band of the stored `{ref['path']}` at this load")
         if change:
             errs.append(change[0])
             srcs.append(f"grid change {100 * change[0]:.2g} % ({change[1]})")
@@ -220,7 +225,7 @@ def _headline_errors(pair, adhesive):
     return out
 
 
-def _headline(runs):
+def _headline(runs, reference_dir):
     """The section that opens the report: a_r, repulsive a_r, mean gap and kappa = a_r / p~ at the
     reference load, with and without adhesion, each with its error, and how they compare with the
     problem definition's statements."""
@@ -230,14 +235,14 @@ def _headline(runs):
         return lines + ["Not computed yet: run `scripts/main.sh` (the challenge at 250 kPa with and without adhesion).", ""]
     cols, errs, kappa = [], [], {}
     for adhesive, pair in probs:
-        errs.append(_headline_errors(pair, adhesive) if pair else {})
+        errs.append(_headline_errors(pair, adhesive, reference_dir) if pair else {})
     rows = []
     for key, _, label, scale, digits in HEADLINE + (("kappa", "a_r", "κ = a_r / p̃", 1.0, 3),
                                                       ("kappa_corr", None, "κ from the perimeter-corrected a_r", 1.0, 3)):
         row = [label]
         for (adhesive, pair), err in zip(probs, errs):
             if not pair:
-                row.append("not computed yet")
+                row.append("not computed yet (`scripts/main.sh`)")
                 continue
             r, st = pair[0]
             src = {"kappa": "ar", "kappa_corr": "ar_corr"}.get(key, key)
@@ -264,7 +269,7 @@ def _headline(runs):
                      "quantity that converges as dx (the counted a_r does; the perimeter correction removes most "
                      "of that)." if not adhesive else ""), ""]
     ka, k0 = kappa.get((True, "kappa")), kappa.get((False, "kappa"))
-    k0c = kappa.get((False, "kappa_corr"))
+    kac, k0c = kappa.get((True, "kappa_corr")), kappa.get((False, "kappa_corr"))
     text = ["**Against the problem definition** (section \"Relative contact area as a function of load\": with "
             "adhesion κ is \"slightly greater than three\", \"increased by roughly 50 %\" over the adhesionless "
             "case, which puts the adhesionless κ near 2). Nothing in cmc was tuned toward these statements."]
@@ -276,8 +281,8 @@ def _headline(runs):
         text.append(f"With adhesion κ = {_pm(ka[0], ka[1], 3)}: its error bar "
                     + ("includes 3." if lo <= 3 <= hi else f"lies {'below' if hi < 3 else 'above'} 3."))
     if ka and k0:
-        text.append(f"The ratio with/without adhesion is {ka[0] / k0[0]:.3g} (counted a_r)"
-                    + (f", {ka[0] / k0c[0]:.3g} against the corrected adhesionless a_r" if k0c else "")
+        text.append(f"The ratio with/without adhesion is {ka[0] / k0[0]:.3g} (counted a_r on both sides)"
+                    + (f" and {kac[0] / k0c[0]:.3g} (perimeter-corrected on both)" if kac and k0c else "")
                     + " where the problem definition says about 1.5; the adhesive runs do not resolve ρ "
                       "(see the last section), so this comparison is only as good as their error bar.")
     return lines + [" ".join(text), ""]
@@ -363,11 +368,30 @@ def _stored_note(ref):
             f"({m.get('sampling', '')}); not rerun here")
 
 
+def _stored_rel_band(reference_dir, quantity, adhesive, x):
+    """(relative band at x, stored curve): the stored reference's band over its values, interpolated
+    at x in its representation (NaN outside its range); (None, None) without a banded stored curve.
+    How a run that has no finer grid here borrows the band measured when the references were made."""
+    ref = _stored(reference_dir, quantity, adhesive)
+    if ref is None or ref["band"] is None:
+        return None, None
+    logx = ref["meta"].get("representation", "lin-lin").startswith("log")
+    xr, rb = ref["x"], ref["band"] / np.abs(ref["y"])
+    o = np.argsort(xr)
+    xr, rb = xr[o], rb[o]
+    x = np.asarray(x, dtype=float)
+    out = np.full(len(x), np.nan)
+    ok = np.isfinite(x) & ((x > 0) if logx else True) & (x >= xr[0]) & (x <= xr[-1])
+    t = np.log if logx else (lambda v: v)
+    out[ok] = np.interp(t(x[ok]), t(xr), rb)
+    return out, ref
+
+
 def _merged_sweeps(runs):
     """Load sweeps grouped by (case name, grid): one curve each, from several runs where a sweep was
     continued in another run (e.g. the high loads). At a pressure that two runs share, the step of
-    the run that starts at the lowest load (the longest continuation) is kept, and the pair is
-    returned for the note. [(run, steps sorted by p, [(p, kept step, other step)])]."""
+    the run that starts at the lowest load (the longest continuation) is kept unless only the
+    other one converged, and the pair is returned for the note. [(run, steps sorted by p, [(p, kept step, other step)])]."""
     groups = {}
     for r in runs:
         if r.is_load_sweep():
@@ -381,8 +405,11 @@ def _merged_sweeps(runs):
                 if not (st["p"] and st["p"] > 0 and st["ar"] is not None):
                     continue
                 key = round(st["p"], 6)
-                if key in steps:
-                    shared.append((st["p"], steps[key], st))
+                if key in steps and st["converged"] and not steps[key]["converged"]:
+                    shared.append((st["p"], dict(st, run=r), steps[key]))  # a converged step replaces one that is not
+                    steps[key] = dict(st, run=r)
+                elif key in steps:
+                    shared.append((st["p"], steps[key], dict(st, run=r)))
                 else:
                     steps[key] = dict(st, run=r)
         out.append((rs[0], [steps[k] for k in sorted(steps)], shared))
@@ -651,8 +678,22 @@ def _problem(r):
     return "with adhesion" if r.adhesive else "without adhesion"
 
 
+def _band_or_stored(c, d, finer_curve, finer_nx, logx, logy, reference_dir, quantity, adhesive):
+    """(band, legend text, table text) of a curve (c, d) at the reference load: its change to the
+    same case on the next finer grid when that run is here, else the stored reference's relative
+    band; (None, ...) when neither exists."""
+    if finer_curve is not None:
+        b = refinement_band(c, d, finer_curve[0], finer_curve[1], logx, logy)
+        if np.isfinite(b).any():
+            return b, f"band: change to {finer_nx}²", f"|this − {finer_nx}²| at {int(np.isfinite(b).sum())} of {len(c)} points"
+    rb, ref = _stored_rel_band(reference_dir, quantity, adhesive, c)
+    if rb is not None and np.isfinite(rb).any():
+        return rb * np.abs(d), "band: stored reference's, relative", f"the relative band of `{ref['path']}`"
+    return None, "", "–"
+
+
 def _hist_figure(dists, key_edges, key_density, xscale, yscale, xunit, yunit, xlabel, ylabel, title, path,
-                 data_dir, csv_names, csv_stem, extra=None):
+                 data_dir, csv_names, csv_stem, reference_dir, extra=None):
     fig, ax = plt.subplots(figsize=(6, 4.4))
     rows, csvs = [], []
 
@@ -671,24 +712,21 @@ def _hist_figure(dists, key_edges, key_density, xscale, yscale, xunit, yunit, xl
         line, = ax.plot(c[m] * xunit, d[m] * yunit, ".-", ms=3, lw=0.8,
                         label=f"{_problem(r)}: {r.label}, p = {st['p'] / 1e3:.4g} kPa")
         cols = [(csv_names[0], c[m]), (csv_names[1], d[m])]
-        band_from = "–"
         fc = curve(finer[1]) if finer else None
-        if fc is not None:
-            b = refinement_band(c[m], d[m], fc[0], fc[1], xscale == "log", yscale == "log")
+        b, legend, band_from = _band_or_stored(c[m], d[m], fc, finer[0].nx if finer else None, xscale == "log",
+                                               yscale == "log", reference_dir, csv_stem, r.adhesive)
+        if b is not None:
             ok = np.isfinite(b)
-            if ok.any():
-                lo = d[m] - np.where(ok, b, 0)
-                if yscale == "log":
-                    lo = np.maximum(lo, d[m] * 1e-3)
-                ax.fill_between(c[m] * xunit, lo * yunit, (d[m] + np.where(ok, b, 0)) * yunit, where=ok,
-                                color=line.get_color(), alpha=0.2, lw=0,
-                                label=f"band: change to {finer[0].nx}²")
-                cols.append((csv_names[1] + "_err", b))
-                band_from = f"|{r.nx}² − {finer[0].nx}²| at {int(ok.sum())} of {int(m.sum())} bins"
+            lo = d[m] - np.where(ok, b, 0)
+            if yscale == "log":
+                lo = np.maximum(lo, d[m] * 1e-3)
+            ax.fill_between(c[m] * xunit, lo * yunit, (d[m] + np.where(ok, b, 0)) * yunit, where=ok,
+                            color=line.get_color(), alpha=0.2, lw=0, label=legend)
+            cols.append((csv_names[1] + "_err", b))
         csv = os.path.join(data_dir, f"{csv_stem}__{r.tag()}.csv")
         write_csv(csv, cols, f"cmc challenge {csv_stem}: {r.name}, grid {r.nx}x{r.ny}, step at p = {st['p']:.6g} Pa\n"
                              "bin centres (geometric for log bins) and probability densities, SI"
-                             + ("; *_err: |change to the finer grid| (nan: outside its range)" if len(cols) > 2 else ""))
+                             + (f"; *_err: the band ({band_from}; nan: none there)" if len(cols) > 2 else ""))
         csvs.append(csv)
         e = obs[key_edges]
         rows.append([_problem(r), r.label, fmt(st["p"] / 1e3, 4), len(d), f"{fmt(e[0] * xunit, 3)} – {fmt(e[-1] * xunit, 3)}",
@@ -709,7 +747,7 @@ def _hist_figure(dists, key_edges, key_density, xscale, yscale, xunit, yunit, xl
     return path, rows, csvs
 
 
-def _spectrum(dists, out_dir, data_dir):
+def _spectrum(dists, out_dir, data_dir, reference_dir):
     fig, ax = plt.subplots(figsize=(6, 4.4))
     rows, csvs = [], []
 
@@ -727,16 +765,14 @@ def _spectrum(dists, out_dir, data_dir):
         q, C = got
         line, = ax.loglog(q, C, ".-", ms=3, lw=0.8, label=f"{_problem(r)}: {r.label}, p = {st['p'] / 1e3:.4g} kPa")
         cols = [("q_per_m", q), ("C_Pa2m2", C)]
-        band_from = "–"
         fc = curve(finer[1]) if finer else None
-        if fc is not None:
-            b = refinement_band(q, C, fc[0], fc[1], True, True)
+        b, legend, band_from = _band_or_stored(q, C, fc, finer[0].nx if finer else None, True, True, reference_dir,
+                                               "stress_spectrum", r.adhesive)
+        if b is not None:
             ok = np.isfinite(b)
-            if ok.any():
-                ax.fill_between(q, np.maximum(C - np.where(ok, b, 0), C * 1e-3), C + np.where(ok, b, 0), where=ok,
-                                color=line.get_color(), alpha=0.2, lw=0, label=f"band: change to {finer[0].nx}²")
-                cols.append(("C_Pa2m2_err", b))
-                band_from = f"|{r.nx}² − {finer[0].nx}²| at {int(ok.sum())} of {len(q)} points"
+            ax.fill_between(q, np.maximum(C - np.where(ok, b, 0), C * 1e-3), C + np.where(ok, b, 0), where=ok,
+                            color=line.get_color(), alpha=0.2, lw=0, label=legend)
+            cols.append(("C_Pa2m2_err", b))
         csv = os.path.join(data_dir, f"stress_spectrum__{r.tag()}.csv")
         write_csv(csv, cols, f"cmc challenge stress spectrum: {r.name}, grid {r.nx}x{r.ny}, step at p = {st['p']:.6g} Pa\n"
                              "isotropic spectral density of the interfacial stress, integral d^2q C(q) = variance")
@@ -823,8 +859,8 @@ def _cross_section(dists, out_dir, data_dir):
     axes[1, 0].set_ylabel("interfacial stress p (MPa, compressive > 0)")
     axes[1, 1].set_ylabel("p (MPa)")
     axes[0, 0].set_title("9. gap and stress along the cross section x = 50 µm", fontsize=10)
-    axes[0, 1].set_title(f"zoom: y = {(yc - 1e-6) * 1e6:.4g} – {(yc + 1e-6) * 1e6:.4g} µm, around a contact line "
-                         f"of {_problem(r0)}", fontsize=9)
+    axes[0, 1].set_title(f"zoom: y = {(yc - 1e-6) * 1e6:.4g} – {(yc + 1e-6) * 1e6:.4g} µm (one window for all runs)",
+                         fontsize=9)
     for a in axes.ravel():
         a.set_xlabel("y (µm)")
         a.grid(True, alpha=0.3)
@@ -923,7 +959,7 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
              "ḡ = 1, L = 0.1 mm, λ_r = 20 µm, λ_s = 0.1 µm, H = 0.8, γ0 = 50 mJ/m², ρ = 2.071 nm (μ_T = 3), reference "
              "pressure p = 250 kPa = 0.01 E*ḡ. Numbers behind every figure are in `data/*.csv` (columns as `cmc check` "
              "reads them). The last section says how each number was obtained and how far to trust it.", ""]
-    lines += _headline(runs)
+    lines += _headline(runs, reference_dir)
     tail = ["## How the numbers were obtained, and how far to trust them", ""]
     if not runs:
         tail += [f"No challenge runs found under `{results_dir}/` (a summary.json whose case name starts with "
@@ -969,7 +1005,7 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
     patch = _hist_figure(dists, "patch_area_edges", "patch_area_density", "log", "log", 1e12, 1e-12,
                          "contact patch area A (µm²)", "probability density of A (1/µm²)",
                          "1. contact patch size distribution", os.path.join(out_dir, "patch_size_distribution.png"),
-                         data_dir, ("patch_area_m2", "density_per_m2"), "patch_size_distribution")
+                         data_dir, ("patch_area_m2", "density_per_m2"), "patch_size_distribution", reference_dir)
     dist_cols = ["problem", "run", "p (kPa)", "bins", "range ({})", "band"]
     section(1, "Distribution of contact patch size (log-log)", patch, [c.format("µm²") for c in dist_cols])
 
@@ -997,16 +1033,16 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
     gap = _hist_figure(dists, "gap_hist_edges", "gap_hist_density", "log", "log", 1e6, 1e-6,
                        "gap g (µm)", "probability density P(g) (1/µm)", "3. gap distribution (contact points excluded)",
                        os.path.join(out_dir, "gap_distribution.png"), data_dir, ("gap_m", "density_per_m"),
-                       "gap_distribution")
+                       "gap_distribution", reference_dir)
     section(3, "Gap distribution function (log-log)", gap, [c.format("µm") for c in dist_cols])
     stress = _hist_figure(dists, "stress_hist_edges", "stress_hist_density", "linear", "log", 1e-6, 1e6,
                           "interfacial stress p (MPa, compressive > 0)", "probability density P(p) (1/MPa)",
                           "4. interfacial stress distribution", os.path.join(out_dir, "stress_distribution.png"),
-                          data_dir, ("stress_Pa", "density_per_Pa"), "stress_distribution",
+                          data_dir, ("stress_Pa", "density_per_Pa"), "stress_distribution", reference_dir,
                           extra=lambda ax: ax.axvline(0, color="gray", lw=0.8))
     section(4, "Interfacial stress distribution (stress linear, probability logarithmic)", stress,
             [c.format("MPa") for c in dist_cols])
-    section(5, "Interfacial stress spectrum (log-log)", _spectrum(dists, out_dir, data_dir),
+    section(5, "Interfacial stress spectrum (log-log)", _spectrum(dists, out_dir, data_dir, reference_dir),
             ["problem", "run", "p (kPa)", "q points", "q range (1/m)", "band"])
     tabor_cols = ["μ_T", "run", "grid", "p (kPa)", "a_r", "repulsive fraction", "mean gap (nm)"]
     section(6, "Contact area as a function of the Tabor coefficient (log μ_T)", tabor["area"], tabor_cols,
