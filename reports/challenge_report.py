@@ -87,6 +87,7 @@ class Run:
                 "p": pick("mean_pressure"), "ar": pick("contact_fraction"),
                 "ar_corr": pick("contact_fraction_corrected"), "rep": pick("repulsive_fraction"),
                 "att": pick("attractive_fraction"), "gap": pick("mean_gap"), "n_patches": pick("n_patches"),
+                "perimeter": pick("contact_perimeter"),
                 "tabor": float(tabor) if finite(tabor) else run_tabor,
                 "converged": st.get("converged", True), "branch": st.get("branch", ""),
                 "has_observables": bool(ob),
@@ -176,6 +177,36 @@ def grid_change(pair, key):
 def _grid_change(pair, key):
     got = grid_change(pair, key)
     return got and (got[0], f"{got[1].nx}² → {got[2].nx}², `{got[2].folder}`")
+
+
+def hardwall_sweep_band(pair, r, steps, key):
+    """Per-step absolute band of a hard-wall load sweep (run r on the grid of pair[0]) for key "ar"
+    or "gap", from the grid change of the run at 250 kPa (pair: coarsest first), with a sentence
+    saying how; (None, "") without a change. a_r: the counted area's grid error is a boundary
+    effect, first order in dx times the contact perimeter, so the change at 250 kPa is scaled by
+    each step's perimeter over that at 250 kPa; at least one grid point (1/N^2, the count's
+    quantum). Mean gap: the relative change at 250 kPa at every load (assumed), at least the
+    solver's tolerance times the rms height."""
+    ch = grid_change(pair, key)
+    if not ch or ch[1].nx != r.nx:
+        return None, ""
+    a0 = pair[0][1]
+    if key == "ar":
+        p0 = a0.get("perimeter")
+        if not p0 or any(st.get("perimeter") is None for st in steps):
+            return None, ""
+        d0 = abs(a0["ar"] - pair[1][1]["ar"])
+        quantum = 1.0 / (r.nx * r.ny)
+        band = [max(d0 * st["perimeter"] / p0, quantum) for st in steps]
+        return band, (f"the change of a_r at 250 kPa from {ch[1].nx}^2 to {ch[2].nx}^2 ({d0:.3g}) scaled by each load's "
+                      "contact perimeter over that at 250 kPa (the counted area's grid error is a boundary effect), "
+                      f"at least one grid point (1/{r.nx}^2)")
+    tol = get(r.s, "case", "solver", "tolerance") or 0.0
+    h = get(r.s, "surface_facts", "rms_height") or 0.0
+    band = [max(ch[0] * abs(st["gap"]), tol * h) for st in steps]
+    return band, (f"the relative change of the mean gap at 250 kPa from {ch[1].nx}^2 to {ch[2].nx}^2 "
+                  f"({100 * ch[0]:.2g} %) at every load (assumed), at least the solver's tolerance times the rms "
+                  "height")
 
 
 def _family_grid_change(run, short):
@@ -393,8 +424,9 @@ def _merged_sweeps(runs):
     the run that starts at the lowest load (the longest continuation) is kept unless only the
     other one converged, and the pair is returned for the note. [(run, steps sorted by p, [(p, kept step, other step)])]."""
     groups = {}
-    for r in runs:
-        if r.is_load_sweep():
+    sweeps = {(r.name, r.nx) for r in runs if r.is_load_sweep()}
+    for r in runs:  # a continuation may hold only one or two loads
+        if (r.name, r.nx) in sweeps:
             groups.setdefault((r.name, r.nx), []).append(r)
     out = []
     for _, rs in sorted(groups.items()):
@@ -429,14 +461,15 @@ def _load_sweep(runs, out_dir, data_dir, case_dir, reference_dir):
     Es = sweeps[0][0].Estar if sweeps else CHALLENGE["Estar"]
     hw_pair = _reference_load_runs(runs, False)
 
-    def band_of(r, key, short):
-        """(relative band, what it is) of a sweep: the strategy's error for adhesive runs; for the hard
-        wall the grid change of the run at 250 kPa, assumed at every load."""
+    def band_of(r, pts, key, short):
+        """(absolute band per point or None, legend text) of a sweep: the strategy's relative error
+        for adhesive runs; for the hard wall hardwall_sweep_band."""
         if r.adhesive:
             b = _band(r, short)
-            return b, "strategy error, scaled family"
-        ch = grid_change(hw_pair, key)
-        return (ch[0], f"grid change {ch[1].nx}² → {ch[2].nx}² at 250 kPa, assumed at every load") if ch else (None, "")
+            return (None, "") if not b else ([b * abs(st[key]) for st in pts],
+                                             f"± {100 * b:.3g} %, strategy error, scaled family")
+        band, _ = hardwall_sweep_band(hw_pair, r, pts, key)
+        return band, f"grid change {hw_pair[0][0].nx}² → {hw_pair[1][0].nx}² at 250 kPa, scaled" if band else ""
 
     # Item 2: contact area vs pressure.
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.4))
@@ -444,12 +477,14 @@ def _load_sweep(runs, out_dir, data_dir, case_dir, reference_dir):
     for r, pts, shared in sweeps:
         pt = np.array([s["p"] / r.Estar for s in pts])
         ar = np.array([s["ar"] for s in pts])
-        (band_ar, what_ar), (band_gap, _) = band_of(r, "ar", "a_r"), band_of(r, "gap", "mean_gap")
+        (band_ar, what_ar) = band_of(r, pts, "ar", "a_r")
+        band_gap = band_of(r, pts, "gap", "mean_gap")[0] if all(s["gap"] is not None for s in pts) else None
         lab = f"{_problem(r)}: {r.label}"
         line, = a1.loglog(pt, ar, "o-", ms=4, label=lab)
         if band_ar:
-            a1.fill_between(pt, ar * (1 - band_ar), ar * (1 + band_ar), color=line.get_color(), alpha=0.2, lw=0,
-                            label=f"± {100 * band_ar:.3g} % ({what_ar})")
+            a1.fill_between(pt, ar - np.array(band_ar), np.minimum(ar + np.array(band_ar), 1.0), color=line.get_color(),
+                            alpha=0.2,
+                            lw=0, label=what_ar)
         corr = [(s["p"] / r.Estar, s["ar_corr"]) for s in pts if s["ar_corr"] is not None]
         if corr:
             a1.loglog([c[0] for c in corr], [c[1] for c in corr], "s--", ms=3, mfc="none", color=line.get_color(),
@@ -466,13 +501,16 @@ def _load_sweep(runs, out_dir, data_dir, case_dir, reference_dir):
         write_csv(csv, cols, f"cmc challenge load sweep: {r.name}, grid {r.nx}x{r.ny}, from "
                              + ", ".join(sorted({s['run'].folder for s in pts})) + "\n"
                              "checkable with: cmc check FILE --quantity contact_area_vs_pressure | mean_gap_vs_pressure")
-        rows = [[fmt(s["p"] / 1e3, 4), fmt(s["p"] / r.Estar, 3), _pm(s["ar"], band_ar), fmt(s["ar_corr"], 4),
-                 _pm(s["gap"], band_gap, scale=1e6), fmt(s["n_patches"]),
-                 "yes" if s["converged"] else "**no**"] for s in pts]
+        def pm_abs(v, b, scale=1.0):
+            return fmt(v * scale, 4) + (f" ± {fmt(b * scale, 2)}" if b else "") if v is not None else fmt(None)
+
+        rows = [[fmt(s["p"] / 1e3, 4), fmt(s["p"] / r.Estar, 3), pm_abs(s["ar"], band_ar[k] if band_ar else None),
+                 fmt(s["ar_corr"], 4), pm_abs(s["gap"], band_gap[k] if band_gap else None, 1e6), fmt(s["n_patches"]),
+                 "yes" if s["converged"] else "**no**"] for k, s in enumerate(pts)]
         tables.append((r, csv, rows))
         folders = sorted({s["run"].folder for s in pts})
         if len(folders) > 1:
-            res["notes"].append(f"The {_problem(r)} sweep on {r.nx}² joins {len(folders)} runs ("
+            res["notes"].append(f"The sweep {_problem(r)} on {r.nx}² joins {len(folders)} runs ("
                                 + ", ".join(f"`{f}`" for f in folders) + ")"
                                 + ("; where two share a load, the longer continuation is kept: "
                                    + "; ".join(f"at {p / 1e6:.4g} MPa a_r {a['ar']:.4g} (kept, from `{a['run'].folder}`) "
@@ -483,7 +521,7 @@ def _load_sweep(runs, out_dir, data_dir, case_dir, reference_dir):
                                      "much the load path matters)" if shared else "") + ".")
         unconverged = [s for s in pts if not s["converged"]]
         if unconverged:
-            res["notes"].append(f"The {_problem(r)} sweep on {r.nx}²: the solver stopped before its tolerance at "
+            res["notes"].append(f"The sweep {_problem(r)} on {r.nx}²: the solver stopped before its tolerance at "
                                 + ", ".join(f"{s['p'] / 1e6:.4g} MPa" for s in unconverged)
                                 + " (those points are drawn but marked **no** in the table).")
     for ad, (ref_ar, _) in stored.items():
@@ -520,10 +558,10 @@ def _load_sweep(runs, out_dir, data_dir, case_dir, reference_dir):
             any_gap = True
             x, g = np.array([s["p"] / r.Estar for s in pts]), np.array([s["gap"] * 1e6 for s in pts])
             line, = ax.semilogx(x, g, "o-", ms=4, label=f"{_problem(r)}: {r.label}")
-            band, what = band_of(r, "gap", "mean_gap")
+            band, what = band_of(r, pts, "gap", "mean_gap")
             if band:
-                ax.fill_between(x, g * (1 - band), g * (1 + band), color=line.get_color(), alpha=0.2, lw=0,
-                                label=f"± {100 * band:.3g} % ({what})")
+                b = np.array(band) * 1e6
+                ax.fill_between(x, g - b, g + b, color=line.get_color(), alpha=0.2, lw=0, label=what)
     for ad, (_, ref_gap) in stored.items():
         if ref_gap is None:
             continue
@@ -1025,8 +1063,10 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
                  "converged reference plus that reference's refinement error; `reference/challenge-scaled/`). It was "
                  "measured at μ_T = 3 and 250 kPa; that it holds at other loads and μ_T is assumed, not measured. A "
                  "run whose dx/ρ the family has not measured carries no band. The solvers are deterministic, so there "
-                 "is no round-off spread. For the hard wall (no adhesion) the band is the change of a_r or of the mean "
-                 "gap at 250 kPa from the grid shown to the next finer one, applied at every load (assumed). "
+                 "is no round-off spread. For the hard wall (no adhesion) the band comes from the change at 250 kPa "
+                 "from the grid shown to the next finer one: for a_r scaled by each load's contact perimeter (the "
+                 "counted area's grid error is a boundary effect), for the mean gap the same relative change at every "
+                 "load (assumed). "
                  + transfer_caveat(), ""]
     section(2, "Contact area as a function of pressure (log-log; 1 − a_r for the approach to full contact)",
             area_rows(sweep["area"]), sweep_cols, band_note + [n + "\n" for n in sweep["notes"]])

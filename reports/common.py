@@ -205,8 +205,12 @@ def family_members(path=FAMILY_STORE):
 
 def strategy_run_near(r, strategy, dx_over_rho):
     """Whether run r is a family run (dx = k rho) of the strategy within a factor 1.3 of dx_over_rho.
-    The family's resolved and refinement runs are plain runs too (at about 0.8 and 1.6 rho)."""
+    The family's resolved and refinement runs are plain runs too (at about 0.8 and 1.6 rho); a plain
+    run finer than the resolved one takes the resolved run's (the converged reference's refinement
+    error: resolving rho better is not expected to do worse)."""
     plain_grid = strategy == "plain" and r["role"] in ("resolved", "refinement")
+    if strategy == "plain" and r["role"] == "resolved" and dx_over_rho <= r["dx_over_rho"]:
+        return True
     return ((plain_grid or (r["role"].startswith(strategy + "_") and r["role"].endswith("rho")))
             and abs(math.log(r["dx_over_rho"] / dx_over_rho)) < math.log(1.3))
 

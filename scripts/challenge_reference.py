@@ -43,7 +43,7 @@ import numpy as np
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 sys.path.insert(0, os.path.join(ROOT, "reports"))
 from challenge_report import (Run, _centers, _find_runs, _merged_sweeps, _observables,  # noqa: E402
-                              _reference_load_runs, grid_change, refinement_band)  # (the report's extraction)
+                              _reference_load_runs, grid_change, hardwall_sweep_band, refinement_band)  # (the report's extraction)
 from common import CHALLENGE, FAMILY_STORE, load_json, run_strategy_error, transfer_caveat  # noqa: E402
 
 RHO, LAMBDA_S, P0 = CHALLENGE["rho"], CHALLENGE["lambda_s"], CHALLENGE["p0"]
@@ -117,6 +117,9 @@ def _mtime_utc(path):
 def _grid_text(run):
     """The grid, with dx/rho and dx/lambda_s as cmc computed them (summary.json surface_facts)."""
     facts = run.s.get("surface_facts") or {}
+    if "dx_over_range" not in facts:  # no adhesion: no range to compare with
+        return (f"{run.nx}x{run.ny}, dx = {run.dx * 1e9:.4g} nm = "
+                f"{facts.get('dx_over_cutoff_wavelength', float('nan')):.3g} lambda_s (L = {run.size * 1e6:.4g} um)")
     return (f"{run.nx}x{run.ny}, dx = {run.dx * 1e9:.4g} nm = {facts.get('dx_over_range', float('nan')):.3g} rho "
             f"= {facts.get('dx_over_cutoff_wavelength', float('nan')):.3g} lambda_s "
             f"(L = {run.size * 1e6:.4g} um; rho = {RHO * 1e9:.4g} nm)")
@@ -312,7 +315,7 @@ def _with_refinement_band(curve, x, y, xf, yf, log_x, log_y, n, nf, base_error):
     curve["estimated_error"] = (f"band: per point, |this curve ({n}^2) - the same run on the next finer grid ({nf}^2)|, "
                                 "the finer curve interpolated in the representation (median "
                                 f"{100 * med:.2g} % of the value): the change under one refinement, a lower estimate "
-                                "of the grid error. " + base_error)
+                                "of the grid error. " + base_error).strip()
     return curve
 
 
@@ -412,10 +415,10 @@ def reference_load_curves(run, hw, notes, finer=None):
                                          ("sampling", f"every grid point of the line ({len(x)}), from result.h5 "
                                                       f"step_{int(st['index']):04d}/observables/cross_section_*"),
                                          ("generator", GENERATOR)],
-                           estimated_error="no band: a profile at fixed y moves by a grid spacing wherever a contact "
-                                           "line crosses it, so a pointwise comparison of two grids measures where the "
-                                           "lines sit, not an error of the values (the distributions carry the grid "
-                                           "error of the same fields). " + base(keys)))
+                           estimated_error=("no band: a profile at fixed y moves by a grid spacing wherever a "
+                                            "contact line crosses it, so a pointwise comparison of two grids measures "
+                                            "where the lines sit, not an error of the values (the distributions carry "
+                                            "the grid error of the same fields). " + base(keys)).strip()))
     return curves, st
 
 
@@ -460,14 +463,13 @@ def load_sweep_curves(runs, hw, adhesive, ref_pair):
         if adhesive:
             c = with_band(c, r, short)
         else:
-            ch = _grid_change_of(ref_pair, key)
-            if ch:
-                add_band(c, [ch[0]] * len(pts))
-                c["estimated_error"] = (
-                    f"band: +-{100 * ch[0]:.2g} % at every load, the relative change of this quantity at 250 kPa "
-                    f"from {ch[1]}; that it holds at the other loads is assumed, not measured (the counted contact "
-                    "area's grid error is a perimeter effect, relatively smaller as the contact grows). The solver is "
-                    "deterministic (same bits on a rerun): no round-off spread.")
+            band, how = hardwall_sweep_band(ref_pair, r, pts, key)
+            if band:
+                add_band(c, [b / abs(v) if v else 0.0 for b, v in zip(band, vals)])
+                c["columns"][-1] = c["columns"][-1][:3] + (band,)  # absolute: exact where the value is 0
+                ch = _grid_change_of(ref_pair, key)
+                c["estimated_error"] = (f"band per point: {how} ({ch[1]}). The solver is deterministic (same bits on a "
+                                        "rerun): no round-off spread.")
         curves.append(c)
     return curves
 
@@ -570,16 +572,20 @@ def readme_adhesionless(curves, pair):
         L += ["## Accuracy", "",
               f"The hard-wall problem converges under refinement (no adhesion range to resolve). The bands are the "
               f"change of each curve between {r0.nx}² and {r1.nx}² (`{_rel(r0.folder)}`, `{_rel(r1.folder)}`): per "
-              f"point for the distributions and the spectrum; for the load sweep (only run on {r0.nx}²) the relative "
-              f"change at 250 kPa (contact fraction {a['ar']:.5g} → {b['ar']:.5g}, mean gap {a['gap'] * 1e6:.6g} → "
-              f"{b['gap'] * 1e6:.6g} µm), applied at every load (assumed). A change under one refinement is a lower "
+              f"point for the distributions and the spectrum; for the load sweep (only run on {r0.nx}²) the change at "
+              f"250 kPa (contact fraction {a['ar']:.5g} → {b['ar']:.5g}, mean gap {a['gap'] * 1e6:.6g} → "
+              f"{b['gap'] * 1e6:.6g} µm), for a_r scaled by each load's contact perimeter (the counted area's grid "
+              "error is a boundary effect; at least one grid point), for the mean gap the same relative change at "
+              "every load (assumed; at least the solver's tolerance times the rms height). A change under one refinement is a lower "
               "estimate of the grid error; the counted contact area converges as dx, its perimeter-corrected value "
               "much faster (see each file's `estimated_error`).", ""]
     L += ["## Regenerate", "", "```",
           "build/cmc run cases/challenge/reference-load-hardwall.toml --out results/challenge-hardwall",
           "build/cmc run cases/challenge/reference-load-hardwall.toml --set grid.n=4096 --out results/challenge-hardwall-n4096",
           "build/cmc run cases/challenge/load-sweep-hardwall.toml --out results/challenge-load-sweep-hardwall",
-          "/usr/bin/python3 scripts/challenge_reference.py", "```", ""]
+          "/usr/bin/python3 scripts/challenge_reference.py", "```", "",
+          "(all in `scripts/sweeps.sh`; the stored sweep joins two runs, the loads above 25 MPa run after the case "
+          "file was extended: each file's `command` line says so).", ""]
     return "\n".join(L)
 
 
@@ -654,22 +660,22 @@ def readme(curves, out_dir, hw, ref_run, ref_step):
               "fraction converges slowly, the perimeter-corrected one much faster.) The hard-wall curves are in "
               "[adhesionless/](adhesionless/README.md).", ""]
     L += ["## Regenerate", "",
-          "The commands that made the stored files, with their `--set` options, are in each file's `command` line. "
-          "In general:", "",
+          "One command runs everything behind these files (and `adhesionless/`), resumable, then rewrites them: "
+          "`scripts/sweeps.sh` (hours on 2 cores; the commands it runs, with their `--set` options, are also in "
+          "each file's `command` line). Its parts:", "",
           "```",
           "build/cmc run cases/challenge/reference-load.toml --out results/challenge-reference   # items 1, 3, 4, 5, 9",
           "build/cmc run cases/challenge/reference-load.toml --set grid.n=4096 --out results/challenge-reference-n4096"
           "   # their bands",
-          "build/cmc run cases/challenge/load-sweep.toml --out results/challenge-load-sweep      # items 2, 8",
+          "build/cmc run cases/challenge/load-sweep.toml --out results/challenge-load-sweep ...  # items 2, 8 (two runs)",
           "scripts/tabor_sweep.sh                                                                 # items 6, 7",
           "/usr/bin/python3 scripts/scaled_family.py --s 32 --coarse 2 4 6 8 12 24 --store reference/challenge-scaled"
-          "   # the bands",
-          "build/cmc refine cases/challenge/reference-load-hardwall.toml --grids 2048 4096     # hard-wall context",
+          "   # the strategy bands",
           "/usr/bin/python3 scripts/challenge_reference.py        # rewrites reference/challenge/*.csv and this README",
           "build/cmc check reports/challenge/data/gap_distribution__challenge-reference_2048.csv --quantity gap_distribution",
           "```", "",
-          "To refine, raise `grid.n` (e.g. `--set grid.n=4096`) in the runs above and regenerate; state the change "
-          "against the previous grid in `estimated_error` once two adhesive grids exist.", ""]
+          "A finer grid (e.g. `--set grid.n=8192` for the reference load) gives the next band once its run is in "
+          "`results/`: the curves take the band from the next finer run of the same case.", ""]
     return "\n".join(L)
 
 
