@@ -209,6 +209,20 @@ def hardwall_sweep_band(pair, r, steps, key):
                   "height")
 
 
+def _stored_grid_change(reference_dir, adhesive, key, nx):
+    """The change of a headline quantity (step key) at the reference load between the grid nx and
+    the next finer one, as the stored references recorded it when they were made (the key
+    reference_load_grid_change of contact_area_vs_pressure.csv, scripts/challenge_reference.py),
+    with where it comes from; None where they hold none for this grid."""
+    ref = _stored(reference_dir, "contact_area_vs_pressure", adhesive)
+    text = ref["meta"].get("reference_load_grid_change", "") if ref else ""
+    m = re.search(r"\((\d+)\^2 to (\d+)\^2", text)
+    got = dict(kv.split("=", 1) for kv in text.split(" (")[0].split() if "=" in kv)
+    if not m or int(m.group(1)) != nx or key not in got:
+        return None
+    return float(got[key]), f"{m.group(1)}² → {m.group(2)}², recorded in `{ref['path']}`"
+
+
 def _family_grid_change(run, short):
     """For an adhesive run on a grid where the family store holds the challenge's own (s = 1) runs
     of the same strategy: the relative change of `short` (a_r, a_rep, mean_gap) from that grid to
@@ -239,12 +253,8 @@ def _headline_errors(pair, adhesive, reference_dir):
     out = {}
     for key, short, _, _, _ in HEADLINE:
         srcs, errs = [], []
-        change = _grid_change(pair, key) or (_family_grid_change(r, short) if adhesive and short else None)
-        if change is None and not adhesive and key in ("ar", "gap"):
-            q = "contact_area_vs_pressure" if key == "ar" else "mean_gap_vs_pressure"
-            b, ref = _stored_rel_band(reference_dir, q, False, [st["p"]])
-            if b is not None and np.isfinite(b[0]):
-                change = (float(b[0]), f"band of the stored `{ref['path']}` at this load")
+        change = _grid_change(pair, key) or _stored_grid_change(reference_dir, adhesive, key, r.nx) or \
+            (_family_grid_change(r, short) if adhesive and short else None)
         if change:
             errs.append(change[0])
             srcs.append(f"grid change {100 * change[0]:.2g} % ({change[1]})")
@@ -407,7 +417,8 @@ def _stored_rel_band(reference_dir, quantity, adhesive, x):
     if ref is None or ref["band"] is None:
         return None, None
     logx = ref["meta"].get("representation", "lin-lin").startswith("log")
-    xr, rb = ref["x"], ref["band"] / np.abs(ref["y"])
+    y = np.abs(ref["y"])
+    xr, rb = ref["x"], np.divide(ref["band"], y, out=np.full(len(y), np.nan), where=y > 0)
     o = np.argsort(xr)
     xr, rb = xr[o], rb[o]
     x = np.asarray(x, dtype=float)

@@ -48,6 +48,7 @@ from common import CHALLENGE, FAMILY_STORE, load_json, run_strategy_error, trans
 
 RHO, LAMBDA_S, P0 = CHALLENGE["rho"], CHALLENGE["lambda_s"], CHALLENGE["p0"]
 GENERATOR = "scripts/challenge_reference.py (extraction: reports/challenge_report.py)"
+STORED_CHANGE_KEY = "reference_load_grid_change"  # read by reports/challenge_report.py
 
 
 # ------------------------------------------------------------------ the format: cmc writes it
@@ -705,6 +706,14 @@ def main():
             c, ref_step = reference_load_curves(ref_run, hw, notes, pair[1] if len(pair) > 1 else None)
             curves += c
         curves += load_sweep_curves(runs, hw, adhesive, pair)
+        # The headline quantities' change between the two grids at the reference load, for a
+        # report that has only the coarse run (reports/challenge_report.py _headline_errors).
+        changes = [(k, _grid_change_of(pair, k)) for k in ("ar", "ar_corr", "rep", "gap")]
+        changes = [(k, c) for k, c in changes if c]
+        for c in curves:
+            if c["quantity"] == "contact_area_vs_pressure" and changes:
+                c["extra"] = c["extra"] + [(STORED_CHANGE_KEY, " ".join(f"{k}={v[0]:.4g}" for k, v in changes)
+                                            + f" ({changes[0][1][1]})")]
         if adhesive:
             curves += tabor_curves([r for r in runs if r.name.startswith("challenge-tabor")], hw)
         for c in curves:
