@@ -87,7 +87,7 @@ class PkRun {
   GapSums gap_sums() const;
   bool restart_from_overlap();
   double direction(double beta, double tbar);
-  double preconditioned_direction(double tbar);
+  double preconditioned_direction(double tbar, double nc);
   bool project(double tau);
   void exact() {
     spectral_.set_pressure(p_, sigma_, w_);
@@ -202,8 +202,9 @@ double PkRun::direction(double beta, double tbar) {
 }
 
 // (c) with the stiffness preconditioner: z = P K P g (made load-neutral on Ic under load
-// control), β = Σ g z / (Σ g z)_old, t = z + β (t − t̄). One FFT pair. Returns Σ g t.
-double PkRun::preconditioned_direction(double tbar) {
+// control), β = Σ g z / (Σ g z)_old, t = z + β (t − t̄). One FFT pair. nc = |Ic| (> 0).
+// Returns Σ g t.
+double PkRun::preconditioned_direction(double tbar, double nc) {
   double* z = z_.data();
   double* t = t_.data();
   const double* w = w_.data();
@@ -213,23 +214,22 @@ double PkRun::preconditioned_direction(double tbar) {
     for (std::size_t i = b; i < e; ++i) z[i] = p[i] > 0.0 ? w[i] - d : 0.0;
   });
   hs_.apply(z, z, hs_.stiffness());
+  // One pass for the Ic-mean of z and Σ g z: Σ g (z − z̄) = Σ g z − z̄ Σ g.
   struct Acc {
-    double zsum = 0.0, nc = 0.0;
-    void merge(const Acc& o) { zsum += o.zsum, nc += o.nc; }
+    double zsum = 0.0, gz = 0.0, gsum = 0.0;
+    void merge(const Acc& o) { zsum += o.zsum, gz += o.gz, gsum += o.gsum; }
   };
   const Acc a = Grid::parallel_reduce<Acc>(n_, [&](std::size_t b, std::size_t e, Acc& acc) {
     Acc s;
     for (std::size_t i = b; i < e; ++i)
-      if (p[i] > 0.0) s.zsum += z[i], s.nc += 1.0;
+      if (p[i] > 0.0) {
+        const double g = w[i] - d;
+        s.zsum += z[i], s.gz += g * z[i], s.gsum += g;
+      }
     acc.merge(s);
   });
-  const double zbar = force_ && a.nc > 0.0 ? a.zsum / a.nc : 0.0;
-  const double gz = Grid::parallel_reduce<SumReduction>(n_, [&](std::size_t b, std::size_t e, SumReduction& acc) {
-                      double s = 0.0;
-                      for (std::size_t i = b; i < e; ++i)
-                        if (p[i] > 0.0) s += (w[i] - d) * (z[i] - zbar);
-                      acc.v += s;
-                    }).v;
+  const double zbar = force_ ? a.zsum / nc : 0.0;
+  const double gz = a.gz - zbar * a.gsum;
   const double beta = conjugate_ && gz_old_ > 0.0 ? gz / gz_old_ : 0.0;
   gz_old_ = gz;
   return Grid::parallel_reduce<SumReduction>(n_, [&](std::size_t b, std::size_t e, SumReduction& acc) {
@@ -342,7 +342,7 @@ void PkRun::run(SolveResult& res) {
     if (beta == 0.0) ++res.diagnostics.restarts;
     G_old = G;
     const double tbar = force_ ? S.tsum / S.nc : 0.0;
-    const double sgt = precondition_ ? preconditioned_direction(tbar) : direction(beta, tbar);
+    const double sgt = precondition_ ? preconditioned_direction(tbar, S.nc) : direction(beta, tbar);
     // (d) curvature along t from its transform alone (one forward transform)
     const double denom = spectral_.set_direction(t_);
     double tau;
