@@ -122,11 +122,11 @@ class Run:
 def _find_runs(results_dir, notes):
     """Challenge runs: every results/**/summary.json whose case name starts with
     "challenge" (results/challenge*/ by convention; also e.g. results/refine/<run>/),
-    except the validation and performance folders and the scaled family's runs (other
+    except the validation, performance and bench folders and the scaled family's runs (other
     problems, s != 1, or the challenge with other settings: the family's own section reads
     them from its store)."""
     files = set(glob.glob(os.path.join(results_dir, "**", "summary.json"), recursive=True))
-    skip = tuple(os.path.join(results_dir, d) + os.sep for d in ("validation", "performance", "scaled-family"))
+    skip = tuple(os.path.join(results_dir, d) + os.sep for d in ("validation", "performance", "scaled-family", "bench"))
     runs = []
     for f in sorted(files):
         if f.startswith(skip):
@@ -274,7 +274,7 @@ def _headline(runs, reference_dir):
     probs = [(True, _reference_load_runs(runs, True)), (False, _reference_load_runs(runs, False))]
     if not any(pair for _, pair in probs):
         return lines + ["Not computed yet: run `scripts/main.sh` (the challenge at 250 kPa with and without adhesion).", ""]
-    cols, errs, kappa = [], [], {}
+    errs, kappa = [], {}
     for adhesive, pair in probs:
         errs.append(_headline_errors(pair, adhesive, reference_dir) if pair else {})
     rows = []
@@ -418,15 +418,8 @@ def _stored_rel_band(reference_dir, quantity, adhesive, x):
         return None, None
     logx = ref["meta"].get("representation", "lin-lin").startswith("log")
     y = np.abs(ref["y"])
-    xr, rb = ref["x"], np.divide(ref["band"], y, out=np.full(len(y), np.nan), where=y > 0)
-    o = np.argsort(xr)
-    xr, rb = xr[o], rb[o]
-    x = np.asarray(x, dtype=float)
-    out = np.full(len(x), np.nan)
-    ok = np.isfinite(x) & ((x > 0) if logx else True) & (x >= xr[0]) & (x <= xr[-1])
-    t = np.log if logx else (lambda v: v)
-    out[ok] = np.interp(t(x[ok]), t(xr), rb)
-    return out, ref
+    rb = np.divide(ref["band"], y, out=np.full(len(y), np.nan), where=y > 0)
+    return interp_curve(x, ref["x"], rb, logx, False), ref
 
 
 def _merged_sweeps(runs):
@@ -703,24 +696,29 @@ def _distribution_runs(runs, notes):
     return out
 
 
-def refinement_band(x, y, xf, yf, logx, logy):
-    """|y - y_f(x)|: how far a curve moves on the next finer grid, with the finer curve (xf, yf)
-    interpolated at x in the representation's axes (log where logx / logy). NaN where x lies
-    outside the finer curve's range or a logged value is not positive."""
-    x, y, xf, yf = (np.asarray(a, dtype=float) for a in (x, y, xf, yf))
-    m = np.isfinite(xf) & np.isfinite(yf) & ((xf > 0) if logx else True) & ((yf > 0) if logy else True)
-    xf, yf = xf[m], yf[m]
+def interp_curve(x, xc, yc, logx, logy):
+    """The curve (xc, yc) at x, interpolated in the representation's axes (log where logx / logy);
+    NaN where x lies outside the curve's range, or where a value is not finite or a logged one not
+    positive."""
+    x, xc, yc = (np.asarray(a, dtype=float) for a in (x, xc, yc))
+    m = np.isfinite(xc) & np.isfinite(yc) & ((xc > 0) if logx else True) & ((yc > 0) if logy else True)
+    xc, yc = xc[m], yc[m]
     out = np.full(len(x), np.nan)
-    if len(xf) < 2:
+    if len(xc) < 2:
         return out
-    o = np.argsort(xf)
-    xf, yf = xf[o], yf[o]
+    o = np.argsort(xc)
+    xc, yc = xc[o], yc[o]
     tx = np.log if logx else (lambda v: v)
-    ok = np.isfinite(x) & np.isfinite(y) & ((x > 0) if logx else True)
-    ok &= (x >= xf[0]) & (x <= xf[-1])
-    yi = np.interp(tx(x[ok]), tx(xf), np.log(yf) if logy else yf)
-    out[ok] = np.abs(y[ok] - (np.exp(yi) if logy else yi))
+    ok = np.isfinite(x) & ((x > 0) if logx else True) & (x >= xc[0]) & (x <= xc[-1])
+    yi = np.interp(tx(x[ok]), tx(xc), np.log(yc) if logy else yc)
+    out[ok] = np.exp(yi) if logy else yi
     return out
+
+
+def refinement_band(x, y, xf, yf, logx, logy):
+    """|y - y_f(x)|: how far a curve moves on the next finer grid (xf, yf), interpolated at x by
+    interp_curve. NaN where it has no value there."""
+    return np.abs(np.asarray(y, dtype=float) - interp_curve(x, xf, yf, logx, logy))
 
 
 def _problem(r):

@@ -266,14 +266,18 @@ def strategy_band(run, short):
                  "deterministic (same bits on a rerun): no round-off spread. " + transfer_caveat())
 
 
-def add_band(curve, rels):
-    """Appends the error band to a curve: column <y>_err = rel x |y| per point, '# band:'."""
+def add_abs_band(curve, band):
+    """Appends the error band to a curve: column <y>_err = the half-widths `band` (y's unit), '# band:'."""
     y = curve["columns"][1]
-    curve["columns"].append((y[0] + "_err", y[1], "half-width of the error band: " + y[2],
-                             [rel * abs(v) for rel, v in zip(rels, y[3])]))
+    curve["columns"].append((y[0] + "_err", y[1], "half-width of the error band: " + y[2], list(band)))
     curve["band"] = y[0] + "_err"
     curve["title"] = curve["title"].replace(" (not converged)", " (with error band)")
     return curve
+
+
+def add_band(curve, rels):
+    """Appends a relative error band: half-width rel x |y| per point."""
+    return add_abs_band(curve, [rel * abs(v) for rel, v in zip(rels, curve["columns"][1][3])])
 
 
 def with_band(curve, run, short):
@@ -303,15 +307,12 @@ def _with_refinement_band(curve, x, y, xf, yf, log_x, log_y, n, nf, base_error):
     keep = np.isfinite(b) & (b > 0)
     curve["columns"][0] = curve["columns"][0][:3] + (x[keep],)
     curve["columns"][1] = curve["columns"][1][:3] + (y[keep],)
-    y_col = curve["columns"][1]
-    curve["columns"].append((y_col[0] + "_err", y_col[1], "half-width of the error band: " + y_col[2], b[keep]))
-    curve["band"] = y_col[0] + "_err"
+    add_abs_band(curve, b[keep])
     dropped = int(len(x) - keep.sum())
     if dropped:
         extra = dict(curve["extra"])
         extra["sampling"] += (f"; {dropped} point(s) outside the {nf}^2 curve's range left out (no band there)")
         curve["extra"] = list(extra.items())
-    curve["title"] = curve["title"].replace(" (not converged)", " (with error band)")
     med = float(np.median(b[keep] / np.abs(y[keep]))) if keep.any() else float("nan")
     curve["estimated_error"] = (f"band: per point, |this curve ({n}^2) - the same run on the next finer grid ({nf}^2)|, "
                                 "the finer curve interpolated in the representation (median "
@@ -466,8 +467,7 @@ def load_sweep_curves(runs, hw, adhesive, ref_pair):
         else:
             band, how = hardwall_sweep_band(ref_pair, r, pts, key)
             if band:
-                add_band(c, [b / abs(v) if v else 0.0 for b, v in zip(band, vals)])
-                c["columns"][-1] = c["columns"][-1][:3] + (band,)  # absolute: exact where the value is 0
+                add_abs_band(c, band)  # absolute: exact where the value is 0
                 ch = _grid_change_of(ref_pair, key)
                 c["estimated_error"] = (f"band per point: {how} ({ch[1]}). The solver is deterministic (same bits on a "
                                         "rerun): no round-off spread.")
