@@ -1,4 +1,5 @@
 #include "cmc/grid/Grid.hpp"
+#include "cmc/grid/Ranks.hpp"
 
 #include <fftw3.h>
 #include <omp.h>
@@ -15,6 +16,11 @@
 #include <thread>
 
 #include <unistd.h>
+
+#ifdef CMC_MPI
+#include <fftw3-mpi.h>
+#include <mpi.h>
+#endif
 
 namespace cmc {
 
@@ -42,38 +48,54 @@ double Grid::qy(int iqy) const {
   return 2.0 * std::numbers::pi * k / ly;
 }
 
+namespace {
+// The partials of the reductions below, combined across ranks by combine_ranks.
+struct MaxOf {
+  double v = -std::numeric_limits<double>::infinity();
+  void merge(const MaxOf& o) { v = std::max(v, o.v); }
+};
+struct MinOf {
+  double v = std::numeric_limits<double>::infinity();
+  void merge(const MinOf& o) { v = std::min(v, o.v); }
+};
+struct CountOf {
+  std::size_t v = 0;
+  void merge(const CountOf& o) { v += o.v; }
+};
+}  // namespace
+
 double Grid::sum(std::span<const double> v) {
   // Pairwise-blocked sum: accurate to ~1e-16 relative even at 65536^2 points.
   constexpr std::size_t B = 4096;
-  double total = 0.0;
+  SumReduction total;
   for (std::size_t i = 0; i < v.size(); i += B) {
     double s = 0.0;
     const std::size_t e = std::min(v.size(), i + B);
     for (std::size_t j = i; j < e; ++j) s += v[j];
-    total += s;
+    total.v += s;
   }
-  return total;
+  return combine_ranks(total).v;
 }
 double Grid::max(std::span<const double> v) {
-  double m = -std::numeric_limits<double>::infinity();
-  for (double x : v) m = std::max(m, x);
-  return m;
+  MaxOf m;
+  for (double x : v) m.v = std::max(m.v, x);
+  return combine_ranks(m).v;
 }
 double Grid::min(std::span<const double> v) {
-  double m = std::numeric_limits<double>::infinity();
-  for (double x : v) m = std::min(m, x);
-  return m;
+  MinOf m;
+  for (double x : v) m.v = std::min(m.v, x);
+  return combine_ranks(m).v;
 }
 
 double Grid::dot(std::span<const double> a, std::span<const double> b) {
-  double s = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) s += a[i] * b[i];
-  return s;
+  SumReduction s;
+  for (std::size_t i = 0; i < a.size(); ++i) s.v += a[i] * b[i];
+  return combine_ranks(s).v;
 }
 std::size_t Grid::count(std::span<const std::uint8_t> mask) {
-  std::size_t n = 0;
-  for (auto m : mask) n += m ? 1 : 0;
-  return n;
+  CountOf n;
+  for (auto m : mask) n.v += m ? 1 : 0;
+  return combine_ranks(n).v;
 }
 
 namespace detail {
@@ -88,7 +110,9 @@ int thread_count() {
     if (n > 0) return n;
   }
   const unsigned h = std::thread::hardware_concurrency();
-  return h ? int(h) : 1;
+  int local_ranks = 1;  // ranks started on this machine by mpirun share its threads
+  if (const char* s = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE")) local_ranks = std::max(1, std::atoi(s));
+  return std::max(1, (h ? int(h) : 1) / local_ranks);
 }
 
 namespace {
@@ -122,6 +146,9 @@ bool keeps_wisdom_file(Planner p) { return p == Planner::Measure || p == Planner
 void init_fftw() {
   if (fftw_ready) return;
   fftw_init_threads();
+#ifdef CMC_MPI
+  if (ranks() > 1) fftw_mpi_init();
+#endif
   fftw_plan_with_nthreads(thread_count());
   omp_set_num_threads(thread_count());
   if (planner() == Planner::Builtin) {
@@ -159,8 +186,46 @@ void save_fftw_wisdom() {
   if (fftw_export_wisdom_to_filename(tmp.c_str())) std::filesystem::rename(tmp, w, ec);
 }
 
-Fourier::Fourier(int nx, int ny) : nx_(nx), ny_(ny), spec_(std::size_t(nx / 2 + 1) * ny) {
+Fourier::Fourier(const Grid& g) : Fourier(g.nx, g.ny, g.split() ? &g : nullptr) {}
+Fourier::Fourier(int nx, int ny) : Fourier(nx, ny, nullptr) {}
+
+Fourier::Fourier(int nx, int ny, const Grid* slab) : nx_(nx), ny_(ny), rows_(slab ? slab->rows() : ny) {
   if (nx <= 0 || ny <= 0) throw std::invalid_argument("Fourier: grid must be positive");
+  if (slab) make_distributed(*slab);
+  else make_local();
+}
+
+void Fourier::make_distributed(const Grid& g) {
+#ifdef CMC_MPI
+  distributed_ = true;
+  spec_.resize(spectrum_size());
+  std::lock_guard lock(planner_mutex);
+  init_fftw();
+  ptrdiff_t n0 = 0, start = 0;
+  const ptrdiff_t alloc = fftw_mpi_local_size_2d(ny_, nx_ / 2 + 1, MPI_COMM_WORLD, &n0, &start);
+  if (n0 != rows_ || start != g.y0) throw std::logic_error("Fourier: the grid's slab differs from FFTW's");
+  cwork_.resize(std::size_t(std::max<ptrdiff_t>(alloc, 1)));
+  rpad_.resize(2 * cwork_.size());
+  fftw_plan_with_nthreads(thread_count());
+  // No wisdom is timed or compiled in for distributed plans: FFTW_ESTIMATE (the same
+  // plans, so the same bits, on every run at the same number of ranks) unless
+  // CMC_FFTW_PLANNER asks for timed plans.
+  const Planner p = planner();
+  const unsigned flags = p == Planner::Measure ? FFTW_MEASURE : p == Planner::Patient ? FFTW_PATIENT : FFTW_ESTIMATE;
+  plan_source_ = p == Planner::Measure ? "measure (MPI)" : p == Planner::Patient ? "patient (MPI)" : "estimate (MPI)";
+  auto* c = reinterpret_cast<fftw_complex*>(cwork_.data());
+  plan_forward_.reset(fftw_mpi_plan_dft_r2c_2d(ny_, nx_, rpad_.data(), c, MPI_COMM_WORLD, flags));
+  plan_inverse_.reset(fftw_mpi_plan_dft_c2r_2d(ny_, nx_, c, rpad_.data(), MPI_COMM_WORLD, flags));
+  if (!plan_forward_ || !plan_inverse_) throw std::runtime_error("FFTW could not plan a distributed transform");
+#else
+  (void)g;
+  throw std::logic_error("Fourier: a split grid needs the MPI build");
+#endif
+}
+
+void Fourier::make_local() {
+  const int nx = nx_, ny = ny_;
+  spec_.resize(std::size_t(nx / 2 + 1) * ny);
   {
     std::lock_guard lock(planner_mutex);
     init_fftw();
@@ -196,12 +261,32 @@ void FftwPlanDeleter::operator()(void* plan) const noexcept {
 }
 
 void Fourier::forward(const double* in, Complex* out) {
-  fftw_execute_dft_r2c(static_cast<fftw_plan>(plan_forward_.get()), const_cast<double*>(in),
-                       reinterpret_cast<fftw_complex*>(out));
+  if (distributed_) {
+#ifdef CMC_MPI
+    const std::size_t nx = std::size_t(nx_), stride = 2 * std::size_t(nx_ / 2 + 1);
+    for (std::size_t r = 0; r < std::size_t(rows_); ++r) std::copy_n(in + r * nx, nx, rpad_.data() + r * stride);
+    fftw_mpi_execute_dft_r2c(static_cast<fftw_plan>(plan_forward_.get()), rpad_.data(),
+                             reinterpret_cast<fftw_complex*>(cwork_.data()));
+    std::copy_n(cwork_.data(), spectrum_size(), out);
+#endif
+  } else {
+    fftw_execute_dft_r2c(static_cast<fftw_plan>(plan_forward_.get()), const_cast<double*>(in),
+                         reinterpret_cast<fftw_complex*>(out));
+  }
   ++n_forward_;
 }
 void Fourier::inverse(Complex* in, double* out) {
-  fftw_execute_dft_c2r(static_cast<fftw_plan>(plan_inverse_.get()), reinterpret_cast<fftw_complex*>(in), out);
+  if (distributed_) {
+#ifdef CMC_MPI
+    std::copy_n(in, spectrum_size(), cwork_.data());
+    fftw_mpi_execute_dft_c2r(static_cast<fftw_plan>(plan_inverse_.get()), reinterpret_cast<fftw_complex*>(cwork_.data()),
+                             rpad_.data());
+    const std::size_t nx = std::size_t(nx_), stride = 2 * std::size_t(nx_ / 2 + 1);
+    for (std::size_t r = 0; r < std::size_t(rows_); ++r) std::copy_n(rpad_.data() + r * stride, nx, out + r * nx);
+#endif
+  } else {
+    fftw_execute_dft_c2r(static_cast<fftw_plan>(plan_inverse_.get()), reinterpret_cast<fftw_complex*>(in), out);
+  }
   ++n_inverse_;
 }
 void Fourier::forward(const double* in) { forward(in, spec_.data()); }

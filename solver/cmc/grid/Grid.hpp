@@ -1,17 +1,21 @@
 // The thin grid layer: the field types, every FFT and every global reduction.
 //
 // Solvers and observables never call FFTW or sum over a whole field by hand across
-// ranks: they call Fourier and the reductions below, so that a distributed backend
-// (FFTW's MPI interface, slab decomposition along y) can replace this file without
-// touching them. Today everything is local to one process; `Grid::sum` etc. are
-// where an MPI_Allreduce would go.
+// ranks: they call Fourier and the reductions below. In the MPI build (-DCMC_MPI=ON,
+// grid/Ranks.hpp) a grid can be a slab: this process holds rows [y0, y0 + rows()) of
+// the global ny (FFTW's MPI slab decomposition along y; the r2c spectrum is split along
+// qy into the same rows, not transposed), every field holds only those rows, and every
+// reduction combines the partial results of all ranks in rank order (the same bits on
+// a rerun at the same number of ranks). Serial runs, and one rank, are unchanged.
 //
-// Layout: row-major, x fastest: value (ix, iy) sits at index iy*nx + ix.
+// Layout: row-major, x fastest: value (ix, iy) sits at index (iy - y0)*nx + ix.
 // Reduced units inside cmc: lengths in units of the system size, pressures in units
 // of E* (see Units.hpp for the single place where SI is converted).
 #pragma once
 
 #include <complex>
+#include <cstring>
+#include <type_traits>
 #include <cstdint>
 #include <cstddef>
 #include <memory>
@@ -43,15 +47,23 @@ using Spectrum = std::vector<Complex, FftwAllocator<Complex>>;
 struct Grid {
   int nx = 0, ny = 0;
   double lx = 1.0, ly = 1.0;
+  // The slab this process holds in a distributed run (Ranks.hpp, distribute()): rows
+  // [y0, y0 + local_ny) of ny. local_ny < 0: the whole grid (every serial run).
+  int y0 = 0, local_ny = -1;
 
-  std::size_t size() const { return std::size_t(nx) * std::size_t(ny); }
+  int rows() const { return local_ny < 0 ? ny : local_ny; }
+  bool split() const { return local_ny >= 0 && local_ny != ny; }
+  // Points this process holds: the length of a field. points(): of the whole grid.
+  std::size_t size() const { return std::size_t(nx) * std::size_t(rows()); }
+  std::size_t points() const { return std::size_t(nx) * std::size_t(ny); }
   double dx() const { return lx / nx; }
   double dy() const { return ly / ny; }
   double cell_area() const { return dx() * dy(); }
   double area() const { return lx * ly; }
   int nqx() const { return nx / 2 + 1; }  // r2c keeps half of the x-modes
-  std::size_t spectrum_size() const { return std::size_t(nqx()) * std::size_t(ny); }
-  // Angular wavenumbers of mode (iqx, iqy) in the r2c layout.
+  // Modes this process holds (the r2c spectrum's rows y0 .. y0 + rows() - 1).
+  std::size_t spectrum_size() const { return std::size_t(nqx()) * std::size_t(rows()); }
+  // Angular wavenumbers of mode (iqx, iqy) in the r2c layout (iqy global: y0 + local row).
   double qx(int iqx) const;
   double qy(int iqy) const;
 
@@ -60,11 +72,15 @@ struct Grid {
   // Global reductions over whole fields. Every sum, count, extremum and dot product of
   // cmc goes through these or through parallel_reduce below: they are where a distributed
   // backend (MPI slabs, a GPU) combines its partial results. Nothing outside grid/ loops
-  // over a field to reduce it (tests/test_grid_layer.cpp checks the sources).
+  // over a field to reduce it (tests/test_grid_layer.cpp checks the sources). In a
+  // distributed run they reduce over all ranks (each holding its slab), except inside a
+  // LocalReductions scope (Ranks.hpp), for data every rank holds whole.
   static double sum(std::span<const double> v);
   static double max(std::span<const double> v);
   static double min(std::span<const double> v);
-  static double mean(std::span<const double> v) { return sum(v) / double(v.size()); }
+  static double mean(std::span<const double> v) { return sum(v) / double(total(v.size())); }
+  // The number of entries over all ranks of a field of which this process holds n.
+  static std::size_t total(std::size_t n);
   static double dot(std::span<const double> a, std::span<const double> b);
   // Number of set entries of a mask, and of entries for which pred(v) holds.
   static std::size_t count(std::span<const std::uint8_t> mask);
@@ -109,15 +125,21 @@ using FftwPlan = std::unique_ptr<void, FftwPlanDeleter>;
 
 class Fourier {
  public:
+  // A transform of the whole nx x ny grid, held by this process alone.
   Fourier(int nx, int ny);
+  // A transform of grid g: distributed over the ranks (FFTW's MPI interface) when g is a
+  // slab of a distributed run, else as Fourier(g.nx, g.ny). Every rank constructs it.
+  explicit Fourier(const Grid& g);
   Fourier(const Fourier&) = delete;
   Fourier& operator=(const Fourier&) = delete;
 
   int nx() const { return nx_; }
   int ny() const { return ny_; }
-  std::size_t real_size() const { return std::size_t(nx_) * ny_; }
-  std::size_t spectrum_size() const { return std::size_t(nx_ / 2 + 1) * ny_; }
-  double normalisation() const { return 1.0 / double(real_size()); }
+  // Entries of a real field and of a spectrum this process holds (its rows).
+  std::size_t real_size() const { return std::size_t(nx_) * rows_; }
+  std::size_t spectrum_size() const { return std::size_t(nx_ / 2 + 1) * rows_; }
+  // 1 / (nx ny): the whole grid's.
+  double normalisation() const { return 1.0 / (double(nx_) * double(ny_)); }
 
   // The internal spectrum buffer that forward() fills and inverse() consumes.
   Spectrum& spectrum() { return spec_; }
@@ -138,18 +160,58 @@ class Fourier {
   const char* plan_source() const { return plan_source_; }
 
  private:
-  int nx_, ny_;
+  Fourier(int nx, int ny, const Grid* slab);
+  void make_local();
+  void make_distributed(const Grid& slab);
+  int nx_, ny_, rows_;
   Spectrum spec_;
   FftwPlan plan_forward_, plan_inverse_;
+  // Distributed only: FFTW's MPI r2c works on rows padded to 2 (nx/2 + 1) reals and may
+  // use more complex entries than the local spectrum as scratch (its alloc_local), so
+  // the transforms go through these, one copy each way.
+  bool distributed_ = false;
+  Field rpad_;
+  Spectrum cwork_;
   const char* plan_source_ = "";
   long n_forward_ = 0, n_inverse_ = 0;
 };
 
-// Threads used by FFTW (and by elementwise loops, where parallel): $CMC_THREADS or
-// all hardware threads.
+// Threads used by FFTW (and by elementwise loops, where parallel): $CMC_THREADS, or
+// the hardware threads shared among the ranks that run on this machine.
 int thread_count();
 
 // ---------------------------------------------------------------- pass templates
+
+// Combining the partial results of the ranks of a distributed run (Ranks.cpp; without
+// MPI, or with one rank, or inside a LocalReductions scope, `local` itself). The ranks'
+// partials are merged in rank order into a default-constructed Acc, so a rerun at the
+// same number of ranks gives the same bits. A trivially copyable Acc travels as bytes;
+// one holding vectors (histogram tallies) provides pack() -> std::vector<double> and a
+// static unpack(std::span<const double>) -> Acc.
+namespace detail {
+bool reductions_span_ranks();
+// Every rank's `bytes`, concatenated in rank order (each the same size).
+std::vector<unsigned char> allgather_bytes(const void* bytes, std::size_t n);
+// Every rank's vector, in rank order (sizes may differ).
+std::vector<std::vector<double>> allgather_doubles(const std::vector<double>& v);
+}  // namespace detail
+template <class Acc>
+Acc combine_ranks(const Acc& local) {
+  if (!detail::reductions_span_ranks()) return local;
+  Acc acc{};
+  if constexpr (requires(const Acc& a) { a.pack(); }) {
+    for (const auto& part : detail::allgather_doubles(local.pack())) acc.merge(Acc::unpack(part));
+  } else {
+    static_assert(std::is_trivially_copyable_v<Acc>, "a reduction crossing ranks needs a trivially copyable Acc or pack()/unpack()");
+    const auto all = detail::allgather_bytes(&local, sizeof(Acc));
+    for (std::size_t off = 0; off < all.size(); off += sizeof(Acc)) {
+      Acc part;
+      std::memcpy(static_cast<void*>(&part), all.data() + off, sizeof(Acc));
+      acc.merge(part);
+    }
+  }
+  return acc;
+}
 
 // The partial result of a pass that only sums (for Grid::parallel_reduce).
 struct SumReduction {
@@ -169,7 +231,7 @@ Acc Grid::parallel_reduce(std::size_t n, Body&& body, std::size_t work) {
   if (nt <= 1) {
     Acc acc{};
     if (n) body(std::size_t(0), n, acc);
-    return acc;
+    return combine_ranks(acc);
   }
   // One partial per requested thread; a thread the runtime did not start leaves the
   // identity, which merges exactly.
@@ -182,15 +244,22 @@ Acc Grid::parallel_reduce(std::size_t n, Body&& body, std::size_t work) {
   }
   Acc acc{};
   for (const Acc& p : part) acc.merge(p);
-  return acc;
+  return combine_ranks(acc);
 }
 
 template <class Body>
 void Grid::parallel_for(std::size_t n, Body&& body, std::size_t work) {
-  struct None {
-    void merge(const None&) {}
-  };
-  parallel_reduce<None>(n, [&](std::size_t b, std::size_t e, None&) { body(b, e); }, work);
+  const int nt = detail::omp_threads_for(work ? work : n);
+  if (nt <= 1) {
+    if (n) body(std::size_t(0), n);
+    return;
+  }
+#pragma omp parallel num_threads(nt)
+  {
+    const int t = detail::omp_thread_id(), m = detail::omp_thread_total();
+    const std::size_t b = n * std::size_t(t) / std::size_t(m), e = n * std::size_t(t + 1) / std::size_t(m);
+    if (e > b) body(b, e);
+  }
 }
 
 template <class Pred>

@@ -1,0 +1,295 @@
+#include "cmc/grid/Ranks.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+
+#ifdef CMC_MPI
+#include <fftw3-mpi.h>
+#include <mpi.h>
+#endif
+
+namespace cmc {
+
+namespace {
+int local_depth = 0;  // LocalReductions scopes open
+#ifdef CMC_MPI
+bool mpi_started = false;
+#endif
+}  // namespace
+
+LocalReductions::LocalReductions() { ++local_depth; }
+LocalReductions::~LocalReductions() { --local_depth; }
+
+#ifdef CMC_MPI
+RankSession::RankSession(int& argc, char**& argv) {
+  int provided = 0;
+  // Threads (OpenMP passes, FFTW's threads) never call MPI: FUNNELED is enough.
+  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+  mpi_started = true;
+}
+RankSession::~RankSession() {
+  if (!mpi_started) return;
+  fftw_mpi_cleanup();
+  MPI_Finalize();
+  mpi_started = false;
+}
+int rank() {
+  if (!mpi_started) return 0;
+  int r = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &r);
+  return r;
+}
+int ranks() {
+  if (!mpi_started) return 1;
+  int n = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &n);
+  return n;
+}
+bool mpi_build() { return true; }
+#else
+RankSession::RankSession(int&, char**&) {}
+RankSession::~RankSession() = default;
+int rank() { return 0; }
+int ranks() { return 1; }
+bool mpi_build() { return false; }
+#endif
+bool is_root() { return rank() == 0; }
+
+namespace detail {
+bool reductions_span_ranks() { return local_depth == 0 && ranks() > 1; }
+
+std::vector<unsigned char> allgather_bytes(const void* bytes, std::size_t n) {
+  std::vector<unsigned char> all(n * std::size_t(ranks()));
+#ifdef CMC_MPI
+  if (ranks() > 1) {
+    MPI_Allgather(bytes, int(n), MPI_BYTE, all.data(), int(n), MPI_BYTE, MPI_COMM_WORLD);
+    return all;
+  }
+#endif
+  std::memcpy(all.data(), bytes, n);
+  return all;
+}
+
+std::vector<std::vector<double>> allgather_doubles(const std::vector<double>& v) { return allgather(v); }
+}  // namespace detail
+
+std::size_t Grid::total(std::size_t n) {
+  if (!detail::reductions_span_ranks()) return n;
+  const auto all = detail::allgather_bytes(&n, sizeof n);
+  std::size_t t = 0;
+  for (std::size_t off = 0; off < all.size(); off += sizeof n) {
+    std::size_t v;
+    std::memcpy(&v, all.data() + off, sizeof v);
+    t += v;
+  }
+  return t;
+}
+
+namespace {
+// Rows of each rank as FFTW's MPI interface splits ny rows of an r2c transform.
+struct Split {
+  std::vector<int> y0, rows;
+};
+Split split_rows(const Grid& g) {
+  Split s;
+  const int np = ranks();
+#ifdef CMC_MPI
+  if (np > 1) {
+    ptrdiff_t n0 = 0, start = 0;
+    fftw_mpi_local_size_2d(g.ny, g.nx / 2 + 1, MPI_COMM_WORLD, &n0, &start);
+    const long long mine[2] = {(long long)start, (long long)n0};
+    std::vector<long long> all(2 * std::size_t(np));
+    MPI_Allgather(mine, 2, MPI_LONG_LONG, all.data(), 2, MPI_LONG_LONG, MPI_COMM_WORLD);
+    for (int r = 0; r < np; ++r) s.y0.push_back(int(all[2 * r])), s.rows.push_back(int(all[2 * r + 1]));
+    return s;
+  }
+#endif
+  (void)np;
+  s.y0 = {0}, s.rows = {g.rows()};
+  return s;
+}
+}  // namespace
+
+Grid distribute(const Grid& g) {
+  if (ranks() == 1) return g;
+  if (g.ny < 2)
+    throw std::invalid_argument("a one-dimensional grid (ny = 1) cannot be split among " + std::to_string(ranks()) +
+                                " MPI ranks: run it with one rank");
+  const Split s = split_rows(g);
+  for (int r = 0; r < ranks(); ++r)
+    if (s.rows[r] < 1)
+      throw std::invalid_argument("the grid's " + std::to_string(g.ny) + " rows leave MPI rank " + std::to_string(r) +
+                                  " with none: use at most " + std::to_string(ranks() - 1) + " ranks or a larger grid");
+  Grid out = g;
+  out.y0 = s.y0[rank()];
+  out.local_ny = s.rows[rank()];
+  return out;
+}
+
+Field slab_of(const Grid& slab, const Field& whole) {
+  if (whole.size() != slab.points()) throw std::invalid_argument("slab_of: the field does not cover the whole grid");
+  const auto b = whole.begin() + std::ptrdiff_t(std::size_t(slab.y0) * slab.nx);
+  return Field(b, b + std::ptrdiff_t(slab.size()));
+}
+
+// ---------------------------------------------------------------- collectives
+
+#ifdef CMC_MPI
+namespace {
+template <class T>
+MPI_Datatype mpi_type();
+template <>
+MPI_Datatype mpi_type<double>() { return MPI_DOUBLE; }
+template <>
+MPI_Datatype mpi_type<std::int64_t>() { return MPI_INT64_T; }
+template <>
+MPI_Datatype mpi_type<std::int32_t>() { return MPI_INT32_T; }
+template <>
+MPI_Datatype mpi_type<std::uint8_t>() { return MPI_UINT8_T; }
+
+template <class T>
+std::vector<std::vector<T>> allgather_any(const std::vector<T>& local) {
+  const int np = ranks();
+  const int n = int(local.size());
+  std::vector<int> counts(np), displs(np);
+  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  int total = 0;
+  for (int r = 0; r < np; ++r) displs[r] = total, total += counts[r];
+  std::vector<T> flat(std::size_t(std::max(total, 1)));
+  MPI_Allgatherv(local.data(), n, mpi_type<T>(), flat.data(), counts.data(), displs.data(), mpi_type<T>(),
+                 MPI_COMM_WORLD);
+  std::vector<std::vector<T>> out(np);
+  for (int r = 0; r < np; ++r) out[r].assign(flat.begin() + displs[r], flat.begin() + displs[r] + counts[r]);
+  return out;
+}
+
+// The row next to this slab: above its last row, or below its first.
+template <class V>
+V neighbour_row(const Grid& g, const V& f, bool above) {
+  using T = typename V::value_type;
+  const std::size_t nx = std::size_t(g.nx);
+  V out(nx);
+  if (!g.split() || ranks() == 1) {
+    const int r = above ? (g.rows() % g.ny) : (g.ny - 1);
+    std::copy_n(f.begin() + std::ptrdiff_t(std::size_t(r) * nx), nx, out.begin());
+    return out;
+  }
+  const int np = ranks(), me = rank();
+  const int up = (me + 1) % np, down = (me + np - 1) % np;
+  // The row above my last is the next rank's first: each rank sends its first row down and
+  // receives the next rank's. The row below my first is the previous rank's last.
+  const int send_to = above ? down : up, recv_from = above ? up : down;
+  const T* send = above ? f.data() : f.data() + std::size_t(g.rows() - 1) * nx;
+  MPI_Sendrecv(send, int(nx), mpi_type<T>(), send_to, 11, out.data(), int(nx), mpi_type<T>(), recv_from, 11,
+               MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  return out;
+}
+}  // namespace
+
+std::vector<std::vector<double>> allgather(const std::vector<double>& local) {
+  if (ranks() == 1) return {local};
+  return allgather_any(local);
+}
+std::vector<std::vector<std::int64_t>> allgather(const std::vector<std::int64_t>& local) {
+  if (ranks() == 1) return {local};
+  return allgather_any(local);
+}
+void broadcast(std::string& text) {
+  if (ranks() == 1) return;
+  long long n = (long long)text.size();
+  MPI_Bcast(&n, 1, MPI_LONG_LONG, 0, MPI_COMM_WORLD);
+  text.resize(std::size_t(n));
+  if (n) MPI_Bcast(text.data(), int(n), MPI_CHAR, 0, MPI_COMM_WORLD);
+}
+bool any_rank(bool flag) {
+  if (ranks() == 1) return flag;
+  int in = flag ? 1 : 0, out = 0;
+  MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  return out != 0;
+}
+void barrier() {
+  if (ranks() > 1) MPI_Barrier(MPI_COMM_WORLD);
+}
+void abort_all_ranks(int code) {
+  std::fflush(stderr);
+  if (ranks() > 1) MPI_Abort(MPI_COMM_WORLD, code);
+}
+
+void for_each_slab(const Grid& g, const double* local, const std::function<void(int, int, const double*)>& visit) {
+  if (ranks() == 1 || !g.split()) {
+    if (is_root()) visit(g.y0, g.rows(), local);
+    return;
+  }
+  const Split s = split_rows(g);
+  if (!is_root()) {
+    MPI_Send(local, int(g.size()), MPI_DOUBLE, 0, 21, MPI_COMM_WORLD);
+    return;
+  }
+  visit(g.y0, g.rows(), local);
+  Field buf;
+  for (int r = 1; r < ranks(); ++r) {
+    buf.resize(std::size_t(s.rows[r]) * g.nx);
+    MPI_Recv(buf.data(), int(buf.size()), MPI_DOUBLE, r, 21, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    visit(s.y0[r], s.rows[r], buf.data());
+  }
+}
+
+void scatter_slabs(const Grid& g, double* local, const std::function<void(int, int, double*)>& fill) {
+  if (ranks() == 1 || !g.split()) {
+    if (is_root()) fill(g.y0, g.rows(), local);
+    return;
+  }
+  const Split s = split_rows(g);
+  if (!is_root()) {
+    MPI_Recv(local, int(g.size()), MPI_DOUBLE, 0, 22, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    return;
+  }
+  fill(g.y0, g.rows(), local);
+  Field buf;
+  for (int r = 1; r < ranks(); ++r) {
+    buf.resize(std::size_t(s.rows[r]) * g.nx);
+    fill(s.y0[r], s.rows[r], buf.data());
+    MPI_Send(buf.data(), int(buf.size()), MPI_DOUBLE, r, 22, MPI_COMM_WORLD);
+  }
+}
+#else
+namespace {
+template <class V>
+V neighbour_row(const Grid& g, const V& f, bool above) {
+  const std::size_t nx = std::size_t(g.nx);
+  const int r = above ? (g.rows() % g.ny) : (g.ny - 1);
+  return V(f.begin() + std::ptrdiff_t(std::size_t(r) * nx), f.begin() + std::ptrdiff_t(std::size_t(r + 1) * nx));
+}
+}  // namespace
+std::vector<std::vector<double>> allgather(const std::vector<double>& local) { return {local}; }
+std::vector<std::vector<std::int64_t>> allgather(const std::vector<std::int64_t>& local) { return {local}; }
+void broadcast(std::string&) {}
+bool any_rank(bool flag) { return flag; }
+void barrier() {}
+void abort_all_ranks(int) {}
+void for_each_slab(const Grid& g, const double* local, const std::function<void(int, int, const double*)>& visit) {
+  visit(g.y0, g.rows(), local);
+}
+void scatter_slabs(const Grid& g, double* local, const std::function<void(int, int, double*)>& fill) {
+  fill(g.y0, g.rows(), local);
+}
+#endif
+
+template <class V>
+V row_above(const Grid& g, const V& f) {
+  return neighbour_row(g, f, true);
+}
+template <class V>
+V row_below(const Grid& g, const V& f) {
+  return neighbour_row(g, f, false);
+}
+template std::vector<std::uint8_t> row_above(const Grid&, const std::vector<std::uint8_t>&);
+template std::vector<std::uint8_t> row_below(const Grid&, const std::vector<std::uint8_t>&);
+template std::vector<std::int32_t> row_above(const Grid&, const std::vector<std::int32_t>&);
+template std::vector<std::int32_t> row_below(const Grid&, const std::vector<std::int32_t>&);
+template Field row_above(const Grid&, const Field&);
+template Field row_below(const Grid&, const Field&);
+
+}  // namespace cmc

@@ -1,0 +1,85 @@
+// The ranks of a distributed run: which process this is, how a grid is split among
+// them, and the few collective operations above the reductions (Grid.hpp) that cmc
+// needs: a halo row, gathering rows or a column, broadcasting a text.
+//
+// Built with -DCMC_MPI=ON (Open MPI and FFTW's MPI interface from Debian) and started
+// with mpirun, cmc splits every grid into slabs of rows along y, exactly as FFTW's MPI
+// interface splits its r2c transforms (fftw_mpi_local_size_2d: blocks of ceil(ny/np)
+// rows; the r2c spectrum is split along qy into the same rows). Without MPI, or with
+// one rank, every function here is the identity or a copy and nothing is split.
+//
+// What runs where: the scene's surface is made whole on every rank and then cut into
+// slabs (the same heights, bit for bit, as a serial run; the whole map is held during
+// setup only); solvers, observables and reductions work on slabs; rank 0 alone writes
+// files and prints.
+#pragma once
+
+#include "cmc/grid/Grid.hpp"
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace cmc {
+
+// MPI for the lifetime of the program (main() holds one): initialises MPI (and FFTW's
+// MPI interface) in the MPI build, nothing otherwise.
+class RankSession {
+ public:
+  RankSession(int& argc, char**& argv);
+  ~RankSession();
+  RankSession(const RankSession&) = delete;
+  RankSession& operator=(const RankSession&) = delete;
+};
+
+int rank();         // 0 .. ranks() - 1
+int ranks();        // 1 without MPI
+bool is_root();     // rank() == 0: the rank that writes files and prints
+bool mpi_build();   // compiled with -DCMC_MPI=ON
+
+// Inside this scope reductions stay on this rank: for data that every rank holds whole
+// (the scene's surface before it is cut into slabs, per-patch lists). Nestable.
+class LocalReductions {
+ public:
+  LocalReductions();
+  ~LocalReductions();
+  LocalReductions(const LocalReductions&) = delete;
+  LocalReductions& operator=(const LocalReductions&) = delete;
+};
+
+// This rank's slab of the whole grid g (g itself with one rank). Throws
+// std::invalid_argument, saying what to change, for a grid that cannot be split:
+// a 1-D line (ny == 1), or fewer rows than ranks need.
+Grid distribute(const Grid& g);
+// The rows of a whole-grid field that this rank's slab holds.
+Field slab_of(const Grid& slab, const Field& whole);
+
+// The row above this slab's last row (global row (y0 + rows()) mod ny, periodic), and
+// the row below its first: from the neighbouring rank (or this one). nx entries each.
+// V: Mask (bytes), std::vector<std::int32_t> or Field.
+template <class V>
+V row_above(const Grid& g, const V& f);
+template <class V>
+V row_below(const Grid& g, const V& f);
+
+// Rank r's `local` vectors, in rank order, on every rank.
+std::vector<std::vector<double>> allgather(const std::vector<double>& local);
+std::vector<std::vector<std::int64_t>> allgather(const std::vector<std::int64_t>& local);
+// Rank 0's text on every rank.
+void broadcast(std::string& text);
+// Whether any rank says `flag` (the same answer on every rank).
+bool any_rank(bool flag);
+void barrier();
+// Ends every rank now with exit code `code` (MPI_Abort); returns only without MPI.
+void abort_all_ranks(int code);
+
+// Rows [y0, y0 + rows) of every rank, on rank 0 one slab at a time: visit(y0, rows,
+// values) is called on rank 0 for each rank in order (rank 0's own slab first); other
+// ranks send theirs. Rank 0 holds at most one slab of another rank at a time.
+void for_each_slab(const Grid& g, const double* local, const std::function<void(int, int, const double*)>& visit);
+// The inverse: rank 0 fills each rank's slab with fill(y0, rows, values) in rank order
+// and sends it; every rank receives its own into `local` (g.size() entries).
+void scatter_slabs(const Grid& g, double* local, const std::function<void(int, int, double*)>& fill);
+
+}  // namespace cmc
