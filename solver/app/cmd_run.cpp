@@ -1,6 +1,7 @@
 // cmc run: solve one case and write its results.
 #include "commands.hpp"
 
+#include "cmc/grid/Ranks.hpp"
 #include "cmc/output/OutputLock.hpp"
 
 #include <cstdio>
@@ -36,12 +37,13 @@ int cmd_run(int argc, char** argv) {
   if (a.positional.size() != 1) throw CaseError("cmc run takes exactly one case file (see cmc run --help)");
   if (a.out.empty()) throw CaseError("cmc run needs --out DIR (see cmc run --help)");
   const Case c = load_case(a.positional[0], a.overrides);
-  const OutputLock lock(a.out);  // before the scene is built: a second run on DIR stops at once
+  // Before the scene is built: a second run on DIR stops at once (rank 0 holds the lock).
+  const OutputLock lock = is_root() ? OutputLock(a.out) : OutputLock();
   print_memory_plan(c, a.quiet);
   Scene scene = build_scene(c);
   const RunSummary run = run_case_to(c, scene, a.out, a.resume, a.quiet);
   if (run.status != RunStatus::Converged) {
-    std::fprintf(stderr, "cmc run: %s\n", run.message.c_str());
+    if (is_root()) std::fprintf(stderr, "cmc run: %s\n", run.message.c_str());
     return kNotConverged;
   }
   return kOk;

@@ -1,5 +1,7 @@
 #include "commands.hpp"
 
+#include "cmc/grid/Ranks.hpp"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -15,6 +17,7 @@ std::string Args::option(const std::string& name, const std::string& def) const 
 
 Args parse_args(int argc, char** argv, int first, const std::vector<std::string>& valued) {
   Args a;
+  a.quiet = !is_root();  // in a distributed run rank 0 alone prints
   for (int i = first; i < argc; ++i) {
     const std::string s = argv[i];
     auto value = [&](const std::string& name) {

@@ -1,6 +1,7 @@
 // cmc: the command-line program. Dispatches to one file per command (cmd_*.cpp).
 #include "commands.hpp"
 
+#include "cmc/grid/Ranks.hpp"
 #include "cmc/run/TestPoints.hpp"
 
 #include <cstdio>
@@ -44,7 +45,29 @@ Case files: see cases/README.md. Units: SI in case files and outputs.
 
 }  // namespace
 
+namespace {
+// In a distributed run (mpirun -np N, MPI build) only `cmc run` is distributed.
+bool distributed_command(const std::string& cmd) { return cmd == "run"; }
+
+int dispatch(int argc, char** argv);
+
+// An error: printed once (by rank 0, or with its rank by another); an error that need
+// not have happened on every rank (anything but bad input) ends all ranks at once.
+int fail(int code, const char* what, bool every_rank_alike) {
+  if (cmc::is_root()) std::fprintf(stderr, "cmc: error: %s\n", what);
+  else if (!every_rank_alike) std::fprintf(stderr, "cmc: error (MPI rank %d): %s\n", cmc::rank(), what);
+  if (!every_rank_alike && cmc::ranks() > 1) cmc::abort_all_ranks(code);
+  return code;
+}
+}  // namespace
+
 int main(int argc, char** argv) {
+  cmc::RankSession mpi(argc, argv);
+  return dispatch(argc, argv);
+}
+
+namespace {
+int dispatch(int argc, char** argv) {
   if (argc < 2) {
     std::fputs(kHelp, stderr);
     return kUsage;
@@ -53,6 +76,8 @@ int main(int argc, char** argv) {
   if (cmd == "-h" || cmd == "--help" || cmd == "help") return std::fputs(kHelp, stdout), kOk;
   if (cmd == "--version" || cmd == "version") return std::printf("cmc %s\n", CMC_VERSION), kOk;
   try {
+    if (cmc::ranks() > 1 && !distributed_command(cmd))
+      throw cmc::CaseError("cmc " + cmd + " runs on one rank: under mpirun only 'cmc run' is distributed");
     cmc::check_test_points();  // a malformed CMC_TEST_* variable is bad input, before anything runs
     if (cmd == "run") return cmd_run(argc, argv);
     if (cmd == "validate") return cmd_validate(argc, argv);
@@ -63,13 +88,12 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "cmc: unknown command '%s' (see cmc --help)\n", cmd.c_str());
     return kUsage;
   } catch (const cmc::CaseError& e) {
-    std::fprintf(stderr, "cmc: error: %s\n", e.what());
-    return kUsage;
+    return fail(kUsage, e.what(), true);
   } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "cmc: error: out of memory (reduce grid.n)\n");
-    return kFailed;
+    return fail(kFailed, cmc::ranks() > 1 ? "out of memory (reduce grid.n or use more ranks)" : "out of memory (reduce grid.n)",
+                false);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "cmc: error: %s\n", e.what());
-    return kFailed;
+    return fail(kFailed, e.what(), false);
   }
 }
+}  // namespace

@@ -1,5 +1,7 @@
 #include "cmc/contact/AdhesiveSolver.hpp"
 
+#include "cmc/grid/Ranks.hpp"
+
 #include "cmc/contact/adhesive/LoadControl.hpp"
 #include "cmc/contact/adhesive/Passes.hpp"
 
@@ -48,7 +50,8 @@ constexpr int kFloorHits = 20;
 struct AdhesiveSolver::Work {
   Shape shape{};  // dimensions, heights and K h; delta is set per solve
   bool periodic = true;
-  std::size_t n = 0, M = 0;  // patch and transform-grid sizes
+  std::size_t n = 0, M = 0;  // patch and transform-grid sizes (this rank's slab of them)
+  double N = 0.0;            // points of the whole patch (all ranks)
   Field hf;  // heights on the transform grid (patch part; 0 in the padding)
   Field x, Ku, d, Kd, r, c, trial, Ktrial;
   Field Kh;  // K h (periodic): makes the mean-gap rescale g <- s g an exact linear update
@@ -67,7 +70,10 @@ double rms_slope(const Grid& g, const Field& h, bool periodic) {
     long cnt = 0;
     void merge(const Acc& o) { s2 += o.s2, cnt += o.cnt; }
   };
-  const Acc a = Grid::parallel_reduce<Acc>(std::size_t(g.ny), [&](std::size_t r0, std::size_t r1, Acc& acc) {
+  // The row after the slab's last (periodic; from the next rank in a distributed run).
+  const Field above = g.ny > 1 ? row_above(g, h) : Field();
+  const int rows = g.rows();
+  const Acc a = Grid::parallel_reduce<Acc>(std::size_t(rows), [&](std::size_t r0, std::size_t r1, Acc& acc) {
     for (int iy = int(r0); iy < int(r1); ++iy)
       for (int ix = 0; ix < g.nx; ++ix) {
         const std::size_t k = std::size_t(iy) * g.nx + ix;
@@ -76,7 +82,8 @@ double rms_slope(const Grid& g, const Field& h, bool periodic) {
         if (periodic || ix + 1 < g.nx) sx = (h[std::size_t(iy) * g.nx + (ix + 1) % g.nx] - h[k]) / g.dx();
         else ok = false;
         if (g.ny > 1) {
-          if (periodic || iy + 1 < g.ny) sy = (h[std::size_t((iy + 1) % g.ny) * g.nx + ix] - h[k]) / g.dy();
+          const double up = iy + 1 < rows ? h[std::size_t(iy + 1) * g.nx + ix] : above[ix];
+          if (periodic || g.y0 + iy + 1 < g.ny) sy = (up - h[k]) / g.dy();
           else ok = false;
         }
         if (ok) acc.s2 += sx * sx + sy * sy, ++acc.cnt;
@@ -98,10 +105,13 @@ AdhesiveSolver::AdhesiveSolver(HalfSpace& hs, const Field& heights, Interaction 
   Work& w = *w_;
   w.periodic = hs.periodic();
   w.n = g.size();
+  w.N = double(g.points());
   w.M = hs.transform_size();
-  const int mx = hs.transform_nx(), my = hs.transform_ny();
+  // Rows of the transform grid held here: a slab of the periodic grid, or the whole
+  // padded grid of a free boundary (which is never split).
+  const int mx = hs.transform_nx(), my = w.periodic ? g.rows() : hs.transform_ny();
   w.hf.assign(w.M, 0.0);
-  for (int iy = 0; iy < g.ny; ++iy)
+  for (int iy = 0; iy < g.rows(); ++iy)
     std::copy_n(&heights[std::size_t(iy) * g.nx], g.nx, &w.hf[std::size_t(iy) * mx]);
   w.hmean = Grid::mean(heights);
   for (Field* f : {&w.x, &w.Ku, &w.d, &w.Kd, &w.r, &w.c, &w.trial, &w.Ktrial}) f->assign(w.M, 0.0);
@@ -112,7 +122,7 @@ AdhesiveSolver::AdhesiveSolver(HalfSpace& hs, const Field& heights, Interaction 
   } else {
     hs.stiffness();  // made now, so that a bad operator fails here
   }
-  w.shape = Shape{g.nx, g.ny, mx, my, w.hf.data(), w.periodic ? w.Kh.data() : nullptr, 0.0};
+  w.shape = Shape{g.nx, g.rows(), mx, my, w.hf.data(), w.periodic ? w.Kh.data() : nullptr, 0.0};
   // Pressure scale: max(peak tension, E* x rms slope of the indenter).
   pscale_ = std::max(peak_tension(interaction_), hs.contact_modulus() * rms_slope(g, heights, w.periodic));
   if (!(pscale_ > 0.0) || !std::isfinite(pscale_)) pscale_ = hs.contact_modulus();
@@ -205,7 +215,7 @@ class Iteration {
 template <class I>
 double Iteration<I>::mean_scale(double* xs, double gs) const {
   if (!w_.periodic) return 1.0;
-  const double gm = gs / double(w_.n);
+  const double gm = gs / w_.N;
   if (gm > 0.0) return gm == gbar_ ? 1.0 : gbar_ / gm;
   std::fill(xs, xs + w_.n, gbar_);
   return 1.0;
@@ -495,7 +505,7 @@ bool Iteration<I>::write_state(ContactState& st, double& energy) const {
       }
   });
   st.penetration = S.delta;
-  st.mean_pressure = a.psum / double(n);
+  st.mean_pressure = a.psum / w_.N;
   energy = (U_ + Phi_) * hs_.grid().cell_area();
   return a.finite;
 }
@@ -523,15 +533,14 @@ bool full_contact_state(const AdhesiveSolver::Work& w, const Field& h, const Int
   if (!(target >= pbar_min)) return false;  // below it the surfaces part: not full contact
   const std::size_t n = w.n;
   st.pressure.resize(n), st.displacement.resize(n), st.gap.assign(n, 0.0);
-  double u_Ku = 0.0;  // Σ u K u, for the elastic energy
   for (std::size_t i = 0; i < n; ++i) {
     st.displacement[i] = w.hmean - h[i];
     st.pressure[i] = target - w.Kh[i];
-    u_Ku -= st.displacement[i] * w.Kh[i];
   }
+  const double u_Ku = -Grid::dot(st.displacement, w.Kh);  // Σ u K u, for the elastic energy
   st.penetration = w.hmean;
   st.mean_pressure = Grid::mean(st.pressure);
-  energy = (0.5 * u_Ku + double(n) * at_contact.energy) * cell_area;
+  energy = (0.5 * u_Ku + w.N * at_contact.energy) * cell_area;
   residual = 0.0;  // g = 0 and p >= f(0) everywhere: every KKT condition holds exactly
   return true;
 }

@@ -3,7 +3,11 @@
 namespace cmc {
 
 namespace {
-double fraction(std::size_t count, std::size_t total) { return total ? double(count) / double(total) : 0.0; }
+// count (over all ranks) over the number of entries of a field of which this rank holds n.
+double fraction(std::size_t count, std::size_t n) {
+  const std::size_t total = Grid::total(n);
+  return total ? double(count) / double(total) : 0.0;
+}
 }  // namespace
 
 std::size_t contact_points(const Field& gap, const ContactRule& rule) {

@@ -17,7 +17,7 @@ class SpectralPressure {
  public:
   SpectralPressure(HalfSpace& hs, const Field& h) : hs_(hs) {
     hs_.forward(h, h_hat_);
-    const double norm = 1.0 / double(hs_.transform_size());
+    const double norm = 1.0 / double(hs_.transform_points());
     for (auto& c : h_hat_) c *= norm;
   }
   // p̂ = s FFT(p) (one forward) and w = h + G p̂ (one inverse).
@@ -278,7 +278,7 @@ bool PkRun::project(double tau) {
   });
   double scale = 1.0;
   if (force_) {
-    const double mean_p = st.psum / double(n_);
+    const double mean_p = st.psum / double(hs_.grid().points());
     if (!(mean_p > 0.0)) {
       failure = "Polonsky-Keer: pressure vanished during the iteration";
       return false;
@@ -374,7 +374,7 @@ PolonskyKeer::PolonskyKeer(HalfSpace& hs, const Field& heights, Options o) : hs_
                        for (std::size_t i = b; i < e; ++i) s += (heights[i] - hm) * (heights[i] - hm);
                        acc.v += s;
                      }).v;
-  h_scale_ = std::sqrt(var / double(hs.grid().size()));
+  h_scale_ = std::sqrt(var / double(hs.grid().points()));
   if (!(h_scale_ > 0.0)) h_scale_ = 1.0;
 }
 

@@ -20,7 +20,17 @@ Grid HalfSpace::checked(const Grid& g, double estar, Boundary b) {
   if (g.nx <= 0 || g.ny <= 0) throw std::invalid_argument("HalfSpace: grid must have a positive number of points");
   if (b == Boundary::Free && g.ny < 2)
     throw std::invalid_argument("FreeHalfSpace: a free boundary needs a two-dimensional grid");
+  if (b == Boundary::Free && g.split())
+    throw std::invalid_argument("FreeHalfSpace: the free boundary's zero-padded transform is not distributed yet: run "
+                                "a free-boundary case with one MPI rank (grid.periodic = false)");
   return g;
+}
+
+// The grid the transforms work on: the contact grid when periodic (a slab of it in a
+// distributed run), the zero-padded 2nx x 2ny grid when free (never split).
+Grid HalfSpace::transform_grid(const Grid& g, Boundary b) {
+  if (b == Boundary::Periodic) return g;
+  return Grid{2 * g.nx, 2 * g.ny, 2 * g.lx, 2 * g.ly};
 }
 
 HalfSpace::HalfSpace(const Grid& g, double estar, Boundary b)
@@ -29,7 +39,8 @@ HalfSpace::HalfSpace(const Grid& g, double estar, Boundary b)
       boundary_(b),
       mx_(b == Boundary::Free ? 2 * g.nx : g.nx),
       my_(b == Boundary::Free ? 2 * g.ny : g.ny),
-      fourier_(mx_, my_) {
+      tgrid_(transform_grid(grid_, b)),
+      fourier_(tgrid_) {
   if (periodic()) {
     make_periodic_compliance();
   } else {
@@ -42,9 +53,9 @@ void HalfSpace::make_periodic_compliance() {
   const Grid& g = grid_;
   compliance_.assign(g.spectrum_size(), 0.0);
   const double norm = fourier_.normalisation();
-  for (int iy = 0; iy < g.ny; ++iy)
+  for (int iy = 0; iy < g.rows(); ++iy)
     for (int ix = 0; ix < g.nqx(); ++ix) {
-      const double q = std::hypot(g.qx(ix), g.qy(iy));
+      const double q = std::hypot(g.qx(ix), g.qy(g.y0 + iy));
       compliance_[std::size_t(iy) * g.nqx() + ix] = q > 0.0 ? 2.0 / (estar_ * q) * norm : 0.0;
     }
 }
@@ -82,9 +93,9 @@ const Field& HalfSpace::stiffness() {
   const double norm = fourier_.normalisation();
   const int nq = mx_ / 2 + 1;
   stiffness_.assign(compliance_.size(), 0.0);
-  for (int iy = 0; iy < my_; ++iy)
+  for (int iy = 0; iy < grid_.rows(); ++iy)
     for (int ix = 0; ix < nq; ++ix)
-      stiffness_[std::size_t(iy) * nq + ix] = 0.5 * estar_ * std::hypot(grid_.qx(ix), grid_.qy(iy)) * norm;
+      stiffness_[std::size_t(iy) * nq + ix] = 0.5 * estar_ * std::hypot(grid_.qx(ix), grid_.qy(grid_.y0 + iy)) * norm;
   return stiffness_;
 }
 
@@ -92,7 +103,7 @@ const Field& HalfSpace::stiffness() {
 
 Field HalfSpace::unit_response() {
   Field delta(transform_size(), 0.0), response(transform_size(), 0.0);
-  delta[0] = 1.0;
+  if (tgrid_.y0 == 0) delta[0] = 1.0;  // point 0 of the whole grid: on the first slab
   apply(delta.data(), response.data(), stiffness());
   return response;
 }
@@ -105,7 +116,7 @@ double HalfSpace::apply(const double* in, double* out, const Field& mul) {
   // Rows of modes in parallel; each row's partial sum is formed first (fewer round-off
   // steps in the long sum).
   const SumReduction acc = Grid::parallel_reduce<SumReduction>(
-      std::size_t(my_),
+      std::size_t(tgrid_.rows()),
       [&](std::size_t r0, std::size_t r1, SumReduction& a) {
         for (std::size_t iy = r0; iy < r1; ++iy) {
           const std::size_t row = iy * std::size_t(nq);
@@ -136,7 +147,7 @@ double HalfSpace::spectral_sum(const Complex* s, const double* mul, std::size_t 
 
 double HalfSpace::quadratic_form(const Spectrum& s, const Field& mul) const {
   return Grid::parallel_reduce<SumReduction>(
-             std::size_t(my_),
+             std::size_t(tgrid_.rows()),
              [&](std::size_t r0, std::size_t r1, SumReduction& acc) { acc.v += spectral_sum(s.data(), mul.data(), r0, r1); },
              transform_size())
       .v;
@@ -168,6 +179,13 @@ void HalfSpace::inverse(Field& out) {
   fourier_.inverse(padded_);
   const int nx = grid_.nx;
   for (int j = 0; j < grid_.ny; ++j) std::copy_n(&padded_[std::size_t(j) * mx_], nx, &out[std::size_t(j) * nx]);
+}
+
+double HalfSpace::self_stiffness() {
+  const Field r = unit_response();
+  // Entry 0 of the whole grid, from the slab that holds it.
+  const double mine = tgrid_.y0 == 0 ? r[0] : 0.0;
+  return Grid::sum(std::span<const double>(&mine, 1));
 }
 
 double HalfSpace::time_fft_pair(double min_seconds, int min_repeats) {
@@ -245,8 +263,9 @@ double HalfSpace::energy_from_displacement(const Field& u) {
     const int nq = grid_.nqx();
     const double n2 = fourier_.normalisation() * fourier_.normalisation();
     abs_q_.resize(compliance_.size());
-    for (int iy = 0; iy < grid_.ny; ++iy)
-      for (int ix = 0; ix < nq; ++ix) abs_q_[std::size_t(iy) * nq + ix] = std::hypot(grid_.qx(ix), grid_.qy(iy)) * n2;
+    for (int iy = 0; iy < grid_.rows(); ++iy)
+      for (int ix = 0; ix < nq; ++ix)
+        abs_q_[std::size_t(iy) * nq + ix] = std::hypot(grid_.qx(ix), grid_.qy(grid_.y0 + iy)) * n2;
   }
   fourier_.forward(u);
   return grid_.area() * 0.25 * estar_ * quadratic_form(fourier_.spectrum(), abs_q_);

@@ -63,7 +63,10 @@ class HalfSpace {
   // ---- transform grid
   int transform_nx() const { return mx_; }
   int transform_ny() const { return my_; }
-  std::size_t transform_size() const { return std::size_t(mx_) * std::size_t(my_); }
+  // Points of the transform grid this process holds (a field's length there), and of
+  // the whole transform grid.
+  std::size_t transform_size() const { return tgrid_.size(); }
+  std::size_t transform_points() const { return std::size_t(mx_) * std::size_t(my_); }
   std::size_t spectrum_size() const { return fourier_.spectrum_size(); }
   // Fourier multipliers on the transform grid (r2c layout) with the normalisation 1/M of
   // the unnormalised inverse transform folded in. compliance: G (0 at q = 0 when
@@ -79,7 +82,7 @@ class HalfSpace {
   // (of the padded circulant when free) its entry 0 is the diagonal K_ii of every
   // point: self_stiffness(), ≈ 1.2 E*/Δx on a periodic square grid. One FFT pair each.
   Field unit_response();
-  double self_stiffness() { return unit_response()[0]; }
+  double self_stiffness();
 
   // ---- spectral primitives (contact-grid fields, zero-padded when free)
   // out = FFT(f) on the transform grid (unnormalised). One forward transform.
@@ -108,6 +111,7 @@ class HalfSpace {
 
  private:
   static Grid checked(const Grid& g, double estar, Boundary b);  // throws on bad input
+  static Grid transform_grid(const Grid& g, Boundary b);
   const double* to_transform_grid(const Field& f);  // zero-padded copy when free
   void make_periodic_compliance();
   void make_free_compliance();
@@ -117,6 +121,7 @@ class HalfSpace {
   double estar_;
   Boundary boundary_;
   int mx_, my_;
+  Grid tgrid_;  // the transform grid (this process's slab of it)
   Fourier fourier_;
   Field compliance_, stiffness_;
   Field abs_q_;   // periodic: |q| / N², made by the first energy_from_displacement

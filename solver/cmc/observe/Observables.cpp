@@ -1,5 +1,7 @@
 #include "cmc/observe/Observables.hpp"
 
+#include "cmc/grid/Ranks.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -26,7 +28,7 @@ void require_size(const Grid& g, std::size_t n, const char* what) {
 // (periodic) of which exactly one is in contact, for the faces to the right of and above
 // the points of rows [row_begin, row_end). x-neighbours share a face of length dy,
 // y-neighbours one of length dx. With ny == 1 (or nx == 1) the neighbour across that
-// axis is the point itself and never differs.
+// axis is the point itself and never differs. The whole grid only (not a slab).
 template <class Visit>
 void for_each_contact_face(const Grid& g, const Mask& m, Visit&& visit, std::size_t row_begin, std::size_t row_end) {
   const std::size_t nx = g.nx, ny = g.ny;
@@ -44,6 +46,30 @@ void for_each_contact_face(const Grid& g, const Mask& m, Visit&& visit, std::siz
 template <class Visit>
 void for_each_contact_face(const Grid& g, const Mask& m, Visit&& visit) {
   for_each_contact_face(g, m, visit, 0, std::size_t(g.ny));
+}
+
+// A slab of a distributed run: calls visit(k, face_length) for every face of a contact
+// point k of rows [row_begin, row_end) to a non-contact 4-neighbour; `below` and `above`
+// are the mask's rows next to the slab (row_below, row_above). Every face once, on the
+// rank that holds its contact point.
+template <class Visit>
+void for_each_slab_contact_face(const Grid& g, const Mask& m, const Mask& below, const Mask& above, Visit&& visit,
+                                std::size_t row_begin, std::size_t row_end) {
+  const std::size_t nx = g.nx, rows = std::size_t(g.rows());
+  const double dx = g.dx(), dy = g.dy();
+  for (std::size_t iy = row_begin; iy < row_end; ++iy) {
+    const std::uint8_t* row = &m[iy * nx];
+    const std::uint8_t* up = iy + 1 < rows ? &m[(iy + 1) * nx] : above.data();
+    const std::uint8_t* down = iy > 0 ? &m[(iy - 1) * nx] : below.data();
+    for (std::size_t ix = 0; ix < nx; ++ix) {
+      if (!row[ix]) continue;
+      const std::size_t k = iy * nx + ix, l = ix == 0 ? nx - 1 : ix - 1, r = ix + 1 == nx ? 0 : ix + 1;
+      if (!row[l]) visit(k, dy);
+      if (!row[r]) visit(k, dy);
+      if (!up[ix]) visit(k, dx);
+      if (!down[ix]) visit(k, dx);
+    }
+  }
 }
 
 struct Count {
@@ -84,13 +110,21 @@ struct BinIndex {
 
 // Yastrebov et al. (2017): raw fraction minus alpha * N_edges * dx * dy / area.
 double yastrebov_corrected(const Grid& g, double raw, long long edges) {
-  return g.ny == 1 ? raw : raw - kYastrebovAlpha * double(edges) / double(g.size());
+  return g.ny == 1 ? raw : raw - kYastrebovAlpha * double(edges) / double(g.points());
 }
+
+Patches label_slab_patches(const Grid& grid, const Mask& mask, Connectivity c);
 
 }  // namespace
 
 long long contact_edges(const Grid& grid, const Mask& mask) {
   require_size(grid, mask.size(), "contact_edges");
+  if (grid.split()) {
+    const Mask below = row_below(grid, mask), above = row_above(grid, mask);
+    return Grid::parallel_reduce<Count>(std::size_t(grid.rows()), [&](std::size_t b, std::size_t e, Count& c) {
+             for_each_slab_contact_face(grid, mask, below, above, [&](std::size_t, double) { ++c.n; }, b, e);
+           }, grid.size()).n;
+  }
   const auto rows = [&](std::size_t b, std::size_t e, Count& c) {
     for_each_contact_face(grid, mask, [&](std::size_t, double) { ++c.n; }, b, e);
   };
@@ -103,6 +137,7 @@ double corrected_contact_fraction(const Grid& grid, const Mask& mask) {
 
 Patches label_patches(const Grid& grid, const Mask& mask, Connectivity c) {
   require_size(grid, mask.size(), "label_patches");
+  if (grid.split()) return label_slab_patches(grid, mask, c);
   if (grid.size() >= std::size_t(std::numeric_limits<std::int32_t>::max()))
     throw std::length_error("label_patches: grid too large for 32-bit labels");
   const std::int32_t nx = grid.nx, ny = grid.ny;
@@ -142,6 +177,105 @@ Patches label_patches(const Grid& grid, const Mask& mask, Connectivity c) {
   for_each_contact_face(grid, mask, [&](std::size_t k, double len) { P.perimeter[L[k]] += len; });
   return P;
 }
+
+// label_patches on a slab of a distributed run: each rank labels its rows (wrapping in x
+// only), then every rank joins the patches that touch across slab boundaries (the last
+// row of rank r and the first of rank r + 1, periodic) from the boundary rows' labels of
+// all ranks, with the same union-find over global ids (rank offset + local id, in scan
+// order; the smaller id is the root, so merged patches keep scan order). Areas and
+// perimeters are summed per merged patch, the same on every rank; each rank's labels
+// point at the merged patches.
+namespace {
+Patches label_slab_patches(const Grid& grid, const Mask& mask, Connectivity c) {
+  if (grid.size() >= std::size_t(std::numeric_limits<std::int32_t>::max()))
+    throw std::length_error("label_patches: slab too large for 32-bit labels");
+  const std::int32_t nx = grid.nx, rows = grid.rows();
+  const std::size_t n = grid.size();
+  Patches local;
+  local.label.resize(n);
+  std::int32_t* L = local.label.data();
+  for (std::int32_t k = 0; k < std::int32_t(n); ++k) L[k] = mask[k] ? k : -1;
+  for (std::int32_t iy = 0; iy < rows; ++iy) {
+    const std::int32_t row = iy * nx, down = (iy - 1) * nx;
+    for (std::int32_t ix = 0; ix < nx; ++ix) {
+      const std::int32_t k = row + ix;
+      if (L[k] < 0) continue;
+      const std::int32_t left = ix == 0 ? nx - 1 : ix - 1, right = ix + 1 == nx ? 0 : ix + 1;
+      if (L[row + left] >= 0) unite(L, k, row + left);
+      if (iy == 0) continue;
+      if (L[down + ix] >= 0) unite(L, k, down + ix);
+      if (c == Connectivity::Eight) {
+        if (L[down + left] >= 0) unite(L, k, down + left);
+        if (L[down + right] >= 0) unite(L, k, down + right);
+      }
+    }
+  }
+  for (std::int32_t k = 0; k < std::int32_t(n); ++k)
+    if (L[k] >= 0) L[k] = find_root(L, k);
+  std::int32_t count = 0;
+  for (std::int32_t k = 0; k < std::int32_t(n); ++k)
+    if (L[k] >= 0) L[k] = (L[k] == k) ? count++ : L[L[k]];
+  std::vector<double> cells(std::size_t(count), 0.0), perim(std::size_t(count), 0.0);
+  for (std::int32_t k = 0; k < std::int32_t(n); ++k)
+    if (L[k] >= 0) cells[L[k]] += 1.0;
+  const Mask below = row_below(grid, mask), above = row_above(grid, mask);
+  for_each_slab_contact_face(grid, mask, below, above, [&](std::size_t k, double len) { perim[L[k]] += len; }, 0,
+                             std::size_t(rows));
+
+  // Every rank's patch count, boundary rows (local ids, -1 outside contact) and sums.
+  std::vector<std::int64_t> edge(2 * std::size_t(nx) + 1);
+  edge[0] = count;
+  for (std::int32_t ix = 0; ix < nx; ++ix) {
+    edge[1 + ix] = L[ix];
+    edge[1 + nx + ix] = L[std::size_t(rows - 1) * nx + ix];
+  }
+  const auto edges = allgather(edge);
+  const auto all_cells = allgather(cells), all_perim = allgather(perim);
+  const int np = int(edges.size()), me = rank();
+  std::vector<std::int64_t> offset(np + 1, 0);
+  for (int r = 0; r < np; ++r) offset[r + 1] = offset[r] + edges[r][0];
+  if (offset[np] >= std::numeric_limits<std::int32_t>::max())
+    throw std::length_error("label_patches: too many patches for 32-bit labels");
+  std::vector<std::int32_t> parent(static_cast<std::size_t>(offset[np]));
+  for (std::size_t i = 0; i < parent.size(); ++i) parent[i] = std::int32_t(i);
+  // Join rank r's last row with rank r + 1's first row (the last rank's with rank 0's).
+  for (int r = 0; r < np; ++r) {
+    const int s = (r + 1) % np;
+    const std::int64_t* last = &edges[r][1 + nx];
+    const std::int64_t* first = &edges[s][1];
+    for (std::int32_t ix = 0; ix < nx; ++ix) {
+      if (first[ix] < 0) continue;
+      const std::int32_t a = std::int32_t(offset[s] + first[ix]);
+      auto join = [&](std::int32_t jx) {
+        if (last[jx] >= 0) unite(parent.data(), a, std::int32_t(offset[r] + last[jx]));
+      };
+      join(ix);
+      if (c == Connectivity::Eight) join(ix == 0 ? nx - 1 : ix - 1), join(ix + 1 == nx ? 0 : ix + 1);
+    }
+  }
+  // Merged ids in scan order of the roots; sums in global-id order.
+  std::vector<std::int32_t> merged(parent.size());
+  std::int32_t next = 0;
+  for (std::size_t i = 0; i < parent.size(); ++i) {
+    const std::int32_t root = find_root(parent.data(), std::int32_t(i));
+    merged[i] = root == std::int32_t(i) ? next++ : merged[root];
+  }
+  Patches P;
+  P.area.assign(std::size_t(next), 0.0);
+  P.perimeter.assign(std::size_t(next), 0.0);
+  for (int r = 0; r < np; ++r)
+    for (std::int64_t j = 0; j < edges[r][0]; ++j) {
+      const std::int32_t m = merged[std::size_t(offset[r] + j)];
+      P.area[m] += all_cells[r][j];
+      P.perimeter[m] += all_perim[r][j];
+    }
+  for (double& a : P.area) a *= grid.cell_area();
+  P.label = std::move(local.label);
+  for (auto& l : P.label)
+    if (l >= 0) l = merged[std::size_t(offset[me] + l)];
+  return P;
+}
+}  // namespace
 
 // ---- Bins and histograms ------------------------------------------------------------
 
@@ -193,6 +327,18 @@ Histogram histogram(std::span<const double> values, const Bins& bins, bool exclu
       for (std::size_t i = 0; i < o.counts.size(); ++i) counts[i] += o.counts[i];
       below += o.below, above += o.above, excluded += o.excluded;
     }
+    // Across ranks (counts below 2^53 travel exactly as doubles).
+    std::vector<double> pack() const {
+      std::vector<double> v{double(below), double(above), double(excluded)};
+      v.insert(v.end(), counts.begin(), counts.end());
+      return v;
+    }
+    static Tally unpack(std::span<const double> v) {
+      Tally t;
+      t.below = (long long)v[0], t.above = (long long)v[1], t.excluded = (long long)v[2];
+      for (std::size_t i = 3; i < v.size(); ++i) t.counts.push_back((long long)v[i]);
+      return t;
+    }
   };
   const BinIndex index(bins);
   Tally t = Grid::parallel_reduce<Tally>(values.size(), [&](std::size_t b, std::size_t e, Tally& acc) {
@@ -211,7 +357,7 @@ Histogram histogram(std::span<const double> values, const Bins& bins, bool exclu
   h.counts = std::move(t.counts);
   h.counts.resize(bins.n, 0);
   h.below = t.below, h.above = t.above, h.excluded = t.excluded;
-  h.total = (long long)values.size();
+  h.total = (long long)Grid::total(values.size());
   h.density.resize(bins.n);
   for (int i = 0; i < bins.n; ++i)
     h.density[i] = h.total ? double(h.counts[i]) / (double(h.total) * bins.width(i)) : 0.0;
@@ -228,9 +374,13 @@ Histogram gap_distribution(const Field& gap, int per_decade) {
 }
 
 Histogram patch_size_distribution(const Grid& grid, const Patches& patches, int per_decade) {
-  if (patches.count() == 0) return histogram({}, Bins::per_decade(grid.cell_area(), grid.cell_area(), per_decade));
+  if (patches.count() == 0) {
+    LocalReductions every_rank_holds_the_list;
+    return histogram({}, Bins::per_decade(grid.cell_area(), grid.cell_area(), per_decade));
+  }
   const double amax = *std::max_element(patches.area.begin(), patches.area.end());
   const double lo = grid.cell_area() * std::pow(10.0, -0.5 / per_decade);
+  LocalReductions every_rank_holds_the_list;
   return histogram(patches.area, Bins::per_decade(lo, amax, per_decade));
 }
 
@@ -249,17 +399,34 @@ RadialSpectrum radial_spectrum(const Grid& g, Fourier& fourier, const Field& f, 
       for (std::size_t b = 0; b < o.q.size(); ++b) q[b] += o.q[b], power[b] += o.power[b], modes[b] += o.modes[b];
       variance += o.variance, outside += o.outside;
     }
+    std::vector<double> pack() const {
+      std::vector<double> v{variance, outside};
+      v.insert(v.end(), q.begin(), q.end());
+      v.insert(v.end(), power.begin(), power.end());
+      v.insert(v.end(), modes.begin(), modes.end());
+      return v;
+    }
+    static Sums unpack(std::span<const double> v) {
+      Sums s;
+      s.variance = v[0], s.outside = v[1];
+      const std::size_t n = (v.size() - 2) / 3;
+      s.q.assign(v.begin() + 2, v.begin() + 2 + n);
+      s.power.assign(v.begin() + 2 + n, v.begin() + 2 + 2 * n);
+      for (std::size_t b = 0; b < n; ++b) s.modes.push_back((long long)v[2 + 2 * n + b]);
+      return s;
+    }
   };
   fourier.forward(f);
   const Spectrum& s = fourier.spectrum();
-  const double inv_n2 = 1.0 / (double(g.size()) * double(g.size()));  // forward() is unnormalised
+  const double inv_n2 = 1.0 / (double(g.points()) * double(g.points()));  // forward() is unnormalised
   const int nqx = g.nqx();
   const auto rows = [&](std::size_t row_begin, std::size_t row_end, Sums& r) {
     r.q.assign(qbins.n, 0.0), r.power.assign(qbins.n, 0.0), r.modes.assign(qbins.n, 0);
     for (int iy = int(row_begin); iy < int(row_end); ++iy) {
-      const double qy2 = g.qy(iy) * g.qy(iy);
+      const int gy = g.y0 + iy;  // the mode's row in the whole spectrum
+      const double qy2 = g.qy(gy) * g.qy(gy);
       for (int ix = 0; ix < nqx; ++ix) {
-        if (ix == 0 && iy == 0) continue;
+        if (ix == 0 && gy == 0) continue;
         // r2c keeps half the plane: every mode with 0 < ix < nx/2 stands for itself and
         // its conjugate (same |q|); ix == 0 and the even-nx Nyquist column stand alone.
         const int w = (ix == 0 || 2 * ix == g.nx) ? 1 : 2;
@@ -274,7 +441,7 @@ RadialSpectrum radial_spectrum(const Grid& g, Fourier& fourier, const Field& f, 
       }
     }
   };
-  Sums sums = Grid::parallel_reduce<Sums>(std::size_t(g.ny), rows, g.spectrum_size());
+  Sums sums = Grid::parallel_reduce<Sums>(std::size_t(g.rows()), rows, g.spectrum_size());
   if (sums.q.empty()) rows(0, 0, sums);  // no rows: empty bins
   RadialSpectrum r;
   r.bins = qbins;
@@ -306,14 +473,16 @@ Profile cross_section_x(const Grid& g, const Field& f, double x0) {
   int i0 = std::min(int(std::floor(s)), g.nx - 1);
   const double w = s - i0;
   const int i1 = (i0 + 1) % g.nx;
-  Profile p;
-  p.y.resize(g.ny);
-  p.value.resize(g.ny);
-  for (int iy = 0; iy < g.ny; ++iy) {
+  std::vector<double> mine(std::size_t(g.rows()));
+  for (int iy = 0; iy < g.rows(); ++iy) {
     const std::size_t row = std::size_t(iy) * g.nx;
-    p.y[iy] = iy * g.dy();
-    p.value[iy] = (1.0 - w) * f[row + i0] + w * f[row + i1];
+    mine[iy] = (1.0 - w) * f[row + i0] + w * f[row + i1];
   }
+  Profile p;
+  // The slabs' pieces in rank order: the whole column, on every rank.
+  for (const auto& part : allgather(mine)) p.value.insert(p.value.end(), part.begin(), part.end());
+  p.y.resize(p.value.size());
+  for (int iy = 0; iy < int(p.y.size()); ++iy) p.y[iy] = iy * g.dy();
   return p;
 }
 
@@ -379,7 +548,7 @@ ScalarObservables scalar_observables(const Grid& grid, const Field& gap, const F
     }
   });
   ScalarObservables o;
-  const double n = double(grid.size());
+  const double n = double(grid.points());
   o.mean_gap = s.gap / n;
   o.mean_pressure = s.pressure / n;
   o.repulsive_fraction = double(s.repulsive) / n;

@@ -17,7 +17,7 @@ StepObservables measure_step(const Grid& g, const ContactState& st, const Contac
     o.stress_histogram = stress_distribution(st.pressure, spec.stress_bins);
   if (patches.count() > 0) o.patch_histogram = patch_size_distribution(g, patches, spec.patch_bins_per_decade);
   // Stress spectrum C_p(q) with ∫ d²q C = variance of p (isotropic PSD).
-  Fourier f(g.nx, g.ny);
+  Fourier f(g);
   o.stress_spectrum = radial_spectrum(g, f, st.pressure);
   if (g.ny > 1) {
     o.gap_section = cross_section_x(g, st.gap, spec.cross_section_x);

@@ -1,5 +1,6 @@
 #include "cmc/output/Writer.hpp"
 
+#include "cmc/grid/Ranks.hpp"
 #include "cmc/surface/H5Handle.hpp"
 
 #include <hdf5.h>
@@ -62,17 +63,30 @@ void attr_double(hid_t obj, const char* name, double value) {
   check(a, std::string("attribute ") + name);
   check(H5Awrite(a, H5T_NATIVE_DOUBLE, &value), std::string("attribute ") + name);
 }
-// A (ny, nx) dataset of `values` times `scale`, with its unit.
+// A (ny, nx) dataset of `values` times `scale`, with its unit. In a distributed run
+// every rank calls it with its slab: rank 0 writes the rows of each rank in turn
+// (holding one slab at a time; `where` is used on rank 0 only), the others send theirs.
 void dataset(hid_t where, const std::string& name, const Grid& g, const Field& values, double scale, const char* unit,
              const char* meaning) {
-  hsize_t dims[2] = {hsize_t(g.ny), hsize_t(g.nx)};
-  H5Handle space(H5Screate_simple(2, dims, nullptr), H5Sclose);
-  H5Handle d(H5Dcreate2(where, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-             H5Dclose);
-  check(d, "dataset " + name);
-  Field scaled(values.size());
-  for (std::size_t i = 0; i < values.size(); ++i) scaled[i] = values[i] * scale;
-  check(H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, scaled.data()), "writing " + name);
+  const hsize_t nx = hsize_t(g.nx);
+  H5Handle space, d;
+  if (is_root()) {
+    hsize_t dims[2] = {hsize_t(g.ny), nx};
+    space = H5Handle(H5Screate_simple(2, dims, nullptr), H5Sclose);
+    d = H5Handle(H5Dcreate2(where, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                 H5Dclose);
+    check(d, "dataset " + name);
+  }
+  for_each_slab(g, values.data(), [&](int y0, int rows, const double* v) {
+    const std::size_t n = std::size_t(rows) * nx;
+    Field scaled(n);
+    for (std::size_t i = 0; i < n; ++i) scaled[i] = v[i] * scale;
+    hsize_t start[2] = {hsize_t(y0), 0}, count[2] = {hsize_t(rows), nx};
+    H5Handle mem(H5Screate_simple(2, count, nullptr), H5Sclose);
+    check(H5Sselect_hyperslab(space, H5S_SELECT_SET, start, nullptr, count, nullptr), "selecting rows of " + name);
+    check(H5Dwrite(d, H5T_NATIVE_DOUBLE, mem, space, H5P_DEFAULT, scaled.data()), "writing " + name);
+  });
+  if (!is_root()) return;
   attr_string(d, "units", unit);
   attr_string(d, "description", meaning);
 }
@@ -107,24 +121,46 @@ bool read_text(hid_t where, const char* name, std::string& text) {
 }
 // A (ny, nx) field of reduced values, exactly as the solver holds them.
 void write_state(hid_t where, const char* group, const Grid& g, const ContactState& st) {
-  H5Handle grp(H5Gcreate2(where, group, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
-  check(grp, std::string("group ") + group);
+  H5Handle grp;
+  if (is_root()) {
+    grp = H5Handle(H5Gcreate2(where, group, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+    check(grp, std::string("group ") + group);
+  }
   dataset(grp, "pressure", g, st.pressure, 1.0, "E*", "reduced pressure");
   dataset(grp, "displacement", g, st.displacement, 1.0, "L", "reduced displacement");
   dataset(grp, "gap", g, st.gap, 1.0, "L", "reduced gap");
 }
-bool read_state(hid_t where, const char* group, std::size_t n, ContactState& st) {
-  H5Handle grp(H5Gopen2(where, group, H5P_DEFAULT), H5Gclose);
-  if (!grp.ok()) return false;
-  for (auto [name, field] : {std::pair{"pressure", &st.pressure}, {"displacement", &st.displacement}, {"gap", &st.gap}}) {
-    H5Handle d(H5Dopen2(grp, name, H5P_DEFAULT), H5Dclose);
-    if (!d.ok()) return false;
-    H5Handle space(H5Dget_space(d), H5Sclose);
-    if (!space.ok() || H5Sget_simple_extent_npoints(space) != hssize_t(n)) return false;
-    field->resize(n);
-    if (H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, field->data()) < 0) return false;
+// The (ny, nx) fields of `group` into st, each rank its slab of grid g (rank 0 reads
+// and sends each rank its rows). False (on every rank) if rank 0 finds them missing or
+// of another shape.
+bool read_state(hid_t where, const char* group, const Grid& g, ContactState& st) {
+  const char* names[3] = {"pressure", "displacement", "gap"};
+  Field* fields[3] = {&st.pressure, &st.displacement, &st.gap};
+  H5Handle grp, d[3], space[3];
+  bool ok = true;
+  if (is_root()) {
+    grp = H5Handle(H5Gopen2(where, group, H5P_DEFAULT), H5Gclose);
+    ok = grp.ok();
+    for (int i = 0; ok && i < 3; ++i) {
+      d[i] = H5Handle(H5Dopen2(grp, names[i], H5P_DEFAULT), H5Dclose);
+      if (d[i].ok()) space[i] = H5Handle(H5Dget_space(d[i]), H5Sclose);
+      ok = d[i].ok() && space[i].ok() && H5Sget_simple_extent_npoints(space[i]) == hssize_t(g.points());
+    }
   }
-  return true;
+  if (!any_rank(ok)) return false;
+  bool read_ok = true;
+  for (int i = 0; i < 3; ++i) {
+    fields[i]->resize(g.size());
+    scatter_slabs(g, fields[i]->data(), [&](int y0, int rows, double* v) {
+      hsize_t start[2] = {hsize_t(y0), 0}, count[2] = {hsize_t(rows), hsize_t(g.nx)};
+      H5Handle mem(H5Screate_simple(2, count, nullptr), H5Sclose);
+      // A 1-D dataset of the same number of points is read whole (one slab only then).
+      if (H5Sget_simple_extent_ndims(space[i]) == 2)
+        read_ok = read_ok && H5Sselect_hyperslab(space[i], H5S_SELECT_SET, start, nullptr, count, nullptr) >= 0;
+      read_ok = read_ok && H5Dread(d[i], H5T_NATIVE_DOUBLE, mem, space[i], H5P_DEFAULT, v) >= 0;
+    });
+  }
+  return !any_rank(!read_ok);
 }
 
 const char* refinement_name(PathState::Refinement r) {
@@ -204,21 +240,25 @@ PathState path_from(const toml::table& t, const std::string& file) {
 }  // namespace
 
 Writer::Writer(fs::path dir, const Case& c, const Scene& s, bool resume)
-    : lock_(dir), dir_(std::move(dir)), case_(c), scene_(s) {
+    : lock_(is_root() ? OutputLock(dir) : OutputLock()), dir_(std::move(dir)), case_(c), scene_(s) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   partial_ = dir_ / ".partial";
   checkpoint_ = partial_ / "checkpoint.h5";
   marker_ = dir_ / "INCOMPLETE";
   std::error_code ec;
+  // In a distributed run rank 0 alone touches the folder; every rank takes part in
+  // reading a checkpoint (load_partial) and in writing fields (dataset()).
+  const bool have_checkpoint = any_rank(is_root() && fs::exists(checkpoint_));
   if (resume) {
-    if (fs::exists(checkpoint_)) {
+    if (have_checkpoint) {
       load_partial();
       resuming_ = true;
-    } else if (fs::exists(dir_ / ".progress.toml")) {
+    } else if (is_root() && fs::exists(dir_ / ".progress.toml")) {
       notice_ = dir_.string() + " held a partial run written by an earlier version of cmc (.progress.toml), which "
                 "cannot be continued exactly: starting afresh";
     }
   }
+  if (!is_root()) return;
   // An earlier run's results must not pass for this run's.
   for (const char* f : {"summary.json", "result.h5", "result.xdmf"}) fs::remove(dir_ / f, ec);
   if (!resuming_) {
@@ -247,10 +287,17 @@ void Writer::load_partial() {
   auto damaged = [&](const std::string& what) {
     return CaseError(file + ": " + what + " (a damaged checkpoint of a partial run); run without --resume to start afresh");
   };
-  H5Handle f(H5Fopen(checkpoint_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
-  if (!f.ok()) throw damaged("not a readable HDF5 file");
+  // Rank 0 reads the file; every rank parses the same text (a problem found on rank 0
+  // travels as the text "!" plus the message, so that every rank stops alike).
+  H5Handle f;
   std::string text;
-  if (!read_text(f, "progress", text)) throw damaged("no dataset 'progress'");
+  if (is_root()) {
+    f = H5Handle(H5Fopen(checkpoint_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+    if (!f.ok()) text = "!not a readable HDF5 file";
+    else if (!read_text(f, "progress", text)) text = "!no dataset 'progress'";
+  }
+  broadcast(text);
+  if (!text.empty() && text[0] == '!') throw damaged(text.substr(1));
   toml::table t;
   try {
     t = toml::parse(text, file);
@@ -301,7 +348,7 @@ void Writer::load_partial() {
       resume_.done.push_back(rec);
     }
   // The state to go on from (reduced units, bit for bit).
-  const std::size_t n = scene_.grid.size();
+  const Grid& n = scene_.grid;
   const auto* state = t["state"].as_table();
   const auto* pen = state ? (*state)["penetration"].as_floating_point() : nullptr;
   const auto* mp = state ? (*state)["mean_pressure"].as_floating_point() : nullptr;
@@ -322,10 +369,15 @@ void Writer::load_partial() {
     }
     if (resume_.path.next != resume_.done.size()) throw damaged("key 'path.next': expected the number of steps");
   }
-  if (case_.write_fields)
-    for (const StepRecord& r : resume_.done)
-      if (!fs::exists(step_file(r.index)))
-        throw damaged("the fields of step " + std::to_string(r.index) + " (" + step_file(r.index).string() + ") are missing");
+  if (case_.write_fields) {
+    std::string missing;
+    if (is_root())
+      for (const StepRecord& r : resume_.done)
+        if (missing.empty() && !fs::exists(step_file(r.index)))
+          missing = "the fields of step " + std::to_string(r.index) + " (" + step_file(r.index).string() + ") are missing";
+    broadcast(missing);
+    if (!missing.empty()) throw damaged(missing);
+  }
 }
 
 Writer::~Writer() = default;
@@ -336,17 +388,25 @@ void Writer::add_step(const StepRecord& rec, const ContactState& st) {
     // only when a checkpoint names the step (a step redone after an interruption
     // replaces it).
     const fs::path final_name = step_file(rec.index), tmp = final_name.string() + ".tmp";
+    const bool root = is_root();
     try {
-      H5Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
-      if (!file.ok()) throw std::runtime_error(tmp.string() + ": cannot create the HDF5 file");
+      H5Handle file, grp;
       const Units& u = scene_.units;
       char name[32];
       std::snprintf(name, sizeof name, "step_%04d", rec.index);
-      H5Handle grp(H5Gcreate2(file, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
-      check(grp, std::string("group ") + name);
+      if (root) {
+        file = H5Handle(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+        if (!file.ok()) throw std::runtime_error(tmp.string() + ": cannot create the HDF5 file");
+        grp = H5Handle(H5Gcreate2(file, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+        check(grp, std::string("group ") + name);
+      }
       dataset(grp, "pressure", scene_.grid, st.pressure, u.pressure_pa, "Pa", "interfacial pressure, compressive > 0");
       dataset(grp, "displacement", scene_.grid, st.displacement, u.length_m, "m", "surface displacement into the solid");
       dataset(grp, "gap", scene_.grid, st.gap, u.length_m, "m", "interfacial gap g = h - penetration + u");
+      if (!root) {
+        records_.push_back(step_json(rec));
+        return;
+      }
       attr_double(grp, "mean_pressure", rec.mean_pressure);
       attr_double(grp, "penetration", rec.penetration);
       attr_double(grp, "mean_gap", rec.mean_gap);
@@ -372,6 +432,11 @@ void Writer::checkpoint(const ContactState& st, const PathState* path) {
   // Everything in one file, renamed over the last checkpoint: a run interrupted at any
   // moment is continued from the last complete one.
   const fs::path tmp = partial_ / "checkpoint.h5.tmp";
+  if (!is_root()) {  // the fields' slabs go to rank 0
+    write_state(-1, "state", scene_.grid, st);
+    if (path && !path->pulloff_state.empty()) write_state(-1, "pulloff", scene_.grid, path->pulloff_state);
+    return;
+  }
   {
     H5Handle f(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
     if (!f.ok()) throw std::runtime_error(tmp.string() + ": cannot write the checkpoint");
@@ -435,7 +500,8 @@ toml::table Writer::summary_base() const {
       {"grid", toml::table{{"nx", g.nx}, {"ny", g.ny}, {"size_x", u.to_m(g.lx)}, {"size_y", u.to_m(g.ly)},
                            {"dx", u.to_m(g.dx())}, {"dy", u.to_m(g.dy())},
                            {"boundary", scene_.half_space->periodic() ? "periodic" : "free"},
-                           {"fft_size", (long long)scene_.half_space->transform_size()},
+                           {"fft_size", (long long)scene_.half_space->transform_points()},
+                           {"mpi_ranks", ranks()},
                            {"fft_plans", std::string(scene_.half_space->plan_source())}}},
       {"surface", scene_.topography.description},
   };
@@ -468,6 +534,10 @@ void Writer::finish(const RunSummary& run, const toml::table& extra) {
                                       {"halved_steps", run.halved_steps},
                                       {"jumps", run.jumps}});
   for (const auto& [k, v] : extra) s.insert_or_assign(k, v);
+  if (!is_root()) {  // the heights' slabs go to rank 0, which writes everything
+    if (case_.write_fields) dataset(-1, "heights", scene_.grid, scene_.topography.heights, 1.0, "", "");
+    return;
+  }
   if (case_.write_fields) {
     // result.h5: the heights, then every step's group copied from its file.
     const fs::path tmp = dir_ / (".result.h5.tmp" + std::to_string(::getpid()));
@@ -529,6 +599,7 @@ void Writer::finish(const RunSummary& run, const toml::table& extra) {
 }
 
 void Writer::fail(const std::string& message) {
+  if (!is_root()) return;
   // Results of an earlier run in the same folder must not pass for this run's.
   std::error_code ec;
   for (const char* f : {"result.h5", "result.xdmf"}) fs::remove(dir_ / f, ec);
