@@ -5,10 +5,12 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 # clang, libclang-rt-dev (libFuzzer and clang's sanitizer runtimes) and libomp-dev (OpenMP for
-# clang): the fuzz build of scripts/fuzz.sh, which scripts/test.sh runs.
+# clang): the fuzz build of scripts/fuzz.sh, which scripts/test.sh runs. libopenmpi-dev,
+# openmpi-bin and libfftw3-mpi-dev: the distributed build of scripts/mpi.sh (same).
 packages=(build-essential cmake pkg-config libfftw3-dev libgsl-dev libhdf5-dev libtomlplusplus-dev
           libgtest-dev libbenchmark-dev python3-matplotlib python3-numpy python3-h5py
-          clang libclang-rt-dev libomp-dev)
+          clang libclang-rt-dev libomp-dev
+          libopenmpi-dev openmpi-bin libfftw3-mpi-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -6,9 +6,12 @@
 #      wall and adhesive; validation/validation.cmake);
 #   2. the quick and validation tests again, built with AddressSanitizer and
 #      UndefinedBehaviorSanitizer (scripts/sanitize.sh, build-asan/);
-#   3. each fuzz target for 15 s (scripts/fuzz.sh, build-fuzz/).
+#   3. each fuzz target for 15 s (scripts/fuzz.sh, build-fuzz/);
+#   4. the distributed build and its comparisons with serial runs at 1 and 2 MPI ranks
+#      (scripts/mpi.sh, build-mpi/, ctest label 'mpi').
 # Extra arguments go to ctest and run step 1 only, e.g. scripts/test.sh -L validation.
-# CMC_TEST_SANITIZE=0 skips step 2, CMC_TEST_FUZZ_SECONDS=0 step 3 (or sets its seconds).
+# CMC_TEST_SANITIZE=0 skips step 2, CMC_TEST_FUZZ_SECONDS=0 step 3 (or sets its seconds),
+# CMC_TEST_MPI=0 step 4.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
@@ -33,5 +36,6 @@ if [ $# -eq 0 ]; then
       scripts/sanitize.sh
   fuzz_seconds="${CMC_TEST_FUZZ_SECONDS:-15}"
   [ "$fuzz_seconds" = 0 ] || stage "fuzz build and ${fuzz_seconds} s per target (build-fuzz)" scripts/fuzz.sh "$fuzz_seconds"
+  [ "${CMC_TEST_MPI:-1}" = 0 ] || stage "MPI build and distributed tests (build-mpi)" scripts/mpi.sh
 fi
 exit $status
