@@ -15,6 +15,7 @@ Each TEST runs a case with the serial build and with the MPI build under
   challenge_adhesive the challenge at 512^2 with adhesion (multistable): within 3x the
                      difference that 1 vs 2 threads make in the serial build (measured in
                      the test), floored at 1e-9
+  memory             peak memory per rank at np = 2 at most 0.6 of the serial peak (2048^2)
   rerun_bits         the same case twice at np = 2: summary numbers and result.h5 identical
   one_rank           the MPI build at np = 1 equals the serial build bit for bit
   resume             a run at np = 2 killed at its second checkpoint and resumed equals an
@@ -212,6 +213,24 @@ elif TEST == "challenge_adhesive":
         print(f"{key}: serial {n1[key]!r}, 2 threads {n2[key]!r}: bound {bounds[key]:.2e}")
     compare(d("serial"), d("np2"), "challenge with adhesion 512^2, np 2 vs serial", bounds=bounds, field_bounds=field_bounds,
             skip=("iterations", "fft_pairs", "diagnostics", "wall_s"))
+elif TEST == "memory":
+    # Peak resident memory per rank at np = 2 against the serial run's, 2048^2 hard wall
+    # (the challenge surface, made on the slabs; 10 iterations: the peak is reached in the
+    # first). Measured: serial 378 MB, np = 2 223 MB per rank (0.59); each process's
+    # baseline (libraries, MPI) is 51 MB serial and 60 MB with MPI, so 0.6 is what halving
+    # the grid's 327 MB allows. ru_maxrss of the children: the largest rank's peak.
+    c, sets = case("challenge/reference-load-hardwall.toml"), ["solver.max_iterations=10", "output.fields=false"]
+    def peak(cmd):
+        probe = ("import resource, subprocess, sys; subprocess.run(sys.argv[1:], stdout=subprocess.DEVNULL, "
+                 "stderr=subprocess.DEVNULL); print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)")
+        p = subprocess.run([sys.executable, "-c", probe] + cmd, env=ENV, capture_output=True, text=True, timeout=600)
+        return int(p.stdout.split()[-1]) / 1024.0  # MB
+    args = lambda out: [a for s_ in sets for a in ("--set", s_)] + ["--out", out, "--quiet"]
+    serial = peak([SERIAL, "run", c] + args(d("serial")))
+    dist = peak(["mpirun", "-np", "2", "--oversubscribe", MPI, "run", c] + args(d("np2")))
+    print(f"memory: serial peak {serial:.0f} MB, np = 2 largest rank {dist:.0f} MB: ratio {dist / serial:.3f} (bound 0.6)")
+    if dist > 0.6 * serial:
+        failures.append(f"memory: the largest rank's peak at np = 2 is {dist / serial:.3f} of the serial peak (> 0.6)")
 elif TEST == "rerun_bits":
     c, sets = case("challenge/reference-load-hardwall.toml"), ["grid.n=256"]
     solve(MPI, c, d("a"), sets, np_=2)

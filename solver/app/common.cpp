@@ -42,10 +42,12 @@ Args parse_args(int argc, char** argv, int first, const std::vector<std::string>
 void print_memory_plan(const Case& c, bool quiet) {
   if (quiet) return;
   const MemoryEstimate e = estimate_memory(c);
-  const std::optional<double> avail = available_memory();
-  std::fprintf(stderr, "%s: %d x %d points, about %s of memory at the peak (%s)%s%s\n", c.name.c_str(), c.grid.nx,
-               c.grid.ny, memory_text(e.bytes).c_str(), e.what.c_str(), avail ? "; available: " : "",
-               avail ? memory_text(*avail).c_str() : "");
+  std::optional<double> avail = available_memory();
+  if (avail) *avail /= double(memory_split().ranks_here);
+  const std::string on = ranks() > 1 ? " on " + std::to_string(ranks()) + " MPI ranks" : "";
+  std::fprintf(stderr, "%s: %d x %d points%s, about %s of memory at the peak (%s)%s%s%s\n", c.name.c_str(), c.grid.nx,
+               c.grid.ny, on.c_str(), memory_text(e.bytes).c_str(), e.what.c_str(), avail ? "; available: " : "",
+               avail ? memory_text(*avail).c_str() : "", avail && ranks() > 1 ? " per rank" : "");
 }
 
 Progress make_progress(bool quiet, int* step, std::chrono::steady_clock::time_point t0, int total_steps,

@@ -63,6 +63,7 @@ int fail(int code, const char* what, bool every_rank_alike) {
 
 int main(int argc, char** argv) {
   cmc::RankSession mpi(argc, argv);
+  cmc::set_memory_split({cmc::ranks(), cmc::ranks_on_this_machine()});
   return dispatch(argc, argv);
 }
 

@@ -168,9 +168,8 @@ class Fourier {
   FftwPlan plan_forward_, plan_inverse_;
   // Distributed only: FFTW's MPI r2c works on rows padded to 2 (nx/2 + 1) reals and may
   // use more complex entries than the local spectrum as scratch (its alloc_local), so
-  // the transforms go through these, one copy each way.
+  // the transforms go in place through this buffer, one copy each way.
   bool distributed_ = false;
-  Field rpad_;
   Spectrum cwork_;
   const char* plan_source_ = "";
   long n_forward_ = 0, n_inverse_ = 0;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 
@@ -16,6 +17,7 @@ namespace {
 int local_depth = 0;  // LocalReductions scopes open
 #ifdef CMC_MPI
 bool mpi_started = false;
+int node_ranks = 0;  // the ranks that share this node's memory (RankSession counts them)
 #endif
 }  // namespace
 
@@ -28,6 +30,12 @@ RankSession::RankSession(int& argc, char**& argv) {
   // Threads (OpenMP passes, FFTW's threads) never call MPI: FUNNELED is enough.
   MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
   mpi_started = true;
+  // The ranks on this node, whatever started them (mpirun, srun): counted once, here,
+  // where every rank is (it is a collective call).
+  MPI_Comm node;
+  MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
+  MPI_Comm_size(node, &node_ranks);
+  MPI_Comm_free(&node);
 }
 RankSession::~RankSession() {
   if (!mpi_started) return;
@@ -56,6 +64,14 @@ int ranks() { return 1; }
 bool mpi_build() { return false; }
 #endif
 bool is_root() { return rank() == 0; }
+int ranks_on_this_machine() {
+#ifdef CMC_MPI
+  if (node_ranks > 0) return node_ranks;
+#endif
+  // Before MPI starts (thread_count() may ask early): what mpirun says.
+  if (const char* s = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE")) return std::max(1, std::atoi(s));
+  return 1;
+}
 
 namespace detail {
 bool reductions_span_ranks() { return local_depth == 0 && ranks() > 1; }
@@ -135,6 +151,15 @@ Field slab_of(const Grid& slab, const Field& whole) {
 }
 
 // ---------------------------------------------------------------- collectives
+
+namespace {
+// Rows in one block of for_each_slab / scatter_slabs: about 4 MiB of doubles, at least
+// one row, so that writing a field costs 4 MiB of buffers, not a copy of it.
+int rows_per_block(const Grid& g) {
+  constexpr std::size_t kBlockBytes = std::size_t(4) << 20;
+  return int(std::max<std::size_t>(1, kBlockBytes / (sizeof(double) * std::size_t(std::max(g.nx, 1)))));
+}
+}  // namespace
 
 #ifdef CMC_MPI
 namespace {
@@ -218,41 +243,51 @@ void abort_all_ranks(int code) {
 }
 
 void for_each_slab(const Grid& g, const double* local, const std::function<void(int, int, const double*)>& visit) {
+  const int block = rows_per_block(g);
   if (ranks() == 1 || !g.split()) {
-    if (is_root()) visit(g.y0, g.rows(), local);
+    if (is_root())
+      for (int r = 0; r < g.rows(); r += block) visit(g.y0 + r, std::min(block, g.rows() - r), local + std::size_t(r) * g.nx);
     return;
   }
   const Split s = split_rows(g);
   if (!is_root()) {
-    MPI_Send(local, int(g.size()), MPI_DOUBLE, 0, 21, MPI_COMM_WORLD);
+    for (int r = 0; r < g.rows(); r += block)
+      MPI_Send(local + std::size_t(r) * g.nx, int(std::size_t(std::min(block, g.rows() - r)) * g.nx), MPI_DOUBLE, 0, 21,
+               MPI_COMM_WORLD);
     return;
   }
-  visit(g.y0, g.rows(), local);
-  Field buf;
-  for (int r = 1; r < ranks(); ++r) {
-    buf.resize(std::size_t(s.rows[r]) * g.nx);
-    MPI_Recv(buf.data(), int(buf.size()), MPI_DOUBLE, r, 21, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-    visit(s.y0[r], s.rows[r], buf.data());
-  }
+  for (int r = 0; r < g.rows(); r += block) visit(g.y0 + r, std::min(block, g.rows() - r), local + std::size_t(r) * g.nx);
+  Field buf(std::size_t(block) * g.nx);
+  for (int q = 1; q < ranks(); ++q)
+    for (int r = 0; r < s.rows[q]; r += block) {
+      const int n = std::min(block, s.rows[q] - r);
+      MPI_Recv(buf.data(), int(std::size_t(n) * g.nx), MPI_DOUBLE, q, 21, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+      visit(s.y0[q] + r, n, buf.data());
+    }
 }
 
 void scatter_slabs(const Grid& g, double* local, const std::function<void(int, int, double*)>& fill) {
+  const int block = rows_per_block(g);
   if (ranks() == 1 || !g.split()) {
-    if (is_root()) fill(g.y0, g.rows(), local);
+    if (is_root())
+      for (int r = 0; r < g.rows(); r += block) fill(g.y0 + r, std::min(block, g.rows() - r), local + std::size_t(r) * g.nx);
     return;
   }
   const Split s = split_rows(g);
   if (!is_root()) {
-    MPI_Recv(local, int(g.size()), MPI_DOUBLE, 0, 22, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    for (int r = 0; r < g.rows(); r += block)
+      MPI_Recv(local + std::size_t(r) * g.nx, int(std::size_t(std::min(block, g.rows() - r)) * g.nx), MPI_DOUBLE, 0, 22,
+               MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     return;
   }
-  fill(g.y0, g.rows(), local);
-  Field buf;
-  for (int r = 1; r < ranks(); ++r) {
-    buf.resize(std::size_t(s.rows[r]) * g.nx);
-    fill(s.y0[r], s.rows[r], buf.data());
-    MPI_Send(buf.data(), int(buf.size()), MPI_DOUBLE, r, 22, MPI_COMM_WORLD);
-  }
+  for (int r = 0; r < g.rows(); r += block) fill(g.y0 + r, std::min(block, g.rows() - r), local + std::size_t(r) * g.nx);
+  Field buf(std::size_t(block) * g.nx);
+  for (int q = 1; q < ranks(); ++q)
+    for (int r = 0; r < s.rows[q]; r += block) {
+      const int n = std::min(block, s.rows[q] - r);
+      fill(s.y0[q] + r, n, buf.data());
+      MPI_Send(buf.data(), int(std::size_t(n) * g.nx), MPI_DOUBLE, q, 22, MPI_COMM_WORLD);
+    }
 }
 #else
 namespace {
@@ -270,10 +305,12 @@ bool any_rank(bool flag) { return flag; }
 void barrier() {}
 void abort_all_ranks(int) {}
 void for_each_slab(const Grid& g, const double* local, const std::function<void(int, int, const double*)>& visit) {
-  visit(g.y0, g.rows(), local);
+  const int block = rows_per_block(g);
+  for (int r = 0; r < g.rows(); r += block) visit(g.y0 + r, std::min(block, g.rows() - r), local + std::size_t(r) * g.nx);
 }
 void scatter_slabs(const Grid& g, double* local, const std::function<void(int, int, double*)>& fill) {
-  fill(g.y0, g.rows(), local);
+  const int block = rows_per_block(g);
+  for (int r = 0; r < g.rows(); r += block) fill(g.y0 + r, std::min(block, g.rows() - r), local + std::size_t(r) * g.nx);
 }
 #endif
 

@@ -37,6 +37,9 @@ int rank();         // 0 .. ranks() - 1
 int ranks();        // 1 without MPI
 bool is_root();     // rank() == 0: the rank that writes files and prints
 bool mpi_build();   // compiled with -DCMC_MPI=ON
+// Ranks that mpirun started on this machine (Open MPI's OMPI_COMM_WORLD_LOCAL_SIZE; 1
+// without): they share its cores and its memory.
+int ranks_on_this_machine();
 
 // Inside this scope reductions stay on this rank: for data that every rank holds whole
 // (the scene's surface before it is cut into slabs, per-patch lists). Nestable.
@@ -74,12 +77,13 @@ void barrier();
 // Ends every rank now with exit code `code` (MPI_Abort); returns only without MPI.
 void abort_all_ranks(int code);
 
-// Rows [y0, y0 + rows) of every rank, on rank 0 one slab at a time: visit(y0, rows,
-// values) is called on rank 0 for each rank in order (rank 0's own slab first); other
-// ranks send theirs. Rank 0 holds at most one slab of another rank at a time.
+// Every row of a field, on rank 0, in blocks of rows: visit(y0, rows, values) is called
+// on rank 0 for blocks of about 4 MiB in the order of the rows (rank 0's own first, then
+// each rank's in rank order); other ranks send theirs. Rank 0 holds one block of another
+// rank at a time. Without MPI: the blocks of this field.
 void for_each_slab(const Grid& g, const double* local, const std::function<void(int, int, const double*)>& visit);
-// The inverse: rank 0 fills each rank's slab with fill(y0, rows, values) in rank order
-// and sends it; every rank receives its own into `local` (g.size() entries).
+// The inverse: rank 0 fills the blocks of every rank's rows with fill(y0, rows, values),
+// in the same order, and sends them; every rank receives its own into `local`.
 void scatter_slabs(const Grid& g, double* local, const std::function<void(int, int, double*)>& fill);
 
 }  // namespace cmc

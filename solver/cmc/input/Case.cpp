@@ -447,8 +447,9 @@ void check_name(Section& s, const std::string& name) {
 // The grid of the case, and every grid its refinement study runs, must fit in the
 // memory this machine has now: checked before anything is allocated.
 void check_memory(const Case& c, toml::table& t, const std::string& file) {
-  const std::optional<double> avail = available_memory();
+  std::optional<double> avail = available_memory();
   if (!avail) return;
+  *avail /= double(memory_split().ranks_here);  // a distributed run's ranks share the machine's memory
   auto too_big = [&](const Case& run) {
     const MemoryEstimate e = estimate_memory(run);
     if (e.bytes <= *avail) return std::string();
@@ -631,6 +632,12 @@ std::string memory_text(double bytes) {
   return buf;
 }
 
+namespace {
+MemorySplit split_now;
+}  // namespace
+const MemorySplit& memory_split() { return split_now; }
+void set_memory_split(const MemorySplit& s) { split_now = s; }
+
 MemoryEstimate estimate_memory(const Case& c) {
   // Counted from the code, in doubles (8 bytes): n per field of the grid, m per field of
   // the transform grid (the grid itself when periodic, 2nx x 2ny zero-padded when free),
@@ -686,10 +693,13 @@ MemoryEstimate estimate_memory(const Case& c) {
   // load control's) and fragments; measured peak memory was up to 1.2x the fields
   // counted above (tests/test_limits.cpp, Limits.MemoryEstimateBoundsMeasuredPeak).
   constexpr double kAllocatorAllowance = 1.25;
-  const double solve_bytes = kAllocatorAllowance * 8.0 * (grid_fields * n + transform * m);
+  // A distributed run (MPI) splits the grid among its ranks: the estimate is one rank's
+  // (its slab of every field; the whole band of modes, which every rank lists).
+  const double share = 1.0 / double(memory_split().ranks);
+  const double solve_bytes = kAllocatorAllowance * 8.0 * (grid_fields * n + transform * m) * share;
   // Making the surface: the self-affine generator holds every mode of the band (about
   // (pi/2) K^2 of them, K = size/cutoff, 24 bytes each) beside a spectrum and the heights.
-  double surface_bytes = 8.0 * 3.0 * n;
+  double surface_bytes = 8.0 * 3.0 * n * share;
   if (c.surface.kind == SurfaceKind::SelfAffine) {
     const double K = std::floor(c.grid.size_x / c.surface.cutoff_wavelength);
     surface_bytes += 24.0 * (0.5 * std::numbers::pi * (K + 1.0) * (K + 1.0) + 4.0 * K + 8.0);
@@ -700,7 +710,8 @@ MemoryEstimate estimate_memory(const Case& c) {
   if (solve_bytes >= surface_bytes)
     std::snprintf(what, sizeof what,
                   "%.4g fields of the grid and %.4g of the %s transform grid, 8 bytes a point, and 25 %% for the "
-                  "allocator", grid_fields, transform, periodic ? "periodic" : "zero-padded 2nx x 2ny");
+                  "allocator%s", grid_fields, transform, periodic ? "periodic" : "zero-padded 2nx x 2ny",
+                  memory_split().ranks > 1 ? "; per MPI rank, each holding its slab" : "");
   else
     std::snprintf(what, sizeof what, "the self-affine surface's %.3g Fourier modes while it is made",
                   0.5 * std::numbers::pi * std::pow(std::floor(c.grid.size_x / c.surface.cutoff_wavelength), 2));

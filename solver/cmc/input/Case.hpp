@@ -170,6 +170,15 @@ struct MemoryEstimate {
   std::string what;    // what it is made of, for messages ("13 fields of the grid, ...")
 };
 MemoryEstimate estimate_memory(const Case& c);
+// How a distributed run (MPI) splits the memory: its ranks, each holding a slab of every
+// field, and those on this machine, which share its memory. The program sets it once
+// MPI has started (main.cpp); estimate_memory and the check of a case's grid against the
+// available memory are then per rank. {1, 1} for a serial run.
+struct MemorySplit {
+  int ranks = 1, ranks_here = 1;
+};
+const MemorySplit& memory_split();
+void set_memory_split(const MemorySplit& s);
 // Memory this machine can give a new run now, in bytes: /proc/meminfo's MemAvailable,
 // or what the process's cgroup (v2 memory.max, v1 memory.limit_in_bytes) leaves if that
 // is less; sysconf(_SC_AVPHYS_PAGES) where /proc is missing. nullopt: unknown.

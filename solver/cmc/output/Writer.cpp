@@ -131,8 +131,8 @@ void write_state(hid_t where, const char* group, const Grid& g, const ContactSta
   dataset(grp, "gap", g, st.gap, 1.0, "L", "reduced gap");
 }
 // The (ny, nx) fields of `group` into st, each rank its slab of grid g (rank 0 reads
-// and sends each rank its rows). False (on every rank) if rank 0 finds them missing or
-// of another shape.
+// blocks of rows and sends each rank its own). False (on every rank) if rank 0 finds
+// them missing or of another shape.
 bool read_state(hid_t where, const char* group, const Grid& g, ContactState& st) {
   const char* names[3] = {"pressure", "displacement", "gap"};
   Field* fields[3] = {&st.pressure, &st.displacement, &st.gap};
@@ -144,7 +144,9 @@ bool read_state(hid_t where, const char* group, const Grid& g, ContactState& st)
     for (int i = 0; ok && i < 3; ++i) {
       d[i] = H5Handle(H5Dopen2(grp, names[i], H5P_DEFAULT), H5Dclose);
       if (d[i].ok()) space[i] = H5Handle(H5Dget_space(d[i]), H5Sclose);
-      ok = d[i].ok() && space[i].ok() && H5Sget_simple_extent_npoints(space[i]) == hssize_t(g.points());
+      hsize_t dims[2] = {0, 0};
+      ok = d[i].ok() && space[i].ok() && H5Sget_simple_extent_ndims(space[i]) == 2 &&
+           H5Sget_simple_extent_dims(space[i], dims, nullptr) == 2 && dims[0] == hsize_t(g.ny) && dims[1] == hsize_t(g.nx);
     }
   }
   if (!any_rank(ok)) return false;
@@ -154,9 +156,7 @@ bool read_state(hid_t where, const char* group, const Grid& g, ContactState& st)
     scatter_slabs(g, fields[i]->data(), [&](int y0, int rows, double* v) {
       hsize_t start[2] = {hsize_t(y0), 0}, count[2] = {hsize_t(rows), hsize_t(g.nx)};
       H5Handle mem(H5Screate_simple(2, count, nullptr), H5Sclose);
-      // A 1-D dataset of the same number of points is read whole (one slab only then).
-      if (H5Sget_simple_extent_ndims(space[i]) == 2)
-        read_ok = read_ok && H5Sselect_hyperslab(space[i], H5S_SELECT_SET, start, nullptr, count, nullptr) >= 0;
+      read_ok = read_ok && H5Sselect_hyperslab(space[i], H5S_SELECT_SET, start, nullptr, count, nullptr) >= 0;
       read_ok = read_ok && H5Dread(d[i], H5T_NATIVE_DOUBLE, mem, space[i], H5P_DEFAULT, v) >= 0;
     });
   }

@@ -190,19 +190,31 @@ Scene build_scene(const Case& c) {
   s.units.length_m = c.grid.size_x;
   s.units.pressure_pa = c.contact_modulus;
   const Units& u = s.units;
-  s.grid = Grid{c.grid.nx, c.grid.ny, 1.0, u.length(c.grid.size_y)};
-  {
-    // Every rank makes the whole surface (the same heights as a serial run, bit for bit)
-    // and its statistics, then keeps its slab of it.
-    LocalReductions whole_surface;
+  const Grid whole{c.grid.nx, c.grid.ny, 1.0, u.length(c.grid.size_y)};
+  Grid slab;
+  try {
+    slab = distribute(whole);  // the whole grid with one rank
+  } catch (const std::invalid_argument& e) {
+    throw CaseError(c.file + ": [grid]: " + e.what());
+  }
+  if (c.surface.kind == SurfaceKind::SelfAffine) {
+    // Made on the slab (each rank its rows of the spectrum, a distributed inverse
+    // transform): no rank holds the whole surface.
+    s.grid = slab;
     build_topography(c, s);
+  } else {
+    // Analytic shapes and files: every rank makes the whole map and its statistics (the
+    // same heights as a serial run, bit for bit), then keeps its slab of it.
+    LocalReductions whole_surface;
+    s.grid = whole;
+    build_topography(c, s);
+    s.grid = slab;
+    if (slab.split()) {
+      s.topography.heights = slab_of(slab, s.topography.heights);
+      s.topography.grid = slab;
+    }
   }
   try {
-    s.grid = distribute(s.grid);
-    if (s.grid.split()) {
-      s.topography.heights = slab_of(s.grid, s.topography.heights);
-      s.topography.grid = s.grid;
-    }
     s.half_space = make_half_space(s.grid, 1.0, c.grid.periodic);  // E* = 1 in reduced units
   } catch (const std::invalid_argument& e) {
     if (ranks() == 1) throw;

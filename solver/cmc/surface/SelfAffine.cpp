@@ -88,15 +88,22 @@ SelfAffineModes self_affine_modes(const SelfAffineSpec& spec) {
 
 Synthesis synthesize(const std::vector<FourierMode>& modes, const Grid& grid) {
   if (grid.nx < 1 || grid.ny < 1) throw std::invalid_argument("synthesize: empty grid");
-  Fourier fft(grid.nx, grid.ny);
+  // On a slab of a distributed run, each rank places the modes of its spectrum rows
+  // (y0 .. y0 + rows - 1) and the inverse transform is distributed: no rank holds more
+  // than its slab (the list of modes is the band's, the same on every rank).
+  Fourier fft(grid);
   Spectrum& s = fft.spectrum();
   std::fill(s.begin(), s.end(), Complex(0.0));
   const std::size_t nqx = std::size_t(grid.nqx());
+  const long y0 = grid.y0, rows = grid.rows();
+  auto put = [&](long iy, std::size_t iqx, Complex c) {
+    if (iy >= y0 && iy < y0 + rows) s[std::size_t(iy - y0) * nqx + iqx] += c;
+  };
   Synthesis out;
   for (FourierMode m : modes) {
     if (m.kx < 0 || (m.kx == 0 && m.ky < 0)) m = {-m.kx, -m.ky, std::conj(m.c)};
     if (m.kx == 0 && m.ky == 0) {
-      s[0] += m.c.real();
+      put(0, 0, m.c.real());
       ++out.modes_placed;
       continue;
     }
@@ -105,12 +112,12 @@ Synthesis synthesize(const std::vector<FourierMode>& modes, const Grid& grid) {
       continue;
     }
     ++out.modes_placed;
-    const std::size_t iy = std::size_t(m.ky >= 0 ? m.ky : m.ky + grid.ny);
+    const long iy = m.ky >= 0 ? m.ky : m.ky + grid.ny;
     if (m.kx > 0) {
-      s[iy * nqx + std::size_t(m.kx)] += m.c;
+      put(iy, std::size_t(m.kx), m.c);
     } else {  // kx == 0 column: c2r needs both members of the pair
-      s[iy * nqx] += m.c;
-      s[std::size_t(grid.ny - m.ky) * nqx] += std::conj(m.c);
+      put(iy, 0, m.c);
+      put(grid.ny - m.ky, 0, std::conj(m.c));
     }
   }
   out.map.grid = grid;

@@ -21,7 +21,7 @@ void check(const Grid& g, const Field& h, const char* who) {
 
 SurfaceStatistics surface_statistics(const Grid& grid, const Field& h) {
   check(grid, h, "surface_statistics");
-  Fourier fft(grid.nx, grid.ny);
+  Fourier fft(grid);  // distributed when the grid is a slab
   return surface_statistics(grid, h, fft);
 }
 
@@ -37,7 +37,7 @@ SurfaceStatistics surface_statistics(const Grid& g, const Field& h, Fourier& fft
     // Two-pass variance (no cancellation against the mean).
     Field d(h.size());
     for (std::size_t i = 0; i < h.size(); ++i) d[i] = (h[i] - s.mean) * (h[i] - s.mean);
-    var[0] = Grid::sum(d) / double(h.size());
+    var[0] = Grid::sum(d) / double(g.points());
   }
   s.rms_height = std::sqrt(var[0]);
 
@@ -50,9 +50,9 @@ SurfaceStatistics surface_statistics(const Grid& g, const Field& h, Fourier& fft
     long double x2 = 0, y2 = 0, x4 = 0, y4 = 0, l4 = 0;
     void merge(const Moments& o) { x2 += o.x2, y2 += o.y2, x4 += o.x4, y4 += o.y4, l4 += o.l4; }
   };
-  const Moments m = Grid::parallel_reduce<Moments>(std::size_t(g.ny), [&](std::size_t r0, std::size_t r1, Moments& acc) {
-    for (int iqy = int(r0); iqy < int(r1); ++iqy) {
-      const double qy = g.qy(iqy), qy2 = qy * qy;
+  const Moments m = Grid::parallel_reduce<Moments>(std::size_t(g.rows()), [&](std::size_t r0, std::size_t r1, Moments& acc) {
+    for (int iqy = int(r0); iqy < int(r1); ++iqy) {  // local rows of the spectrum (row y0 + iqy)
+      const double qy = g.qy(g.y0 + iqy), qy2 = qy * qy;
       double rx2 = 0, ry2 = 0, rx4 = 0, ry4 = 0, rl4 = 0;
       for (int iqx = 0; iqx < nqx; ++iqx) {
         const double qx = g.qx(iqx), qx2 = qx * qx;
