@@ -11,3 +11,8 @@ cmc_cli_test(input.D10_long_name_before_solve "rm -rf ${CMC_INPUTS}/d10 && $<TAR
 # D11: a folder or a pipe as the case file read as an empty case ("missing [case]").
 cmc_cli_test(input.D11_case_is_folder "rm -rf ${CMC_INPUTS}/d11; $<TARGET_FILE:cmc> run ${CMAKE_SOURCE_DIR}/cases --out ${CMC_INPUTS}/d11 2>${CMC_INPUTS}-d11.err; test $? -eq 2 && grep -q 'cases: is a folder, expected a case file (TOML)' ${CMC_INPUTS}-d11.err && test ! -e ${CMC_INPUTS}/d11")
 cmc_cli_test(input.D11_case_from_pipe "rm -rf ${CMC_INPUTS}/d11p; cat ${CMC_HERTZ} | $<TARGET_FILE:cmc> run /dev/stdin --out ${CMC_INPUTS}/d11p 2>${CMC_INPUTS}-d11p.err; test $? -eq 2 && grep -q '/dev/stdin: is not a regular file (a pipe, terminal or device)' ${CMC_INPUTS}-d11p.err && test ! -e ${CMC_INPUTS}/d11p")
+# A load-controlled adhesive step whose first inner solve stops before its tolerance handed
+# on an empty state: the observables then failed with an internal error (exit 4, "field
+# size does not match grid"). It is a step that did not converge: exit 3, a summary that
+# says so, and its observables from where the solve stopped.
+cmc_cli_test(input.unconverged_first_adhesive_step "rm -rf ${CMC_INPUTS}/unconv; $<TARGET_FILE:cmc> run ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load.toml --quiet --set grid.n=64 --set solver.kind=\\\"adhesive_cg\\\" --set solver.max_iterations=5 --set loading.max_halvings=0 --set output.fields=false --out ${CMC_INPUTS}/unconv 2>${CMC_INPUTS}-unconv.err; test $? -eq 3 && grep -q '\"status\" : \"not_converged\"' ${CMC_INPUTS}/unconv/summary.json && grep -q 'contact_fraction' ${CMC_INPUTS}/unconv/summary.json")

@@ -102,7 +102,10 @@ SolveResult Search::illinois(Point& a, Point& b, ContactState& state) {
   for (int k = 0; k < opt_.max_iterations; ++k) {
     double d = b.delta - b.f * (b.delta - a.delta) / (b.f - a.f);
     if (!(d > std::min(a.delta, b.delta) && d < std::max(a.delta, b.delta))) d = 0.5 * (a.delta + b.delta);
-    if (!evaluate(d, std::abs(d - a.delta) < std::abs(d - b.delta) ? a.state : b.state, x)) return failed();
+    if (!evaluate(d, std::abs(d - a.delta) < std::abs(d - b.delta) ? a.state : b.state, x)) {
+      state = std::move(x.state);
+      return failed();
+    }
     if (on_target(x) || std::abs(b.delta - a.delta) <= kBracketRoundoff * std::max(1.0, std::abs(d))) {
       state = std::move(x.state);
       if (std::abs(x.f) <= opt_.tolerance) return finish(true, "");
@@ -133,13 +136,19 @@ SolveResult solve_for_mean_pressure(const DisplacementSolve& solve, double targe
                                     const LoadControlOptions& o) {
   Search search(solve, target, o);
   Point a, b;
-  if (!search.evaluate(o.start, state, a)) return search.failed();
+  // A failed inner solve hands on where it stopped (a state on the grid, flagged not
+  // converged by the result), never an empty or stale state.
+  if (!search.evaluate(o.start, state, a)) {
+    state = std::move(a.state);
+    return search.failed();
+  }
   if (search.on_target(a)) {
     state = std::move(a.state);
     return search.finish(true, "");
   }
   switch (search.bracket(a, b)) {
     case Search::Outcome::Failed:
+      state = std::move(b.state);
       return search.failed();
     case Search::Outcome::OnTarget:
       state = std::move(b.state);
