@@ -51,15 +51,21 @@ HalfSpace::HalfSpace(const Grid& g, double estar, Boundary b)
   }
 }
 
+// A multiplier of the periodic transform grid's modes: m[k] = f(|q|) for every mode k this
+// process holds (in the Fourier layout's order: rows of qy, or of qx when distributed).
+template <class F>
+Field HalfSpace::periodic_multiplier(F f) const {
+  const SpectrumLayout& L = fourier_.layout();
+  Field m(L.size(), 0.0);
+  for (int r = 0; r < L.rows; ++r)
+    for (int c = 0; c < L.cols; ++c)
+      m[std::size_t(r) * L.cols + c] = f(std::hypot(grid_.qx(L.iqx(r, c)), grid_.qy(L.iqy(r, c))));
+  return m;
+}
+
 void HalfSpace::make_periodic_compliance() {
-  const Grid& g = grid_;
-  compliance_.assign(g.spectrum_size(), 0.0);
   const double norm = fourier_.normalisation();
-  for (int iy = 0; iy < g.rows(); ++iy)
-    for (int ix = 0; ix < g.nqx(); ++ix) {
-      const double q = std::hypot(g.qx(ix), g.qy(g.y0 + iy));
-      compliance_[std::size_t(iy) * g.nqx() + ix] = q > 0.0 ? 2.0 / (estar_ * q) * norm : 0.0;
-    }
+  compliance_ = periodic_multiplier([&](double q) { return q > 0.0 ? 2.0 / (estar_ * q) * norm : 0.0; });
 }
 
 void HalfSpace::make_free_compliance() {
@@ -93,11 +99,7 @@ const Field& HalfSpace::stiffness() {
   if (!stiffness_.empty()) return stiffness_;  // free: made with the compliance
   // Periodic: K = E*|q|/2 (the inverse of 2/(E*|q|)); 0 at q = 0.
   const double norm = fourier_.normalisation();
-  const int nq = mx_ / 2 + 1;
-  stiffness_.assign(compliance_.size(), 0.0);
-  for (int iy = 0; iy < grid_.rows(); ++iy)
-    for (int ix = 0; ix < nq; ++ix)
-      stiffness_[std::size_t(iy) * nq + ix] = 0.5 * estar_ * std::hypot(grid_.qx(ix), grid_.qy(grid_.y0 + iy)) * norm;
+  stiffness_ = periodic_multiplier([&](double q) { return 0.5 * estar_ * q * norm; });
   return stiffness_;
 }
 
@@ -114,18 +116,19 @@ double HalfSpace::apply(const double* in, double* out, const Field& mul) {
   fourier_.forward(in);
   Complex* s = fourier_.spectrum().data();
   const double* m = mul.data();
-  const int nq = mx_ / 2 + 1, mx = mx_;
+  const SpectrumLayout& L = fourier_.layout();
+  const int mx = mx_;
   // Rows of modes in parallel; each row's partial sum is formed first (fewer round-off
   // steps in the long sum).
   const SumReduction acc = Grid::parallel_reduce<SumReduction>(
-      std::size_t(tgrid_.rows()),
+      std::size_t(L.rows),
       [&](std::size_t r0, std::size_t r1, SumReduction& a) {
-        for (std::size_t iy = r0; iy < r1; ++iy) {
-          const std::size_t row = iy * std::size_t(nq);
+        for (std::size_t r = r0; r < r1; ++r) {
+          const std::size_t row = r * std::size_t(L.cols);
           double rs = 0.0;
-          for (int ix = 0; ix < nq; ++ix) {
-            const std::size_t k = row + ix;
-            rs += mode_weight(ix, mx) * m[k] * std::norm(s[k]);
+          for (int c = 0; c < L.cols; ++c) {
+            const std::size_t k = row + c;
+            rs += mode_weight(L.iqx(int(r), c), mx) * m[k] * std::norm(s[k]);
             s[k] *= m[k];
           }
           a.v += rs;
@@ -138,18 +141,18 @@ double HalfSpace::apply(const double* in, double* out, const Field& mul) {
 
 // Σ_q w_q M_q |s_q|² over the r2c rows [r0, r1), in mode order.
 double HalfSpace::spectral_sum(const Complex* s, const double* mul, std::size_t r0, std::size_t r1) const {
-  const int nq = mx_ / 2 + 1;
+  const SpectrumLayout& L = fourier_.layout();
   double d = 0.0;
-  for (std::size_t iy = r0; iy < r1; ++iy) {
-    const std::size_t row = iy * nq;
-    for (int ix = 0; ix < nq; ++ix) d += mode_weight(ix, mx_) * mul[row + ix] * std::norm(s[row + ix]);
+  for (std::size_t r = r0; r < r1; ++r) {
+    const std::size_t row = r * L.cols;
+    for (int c = 0; c < L.cols; ++c) d += mode_weight(L.iqx(int(r), c), mx_) * mul[row + c] * std::norm(s[row + c]);
   }
   return d;
 }
 
 double HalfSpace::quadratic_form(const Spectrum& s, const Field& mul) const {
   return Grid::parallel_reduce<SumReduction>(
-             std::size_t(tgrid_.rows()),
+             std::size_t(fourier_.layout().rows),
              [&](std::size_t r0, std::size_t r1, SumReduction& acc) { acc.v += spectral_sum(s.data(), mul.data(), r0, r1); },
              transform_size())
       .v;
@@ -266,12 +269,8 @@ double HalfSpace::energy_from_displacement(const Field& u) {
   }
   // Σ_q |q| |ũ_q|² with ũ = FFT(u)/N: the multiplier |q| N^-2 (the free case returned above).
   if (abs_q_.empty()) {
-    const int nq = grid_.nqx();
     const double n2 = fourier_.normalisation() * fourier_.normalisation();
-    abs_q_.resize(compliance_.size());
-    for (int iy = 0; iy < grid_.rows(); ++iy)
-      for (int ix = 0; ix < nq; ++ix)
-        abs_q_[std::size_t(iy) * nq + ix] = std::hypot(grid_.qx(ix), grid_.qy(grid_.y0 + iy)) * n2;
+    abs_q_ = periodic_multiplier([&](double q) { return q * n2; });
   }
   fourier_.forward(u);
   return grid_.area() * 0.25 * estar_ * quadratic_form(fourier_.spectrum(), abs_q_);

@@ -112,6 +112,8 @@ class HalfSpace {
  private:
   static Grid checked(const Grid& g, double estar, Boundary b);  // throws on bad input
   static Grid transform_grid(const Grid& g, Boundary b);
+  template <class F>
+  Field periodic_multiplier(F f) const;
   const double* to_transform_grid(const Field& f);  // zero-padded copy when free
   void make_periodic_compliance();
   void make_free_compliance();

@@ -197,13 +197,15 @@ Fourier::Fourier(int nx, int ny, const Grid* slab) : nx_(nx), ny_(ny), rows_(sla
 void Fourier::make_distributed(const Grid& g) {
 #ifdef CMC_MPI
   distributed_ = true;
-  spec_.resize(spectrum_size());
   std::lock_guard lock(planner_mutex);
   init_fftw();
-  ptrdiff_t n0 = 0, start = 0;
-  const ptrdiff_t alloc = fftw_mpi_local_size_2d(ny_, nx_ / 2 + 1, MPI_COMM_WORLD, &n0, &start);
+  ptrdiff_t n0 = 0, start = 0, n1 = 0, start1 = 0;
+  const ptrdiff_t alloc =
+      fftw_mpi_local_size_2d_transposed(ny_, nx_ / 2 + 1, MPI_COMM_WORLD, &n0, &start, &n1, &start1);
   if (n0 != rows_ || start != g.y0) throw std::logic_error("Fourier: the grid's slab differs from FFTW's");
+  layout_ = SpectrumLayout{int(n1), ny_, int(start1), true};
   cwork_.resize(std::size_t(std::max<ptrdiff_t>(alloc, 1)));
+  spec_.resize(spectrum_size());
   fftw_plan_with_nthreads(thread_count());
   // No wisdom is timed or compiled in for distributed plans: FFTW_ESTIMATE (the same
   // plans, so the same bits, on every run at the same number of ranks) unless
@@ -215,8 +217,8 @@ void Fourier::make_distributed(const Grid& g) {
   plan_source_ = p == Planner::Measure ? "measure (MPI)" : p == Planner::Patient ? "patient (MPI)" : "estimate (MPI)";
   auto* c = reinterpret_cast<fftw_complex*>(cwork_.data());
   auto* r = reinterpret_cast<double*>(cwork_.data());
-  plan_forward_.reset(fftw_mpi_plan_dft_r2c_2d(ny_, nx_, r, c, MPI_COMM_WORLD, flags));
-  plan_inverse_.reset(fftw_mpi_plan_dft_c2r_2d(ny_, nx_, c, r, MPI_COMM_WORLD, flags));
+  plan_forward_.reset(fftw_mpi_plan_dft_r2c_2d(ny_, nx_, r, c, MPI_COMM_WORLD, flags | FFTW_MPI_TRANSPOSED_OUT));
+  plan_inverse_.reset(fftw_mpi_plan_dft_c2r_2d(ny_, nx_, c, r, MPI_COMM_WORLD, flags | FFTW_MPI_TRANSPOSED_IN));
   if (!plan_forward_ || !plan_inverse_) throw std::runtime_error("FFTW could not plan a distributed transform");
 #else
   (void)g;
@@ -226,7 +228,8 @@ void Fourier::make_distributed(const Grid& g) {
 
 void Fourier::make_local() {
   const int nx = nx_, ny = ny_;
-  spec_.resize(std::size_t(nx / 2 + 1) * ny);
+  layout_ = SpectrumLayout{ny, nx / 2 + 1, 0, false};
+  spec_.resize(spectrum_size());
   {
     std::lock_guard lock(planner_mutex);
     init_fftw();

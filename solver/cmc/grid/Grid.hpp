@@ -61,8 +61,9 @@ struct Grid {
   double cell_area() const { return dx() * dy(); }
   double area() const { return lx * ly; }
   int nqx() const { return nx / 2 + 1; }  // r2c keeps half of the x-modes
-  // Modes this process holds (the r2c spectrum's rows y0 .. y0 + rows() - 1).
-  std::size_t spectrum_size() const { return std::size_t(nqx()) * std::size_t(rows()); }
+  // Modes of the whole r2c spectrum (nqx * ny); how a distributed transform splits them
+  // is its Fourier's layout().
+  std::size_t spectrum_points() const { return std::size_t(nqx()) * std::size_t(ny); }
   // Angular wavenumbers of mode (iqx, iqy) in the r2c layout (iqy global: y0 + local row).
   double qx(int iqx) const;
   double qy(int iqy) const;
@@ -105,6 +106,25 @@ struct Grid {
   static constexpr std::size_t parallel_min = std::size_t(1) << 15;
 };
 
+// Where the modes of a spectrum sit in this process's part of it: `rows` rows of `cols`
+// modes, entry (r, c) at index r * cols + c. Not transposed (every serial transform): row
+// r holds the modes of qy index row0 + r, column c the qx index c (nx/2 + 1 columns).
+// Transposed (a distributed transform, FFTW_MPI_TRANSPOSED_OUT: two of the four global
+// transposes of an FFT pair saved): row r holds the qx index row0 + r, column c the qy
+// index c (ny columns). Every loop over modes goes through iqx()/iqy().
+struct SpectrumLayout {
+  int rows = 0, cols = 0, row0 = 0;
+  bool transposed = false;
+  int iqx(int r, int c) const { return transposed ? row0 + r : c; }
+  int iqy(int r, int c) const { return transposed ? c : row0 + r; }
+  std::size_t size() const { return std::size_t(rows) * std::size_t(cols); }
+  // Index of mode (iqx, iqy) if this process holds it, else -1.
+  long index(int iqx, int iqy) const {
+    const int r = (transposed ? iqx : iqy) - row0, c = transposed ? iqy : iqx;
+    return r >= 0 && r < rows ? long(r) * cols + c : -1;
+  }
+};
+
 // Real-to-complex and complex-to-real transforms of one grid shape, planned once and
 // reused for every call. By default ($CMC_FFTW_PLANNER unset or "builtin") the plans come
 // from wisdom made with FFTW_MEASURE at build time and compiled in (square grids of 2^k
@@ -137,7 +157,8 @@ class Fourier {
   int ny() const { return ny_; }
   // Entries of a real field and of a spectrum this process holds (its rows).
   std::size_t real_size() const { return std::size_t(nx_) * rows_; }
-  std::size_t spectrum_size() const { return std::size_t(nx_ / 2 + 1) * rows_; }
+  std::size_t spectrum_size() const { return layout_.size(); }
+  const SpectrumLayout& layout() const { return layout_; }
   // 1 / (nx ny): the whole grid's.
   double normalisation() const { return 1.0 / (double(nx_) * double(ny_)); }
 
@@ -164,6 +185,7 @@ class Fourier {
   void make_local();
   void make_distributed(const Grid& slab);
   int nx_, ny_, rows_;
+  SpectrumLayout layout_;
   Spectrum spec_;
   FftwPlan plan_forward_, plan_inverse_;
   // Distributed only: FFTW's MPI r2c works on rows padded to 2 (nx/2 + 1) reals and may

@@ -419,19 +419,18 @@ RadialSpectrum radial_spectrum(const Grid& g, Fourier& fourier, const Field& f, 
   fourier.forward(f);
   const Spectrum& s = fourier.spectrum();
   const double inv_n2 = 1.0 / (double(g.points()) * double(g.points()));  // forward() is unnormalised
-  const int nqx = g.nqx();
+  const SpectrumLayout& L = fourier.layout();
   const auto rows = [&](std::size_t row_begin, std::size_t row_end, Sums& r) {
     r.q.assign(qbins.n, 0.0), r.power.assign(qbins.n, 0.0), r.modes.assign(qbins.n, 0);
-    for (int iy = int(row_begin); iy < int(row_end); ++iy) {
-      const int gy = g.y0 + iy;  // the mode's row in the whole spectrum
-      const double qy2 = g.qy(gy) * g.qy(gy);
-      for (int ix = 0; ix < nqx; ++ix) {
-        if (ix == 0 && gy == 0) continue;
+    for (int row = int(row_begin); row < int(row_end); ++row) {
+      for (int col = 0; col < L.cols; ++col) {
+        const int ix = L.iqx(row, col), iy = L.iqy(row, col);
+        if (ix == 0 && iy == 0) continue;
         // r2c keeps half the plane: every mode with 0 < ix < nx/2 stands for itself and
         // its conjugate (same |q|); ix == 0 and the even-nx Nyquist column stand alone.
         const int w = (ix == 0 || 2 * ix == g.nx) ? 1 : 2;
-        const double pw = w * std::norm(s[std::size_t(iy) * nqx + ix]) * inv_n2;
-        const double q = std::sqrt(g.qx(ix) * g.qx(ix) + qy2);
+        const double pw = w * std::norm(s[std::size_t(row) * L.cols + col]) * inv_n2;
+        const double q = std::sqrt(g.qx(ix) * g.qx(ix) + g.qy(iy) * g.qy(iy));
         r.variance += pw;
         const int b = qbins.index(q);
         if (b < 0 || b >= qbins.n) { r.outside += pw; continue; }
@@ -441,7 +440,7 @@ RadialSpectrum radial_spectrum(const Grid& g, Fourier& fourier, const Field& f, 
       }
     }
   };
-  Sums sums = Grid::parallel_reduce<Sums>(std::size_t(g.rows()), rows, g.spectrum_size());
+  Sums sums = Grid::parallel_reduce<Sums>(std::size_t(L.rows), rows, L.size());
   if (sums.q.empty()) rows(0, 0, sums);  // no rows: empty bins
   RadialSpectrum r;
   r.bins = qbins;

@@ -88,16 +88,16 @@ SelfAffineModes self_affine_modes(const SelfAffineSpec& spec) {
 
 Synthesis synthesize(const std::vector<FourierMode>& modes, const Grid& grid) {
   if (grid.nx < 1 || grid.ny < 1) throw std::invalid_argument("synthesize: empty grid");
-  // On a slab of a distributed run, each rank places the modes of its spectrum rows
-  // (y0 .. y0 + rows - 1) and the inverse transform is distributed: no rank holds more
+  // On a slab of a distributed run, each rank places the modes of its part of the
+  // spectrum (fft.layout()) and the inverse transform is distributed: no rank holds more
   // than its slab (the list of modes is the band's, the same on every rank).
   Fourier fft(grid);
   Spectrum& s = fft.spectrum();
   std::fill(s.begin(), s.end(), Complex(0.0));
-  const std::size_t nqx = std::size_t(grid.nqx());
-  const long y0 = grid.y0, rows = grid.rows();
+  const SpectrumLayout& L = fft.layout();
   auto put = [&](long iy, std::size_t iqx, Complex c) {
-    if (iy >= y0 && iy < y0 + rows) s[std::size_t(iy - y0) * nqx + iqx] += c;
+    const long k = L.index(int(iqx), int(iy));
+    if (k >= 0) s[std::size_t(k)] += c;
   };
   Synthesis out;
   for (FourierMode m : modes) {

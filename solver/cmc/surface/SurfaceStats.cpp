@@ -45,18 +45,18 @@ SurfaceStatistics surface_statistics(const Grid& g, const Field& h, Fourier& fft
   fft.forward(h);
   const Spectrum& c = fft.spectrum();
   const double n2 = fft.normalisation() * fft.normalisation();
-  const int nqx = g.nqx();
   struct Moments {  // long double: 1e-12 at 4096^2
     long double x2 = 0, y2 = 0, x4 = 0, y4 = 0, l4 = 0;
     void merge(const Moments& o) { x2 += o.x2, y2 += o.y2, x4 += o.x4, y4 += o.y4, l4 += o.l4; }
   };
-  const Moments m = Grid::parallel_reduce<Moments>(std::size_t(g.rows()), [&](std::size_t r0, std::size_t r1, Moments& acc) {
-    for (int iqy = int(r0); iqy < int(r1); ++iqy) {  // local rows of the spectrum (row y0 + iqy)
-      const double qy = g.qy(g.y0 + iqy), qy2 = qy * qy;
+  const SpectrumLayout& L = fft.layout();
+  const Moments m = Grid::parallel_reduce<Moments>(std::size_t(L.rows), [&](std::size_t r0, std::size_t r1, Moments& acc) {
+    for (int r = int(r0); r < int(r1); ++r) {  // rows of the spectrum held here (of qy; of qx when distributed)
       double rx2 = 0, ry2 = 0, rx4 = 0, ry4 = 0, rl4 = 0;
-      for (int iqx = 0; iqx < nqx; ++iqx) {
-        const double qx = g.qx(iqx), qx2 = qx * qx;
-        const double p = column_weight(g, iqx) * std::norm(c[std::size_t(iqy) * nqx + iqx]);
+      for (int col = 0; col < L.cols; ++col) {
+        const int iqx = L.iqx(r, col);
+        const double qx = g.qx(iqx), qx2 = qx * qx, qy = g.qy(L.iqy(r, col)), qy2 = qy * qy;
+        const double p = column_weight(g, iqx) * std::norm(c[std::size_t(r) * L.cols + col]);
         rx2 += qx2 * p;
         ry2 += qy2 * p;
         rx4 += qx2 * qx2 * p;
