@@ -52,7 +52,7 @@ long compare_modes(const std::vector<FourierMode>& list, const HeightMap& map, d
   const Grid& g = map.grid;
   Fourier fft(g.nx, g.ny);
   fft.forward(map.heights);
-  const Spectrum& s = fft.spectrum();
+  const auto s = fft.spectrum();
   long compared = 0;
   double worst = 0;
   for (const auto& m : list) {

@@ -22,17 +22,17 @@ Grid HalfSpace::checked(const Grid& g, double estar, Boundary b) {
   if (g.nx <= 0 || g.ny <= 0) throw std::invalid_argument("HalfSpace: grid must have a positive number of points");
   if (b == Boundary::Free && g.ny < 2)
     throw std::invalid_argument("FreeHalfSpace: a free boundary needs a two-dimensional grid");
-  if (b == Boundary::Free && g.split())
-    throw std::invalid_argument("FreeHalfSpace: the free boundary's zero-padded transform is not distributed yet: run "
-                                "a free-boundary case with one MPI rank (grid.periodic = false)");
   return g;
 }
 
-// The grid the transforms work on: the contact grid when periodic (a slab of it in a
-// distributed run), the zero-padded 2nx x 2ny grid when free (never split).
+// The grid the transforms work on: the contact grid when periodic, the zero-padded
+// 2nx x 2ny grid when free; in a distributed run this rank's slab of it (the padded grid's
+// 2ny rows are split on their own: its contact rows [0, ny) sit on other ranks than the
+// contact grid's, and RowExchange moves them).
 Grid HalfSpace::transform_grid(const Grid& g, Boundary b) {
   if (b == Boundary::Periodic) return g;
-  return Grid{2 * g.nx, 2 * g.ny, 2 * g.lx, 2 * g.ly};
+  const Grid padded{2 * g.nx, 2 * g.ny, 2 * g.lx, 2 * g.ly};
+  return g.split() ? distribute(padded) : padded;
 }
 
 HalfSpace::HalfSpace(const Grid& g, double estar, Boundary b)
@@ -47,9 +47,12 @@ HalfSpace::HalfSpace(const Grid& g, double estar, Boundary b)
     make_periodic_compliance();
   } else {
     padded_.assign(transform_size(), 0.0);
+    if (grid_.split()) exchange_ = std::make_unique<RowExchange>(grid_, tgrid_, grid_.ny);
     make_free_compliance();
   }
 }
+
+HalfSpace::~HalfSpace() = default;
 
 // A multiplier of the periodic transform grid's modes: m[k] = f(|q|) for every mode k this
 // process holds (in the Fourier layout's order: rows of qy, or of qx when distributed).
@@ -73,13 +76,14 @@ void HalfSpace::make_free_compliance() {
   // −(nx−1)..−1 to the left (the patch is nx wide, so no offset aliases another).
   const Grid& g = grid_;
   Field k(transform_size());
-  for (int j = 0; j < my_; ++j)
+  for (int lj = 0; lj < tgrid_.rows(); ++lj)  // this rank's rows of the padded grid
     for (int i = 0; i < mx_; ++i) {
+      const int j = tgrid_.y0 + lj;
       const int ii = i <= g.nx ? i : i - mx_, jj = j <= g.ny ? j : j - my_;
-      k[std::size_t(j) * mx_ + i] = influence(ii * g.dx(), jj * g.dy(), g.dx(), g.dy(), estar_);
+      k[std::size_t(lj) * mx_ + i] = influence(ii * g.dx(), jj * g.dy(), g.dx(), g.dy(), estar_);
     }
   fourier_.forward(k);
-  const auto& s = fourier_.spectrum();
+  const auto s = fourier_.spectrum();
   compliance_.resize(s.size());
   stiffness_.resize(s.size());
   const double norm = fourier_.normalisation();
@@ -150,7 +154,7 @@ double HalfSpace::spectral_sum(const Complex* s, const double* mul, std::size_t 
   return d;
 }
 
-double HalfSpace::quadratic_form(const Spectrum& s, const Field& mul) const {
+double HalfSpace::quadratic_form(std::span<const Complex> s, const Field& mul) const {
   return Grid::parallel_reduce<SumReduction>(
              std::size_t(fourier_.layout().rows),
              [&](std::size_t r0, std::size_t r1, SumReduction& acc) { acc.v += spectral_sum(s.data(), mul.data(), r0, r1); },
@@ -160,6 +164,11 @@ double HalfSpace::quadratic_form(const Spectrum& s, const Field& mul) const {
 
 const double* HalfSpace::to_transform_grid(const Field& p) {
   if (periodic()) return p.data();
+  if (exchange_) {  // distributed: the contact rows come from the ranks that hold them
+    std::fill(padded_.begin(), padded_.end(), 0.0);
+    exchange_->forward(p.data(), padded_.data());
+    return padded_.data();
+  }
   const int nx = grid_.nx, ny = grid_.ny;
   for (int j = 0; j < ny; ++j) {
     double* row = &padded_[std::size_t(j) * mx_];
@@ -182,6 +191,10 @@ void HalfSpace::inverse(Field& out) {
     return;
   }
   fourier_.inverse(padded_);
+  if (exchange_) {
+    exchange_->backward(padded_.data(), out.data());
+    return;
+  }
   const int nx = grid_.nx;
   for (int j = 0; j < grid_.ny; ++j) std::copy_n(&padded_[std::size_t(j) * mx_], nx, &out[std::size_t(j) * nx]);
 }
@@ -218,7 +231,7 @@ double HalfSpace::time_fft_pair(double min_seconds, int min_repeats) {
 
 void HalfSpace::displacement(const Field& p, Field& u) {
   fourier_.forward(to_transform_grid(p));
-  auto& s = fourier_.spectrum();
+  const auto s = fourier_.spectrum();
   for (std::size_t k = 0; k < s.size(); ++k) s[k] *= compliance_[k];
   inverse(u);
 }
@@ -226,7 +239,7 @@ void HalfSpace::displacement(const Field& p, Field& u) {
 void HalfSpace::pressure(const Field& u, Field& p, double tol) {
   if (periodic()) {
     fourier_.forward(u);
-    auto& s = fourier_.spectrum();
+    const auto s = fourier_.spectrum();
     const double norm = fourier_.normalisation();
     for (std::size_t k = 0; k < s.size(); ++k)
       s[k] = compliance_[k] > 0.0 ? s[k] * (norm * norm / compliance_[k]) : Complex(0.0);

@@ -30,6 +30,7 @@
 #pragma once
 
 #include "cmc/grid/Grid.hpp"
+#include "cmc/grid/Ranks.hpp"
 
 #include <memory>
 
@@ -39,7 +40,7 @@ class HalfSpace {
  public:
   enum class Boundary { Periodic, Free };
   HalfSpace(const Grid& g, double estar, Boundary boundary);
-  virtual ~HalfSpace() = default;
+  virtual ~HalfSpace();
   HalfSpace(const HalfSpace&) = delete;
   HalfSpace& operator=(const HalfSpace&) = delete;
 
@@ -88,12 +89,12 @@ class HalfSpace {
   // out = FFT(f) on the transform grid (unnormalised). One forward transform.
   void forward(const Field& f, Spectrum& out);
   // The scratch spectrum that inverse() consumes.
-  Spectrum& spectrum() { return fourier_.spectrum(); }
+  std::span<Complex> spectrum() { return fourier_.spectrum(); }
   // out = inverse FFT of spectrum() restricted to the contact grid (unnormalised; the
   // scratch spectrum is destroyed). One inverse transform.
   void inverse(Field& out);
   // Σ_i f_i (M f)_i for f with transform s (= (1/M) Σ_q M(q) |s_q|², the 1/M being in M).
-  double quadratic_form(const Spectrum& s, const Field& multiplier) const;
+  double quadratic_form(std::span<const Complex> s, const Field& multiplier) const;
 
   // FFT pairs done so far by this operator ((forward + inverse transforms) / 2).
   double fft_pairs() const { return 0.5 * double(fourier_.forward_count() + fourier_.inverse_count()); }
@@ -128,6 +129,7 @@ class HalfSpace {
   Field compliance_, stiffness_;
   Field abs_q_;   // periodic: |q| / N², made by the first energy_from_displacement
   Field padded_;  // free only: transform-grid work array
+  std::unique_ptr<RowExchange> exchange_;  // free and distributed: contact rows <-> padded slab
 };
 
 // The two boundaries by name (constructors only; the operator is the same class).

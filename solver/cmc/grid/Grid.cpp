@@ -204,19 +204,18 @@ void Fourier::make_distributed(const Grid& g) {
       fftw_mpi_local_size_2d_transposed(ny_, nx_ / 2 + 1, MPI_COMM_WORLD, &n0, &start, &n1, &start1);
   if (n0 != rows_ || start != g.y0) throw std::logic_error("Fourier: the grid's slab differs from FFTW's");
   layout_ = SpectrumLayout{int(n1), ny_, int(start1), true};
-  cwork_.resize(std::size_t(std::max<ptrdiff_t>(alloc, 1)));
-  spec_.resize(spectrum_size());
+  spec_.resize(std::max<std::size_t>(std::size_t(std::max<ptrdiff_t>(alloc, 1)), spectrum_size()));
   fftw_plan_with_nthreads(thread_count());
   // No wisdom is timed or compiled in for distributed plans: FFTW_ESTIMATE (the same
   // plans, so the same bits, on every run at the same number of ranks) unless
-  // CMC_FFTW_PLANNER asks for timed plans. In place: cwork_ holds the padded real rows
+  // CMC_FFTW_PLANNER asks for timed plans. In place: spec_ holds the padded real rows
   // (2 (nx/2 + 1) reals each) on the way in and the spectrum on the way out, so a
   // distributed transform needs one buffer of FFTW's alloc_local besides the field.
   const Planner p = planner();
   const unsigned flags = p == Planner::Measure ? FFTW_MEASURE : p == Planner::Patient ? FFTW_PATIENT : FFTW_ESTIMATE;
   plan_source_ = p == Planner::Measure ? "measure (MPI)" : p == Planner::Patient ? "patient (MPI)" : "estimate (MPI)";
-  auto* c = reinterpret_cast<fftw_complex*>(cwork_.data());
-  auto* r = reinterpret_cast<double*>(cwork_.data());
+  auto* c = reinterpret_cast<fftw_complex*>(spec_.data());
+  auto* r = reinterpret_cast<double*>(spec_.data());
   plan_forward_.reset(fftw_mpi_plan_dft_r2c_2d(ny_, nx_, r, c, MPI_COMM_WORLD, flags | FFTW_MPI_TRANSPOSED_OUT));
   plan_inverse_.reset(fftw_mpi_plan_dft_c2r_2d(ny_, nx_, c, r, MPI_COMM_WORLD, flags | FFTW_MPI_TRANSPOSED_IN));
   if (!plan_forward_ || !plan_inverse_) throw std::runtime_error("FFTW could not plan a distributed transform");
@@ -268,11 +267,11 @@ void Fourier::forward(const double* in, Complex* out) {
   if (distributed_) {
 #ifdef CMC_MPI
     const std::size_t nx = std::size_t(nx_), stride = 2 * std::size_t(nx_ / 2 + 1);
-    double* pad = reinterpret_cast<double*>(cwork_.data());
+    double* pad = reinterpret_cast<double*>(spec_.data());
     for (std::size_t r = 0; r < std::size_t(rows_); ++r) std::copy_n(in + r * nx, nx, pad + r * stride);
     fftw_mpi_execute_dft_r2c(static_cast<fftw_plan>(plan_forward_.get()), pad,
-                             reinterpret_cast<fftw_complex*>(cwork_.data()));
-    std::copy_n(cwork_.data(), spectrum_size(), out);
+                             reinterpret_cast<fftw_complex*>(spec_.data()));
+    if (out != spec_.data()) std::copy_n(spec_.data(), spectrum_size(), out);
 #endif
   } else {
     fftw_execute_dft_r2c(static_cast<fftw_plan>(plan_forward_.get()), const_cast<double*>(in),
@@ -283,9 +282,9 @@ void Fourier::forward(const double* in, Complex* out) {
 void Fourier::inverse(Complex* in, double* out) {
   if (distributed_) {
 #ifdef CMC_MPI
-    std::copy_n(in, spectrum_size(), cwork_.data());
-    double* pad = reinterpret_cast<double*>(cwork_.data());
-    fftw_mpi_execute_dft_c2r(static_cast<fftw_plan>(plan_inverse_.get()), reinterpret_cast<fftw_complex*>(cwork_.data()),
+    if (in != spec_.data()) std::copy_n(in, spectrum_size(), spec_.data());
+    double* pad = reinterpret_cast<double*>(spec_.data());
+    fftw_mpi_execute_dft_c2r(static_cast<fftw_plan>(plan_inverse_.get()), reinterpret_cast<fftw_complex*>(spec_.data()),
                              pad);
     const std::size_t nx = std::size_t(nx_), stride = 2 * std::size_t(nx_ / 2 + 1);
     for (std::size_t r = 0; r < std::size_t(rows_); ++r) std::copy_n(pad + r * stride, nx, out + r * nx);

@@ -162,8 +162,9 @@ class Fourier {
   // 1 / (nx ny): the whole grid's.
   double normalisation() const { return 1.0 / (double(nx_) * double(ny_)); }
 
-  // The internal spectrum buffer that forward() fills and inverse() consumes.
-  Spectrum& spectrum() { return spec_; }
+  // The internal spectrum buffer that forward() fills and inverse() consumes
+  // (spectrum_size() modes; a distributed transform works in place in it).
+  std::span<Complex> spectrum() { return {spec_.data(), spectrum_size()}; }
   // in (real_size) -> spectrum(); input preserved.
   void forward(const double* in);
   void forward(const Field& in) { forward(in.data()); }
@@ -188,11 +189,10 @@ class Fourier {
   SpectrumLayout layout_;
   Spectrum spec_;
   FftwPlan plan_forward_, plan_inverse_;
-  // Distributed only: FFTW's MPI r2c works on rows padded to 2 (nx/2 + 1) reals and may
-  // use more complex entries than the local spectrum as scratch (its alloc_local), so
-  // the transforms go in place through this buffer, one copy each way.
+  // Distributed only: FFTW's MPI r2c works in place on rows padded to 2 (nx/2 + 1) reals
+  // and may use more complex entries than the local spectrum as scratch (its
+  // alloc_local): spec_ holds that many, spectrum() shows the first spectrum_size().
   bool distributed_ = false;
-  Spectrum cwork_;
   const char* plan_source_ = "";
   long n_forward_ = 0, n_inverse_ = 0;
 };

@@ -314,6 +314,69 @@ void scatter_slabs(const Grid& g, double* local, const std::function<void(int, i
 }
 #endif
 
+// ---------------------------------------------------------------- row exchange
+
+RowExchange::RowExchange(const Grid& from, const Grid& to, int rows) : nx_from_(from.nx), nx_to_(to.nx) {
+  auto clip = [&](int y0, int n, int& a, int& m) {
+    a = std::min(std::max(y0, 0), rows);
+    m = std::max(0, std::min(y0 + n, rows) - a);
+  };
+  clip(from.y0, from.rows(), my_from0_, my_from_rows_);
+  clip(to.y0, to.rows(), my_to0_, my_to_rows_);
+#ifdef CMC_MPI
+  if (ranks() > 1 && (from.split() || to.split())) {
+    const Split sf = split_rows(from), st = split_rows(to);
+    const int np = ranks();
+    send_counts_.assign(np, 0), send_displs_.assign(np, 0), recv_counts_.assign(np, 0), recv_displs_.assign(np, 0);
+    auto overlap = [&](int a0, int an, int b0, int bn) {
+      const int lo = std::max({a0, b0, 0}), hi = std::min({a0 + an, b0 + bn, rows});
+      return std::max(0, hi - lo);
+    };
+    int so = 0, ro = 0;
+    for (int r = 0; r < np; ++r) {
+      send_displs_[r] = so, recv_displs_[r] = ro;
+      send_counts_[r] = overlap(from.y0, from.rows(), st.y0[r], st.rows[r]) * from.nx;
+      recv_counts_[r] = overlap(sf.y0[r], sf.rows[r], to.y0, to.rows()) * from.nx;
+      so += send_counts_[r], ro += recv_counts_[r];
+    }
+    send_.resize(std::size_t(so)), recv_.resize(std::size_t(ro));
+  }
+#endif
+}
+
+void RowExchange::forward(const double* from_field, double* to_field) const {
+  const std::size_t nf = std::size_t(nx_from_), nt = std::size_t(nx_to_);
+  if (send_counts_.empty()) {  // both splits are the same rows of one process
+    for (int r = 0; r < my_from_rows_; ++r)
+      std::copy_n(from_field + std::size_t(r) * nf, nf, to_field + std::size_t(my_from0_ - my_to0_ + r) * nt);
+    return;
+  }
+#ifdef CMC_MPI
+  // The rows this rank holds of [0, rows) are contiguous, and so are those it sends to
+  // each rank (in rank order = row order): the send buffer is the rows themselves.
+  std::copy_n(from_field, std::size_t(my_from_rows_) * nf, send_.data());
+  MPI_Alltoallv(send_.data(), send_counts_.data(), send_displs_.data(), MPI_DOUBLE, recv_.data(), recv_counts_.data(),
+                recv_displs_.data(), MPI_DOUBLE, MPI_COMM_WORLD);
+  // Received in rank order, which is row order: rows my_to0_ .. my_to0_ + my_to_rows_ - 1.
+  for (int r = 0; r < my_to_rows_; ++r) std::copy_n(recv_.data() + std::size_t(r) * nf, nf, to_field + std::size_t(r) * nt);
+#endif
+}
+
+void RowExchange::backward(const double* to_field, double* from_field) const {
+  const std::size_t nf = std::size_t(nx_from_), nt = std::size_t(nx_to_);
+  if (send_counts_.empty()) {
+    for (int r = 0; r < my_from_rows_; ++r)
+      std::copy_n(to_field + std::size_t(my_from0_ - my_to0_ + r) * nt, nf, from_field + std::size_t(r) * nf);
+    return;
+  }
+#ifdef CMC_MPI
+  for (int r = 0; r < my_to_rows_; ++r) std::copy_n(to_field + std::size_t(r) * nt, nf, recv_.data() + std::size_t(r) * nf);
+  MPI_Alltoallv(recv_.data(), recv_counts_.data(), recv_displs_.data(), MPI_DOUBLE, send_.data(), send_counts_.data(),
+                send_displs_.data(), MPI_DOUBLE, MPI_COMM_WORLD);
+  std::copy_n(send_.data(), std::size_t(my_from_rows_) * nf, from_field);
+#endif
+}
+
 template <class V>
 V row_above(const Grid& g, const V& f) {
   return neighbour_row(g, f, true);

@@ -77,6 +77,27 @@ void barrier();
 // Ends every rank now with exit code `code` (MPI_Abort); returns only without MPI.
 void abort_all_ranks(int code);
 
+// Moves the first `rows` rows of a grid between two splits of them among the ranks: from
+// slabs of grid `from` (rows of from.nx values) into slabs of grid `to` (rows of to.nx >=
+// from.nx values; the row's first from.nx entries), and back. The free boundary's
+// zero-padded transform grid (2ny rows split by FFTW) and its contact grid (ny rows split
+// alike) hold the contact rows on different ranks: this is the all-to-all between them.
+// Without MPI, or with one rank, a strided copy.
+class RowExchange {
+ public:
+  RowExchange(const Grid& from, const Grid& to, int rows);
+  // to_field (to.size()) rows [0, rows) <- from_field (from.size()); the rest of to_field untouched.
+  void forward(const double* from_field, double* to_field) const;
+  // from_field <- to_field's rows [0, rows), first from.nx entries of each.
+  void backward(const double* to_field, double* from_field) const;
+
+ private:
+  int nx_from_, nx_to_;
+  int my_from0_, my_from_rows_, my_to0_, my_to_rows_;  // this rank's rows of each split, within [0, rows)
+  std::vector<int> send_counts_, send_displs_, recv_counts_, recv_displs_;  // in doubles (forward)
+  mutable std::vector<double> send_, recv_;
+};
+
 // Every row of a field, on rank 0, in blocks of rows: visit(y0, rows, values) is called
 // on rank 0 for blocks of about 4 MiB in the order of the rows (rank 0's own first, then
 // each rank's in rank order); other ranks send theirs. Rank 0 holds one block of another

@@ -417,7 +417,7 @@ RadialSpectrum radial_spectrum(const Grid& g, Fourier& fourier, const Field& f, 
     }
   };
   fourier.forward(f);
-  const Spectrum& s = fourier.spectrum();
+  const auto s = fourier.spectrum();
   const double inv_n2 = 1.0 / (double(g.points()) * double(g.points()));  // forward() is unnormalised
   const SpectrumLayout& L = fourier.layout();
   const auto rows = [&](std::size_t row_begin, std::size_t row_end, Sums& r) {

@@ -92,7 +92,7 @@ Synthesis synthesize(const std::vector<FourierMode>& modes, const Grid& grid) {
   // spectrum (fft.layout()) and the inverse transform is distributed: no rank holds more
   // than its slab (the list of modes is the band's, the same on every rank).
   Fourier fft(grid);
-  Spectrum& s = fft.spectrum();
+  const auto s = fft.spectrum();
   std::fill(s.begin(), s.end(), Complex(0.0));
   const SpectrumLayout& L = fft.layout();
   auto put = [&](long iy, std::size_t iqx, Complex c) {
@@ -151,7 +151,7 @@ std::vector<FourierMode> fourier_modes(const HeightMap& map, double threshold) {
   if (map.heights.size() != g.size()) throw std::invalid_argument("fourier_modes: heights do not match the grid");
   Fourier fft(g.nx, g.ny);
   fft.forward(map.heights);
-  const Spectrum& s = fft.spectrum();
+  const auto s = fft.spectrum();
   const double norm = fft.normalisation();
   const int nqx = g.nqx();
   std::vector<FourierMode> out;
@@ -175,8 +175,8 @@ HeightMap fourier_interpolate(const HeightMap& map, int nx, int ny) {
   if (nx < g.nx || ny < g.ny) throw std::invalid_argument("fourier_interpolate: target grid is coarser than the map");
   Fourier coarse(g.nx, g.ny), fine(nx, ny);
   coarse.forward(map.heights);
-  const Spectrum& c = coarse.spectrum();
-  Spectrum& f = fine.spectrum();
+  const auto c = coarse.spectrum();
+  const auto f = fine.spectrum();
   std::fill(f.begin(), f.end(), Complex(0.0));
   const double norm = coarse.normalisation();
   const std::size_t cq = std::size_t(g.nqx()), fq = std::size_t(nx / 2 + 1);

@@ -43,7 +43,7 @@ SurfaceStatistics surface_statistics(const Grid& g, const Field& h, Fourier& fft
 
   // Parseval: <(d^a h/dx^a ...)^2> = sum_k |(i q)^a c_k|^2 with c_k = FFT(h)/N.
   fft.forward(h);
-  const Spectrum& c = fft.spectrum();
+  const auto c = fft.spectrum();
   const double n2 = fft.normalisation() * fft.normalisation();
   struct Moments {  // long double: 1e-12 at 4096^2
     long double x2 = 0, y2 = 0, x4 = 0, y4 = 0, l4 = 0;
@@ -81,7 +81,7 @@ RadialPsd radial_psd(const Grid& g, const Field& h, int bins, bool logarithmic) 
   constexpr double two_pi = 2.0 * std::numbers::pi;
   Fourier fft(g.nx, g.ny);
   fft.forward(h);
-  const Spectrum& c = fft.spectrum();
+  const auto c = fft.spectrum();
   const double dq = two_pi / std::max(g.lx, g.ly);
   const double qnyq = std::min(std::numbers::pi * g.nx / g.lx, g.ny > 1 ? std::numbers::pi * g.ny / g.ly : INFINITY);
   // Persson: C(q) = A |c_k|^2 / (2 pi)^2, so that sum_k C dq_x dq_y = sum_k |c_k|^2.
