@@ -15,8 +15,8 @@ Each TEST runs a case with the serial build and with the MPI build under
   adhesive_sphere    Maugis-Dugdale's sphere in a periodic cell, loading and unloading with
                      jumps (adhesive CG, tolerance 1e-9): within 1e-9, the same load path
   challenge_adhesive the challenge at 512^2 with adhesion (multistable): within 3x the
-                     difference that 1 vs 2 threads make in the serial build (measured in
-                     the test), floored at 1e-9
+                     larger difference that 2 threads or estimated FFT plans make in the
+                     serial build (measured in the test), floored at 1e-9
   memory             peak memory per rank at np = 2 at most 0.6 of the serial peak (2048^2)
   rerun_bits         the same case twice at np = 2: summary numbers and result.h5 identical
   one_rank           the MPI build at np = 1 equals the serial build bit for bit
@@ -108,14 +108,14 @@ def field_scales(data):
     return scales
 
 
-def compare(a_dir, b_dir, what, tol=TOL, exact=(), skip=(), bounds=None, field_bounds=None):
+def compare(a_dir, b_dir, what, tol=TOL, exact=(), skip=(), bounds=None, field_bounds=None, skip_data=()):
     a = json.load(open(os.path.join(a_dir, "summary.json")))
     b = json.load(open(os.path.join(b_dir, "summary.json")))
     for s in (a, b):
         if s["status"] != "converged":
             failures.append(f"{what}: a run did not converge: {s['message']}")
     na, nb = numbers(a), numbers(b)
-    worst = 0.0
+    worst = ratio = 0.0  # ratio: the largest difference over its measured bound
     for k, x in na.items():
         y = nb.get(k)
         if y is None:
@@ -124,6 +124,7 @@ def compare(a_dir, b_dir, what, tol=TOL, exact=(), skip=(), bounds=None, field_b
         if any(k.endswith(" " + e) for e in skip):
             continue
         if bounds is not None:  # measured bounds per number (challenge_adhesive)
+            ratio = max(ratio, abs(x - y) / bounds[k]) if bounds.get(k, 0.0) > 0.0 else ratio
             if abs(x - y) > bounds.get(k, 0.0):
                 failures.append(f"{what}: {k}: {x!r} vs {y!r}: difference {abs(x - y):.2e} > bound {bounds.get(k, 0.0):.2e}")
             continue
@@ -142,6 +143,8 @@ def compare(a_dir, b_dir, what, tol=TOL, exact=(), skip=(), bounds=None, field_b
         da, db = datasets(fa), datasets(fb)
         scales = field_scales(da)
         for k, x in da.items():
+            if k in skip_data:
+                continue
             y = db.get(k)
             if y is None or np.shape(x) != np.shape(y):
                 failures.append(f"{what}: result.h5 {k}: shape {np.shape(x)} vs {None if y is None else np.shape(y)}")
@@ -152,6 +155,8 @@ def compare(a_dir, b_dir, what, tol=TOL, exact=(), skip=(), bounds=None, field_b
                 continue
             if field_bounds is not None:  # measured bounds per dataset (challenge_adhesive)
                 diff = float(np.max(np.abs(x - y))) if np.size(x) else 0.0
+                if field_bounds.get(k, 0.0) > 0.0:
+                    ratio = max(ratio, diff / field_bounds[k])
                 if diff > field_bounds.get(k, 0.0):
                     failures.append(f"{what}: result.h5 {k}: difference {diff:.2e} > bound {field_bounds.get(k, 0.0):.2e}")
                 continue
@@ -160,7 +165,10 @@ def compare(a_dir, b_dir, what, tol=TOL, exact=(), skip=(), bounds=None, field_b
             worst = max(worst, d)
             if d > tol:
                 failures.append(f"{what}: result.h5 {k}: relative difference {d:.2e} > {tol:.0e}")
-    print(f"{what}: largest relative difference {worst:.2e} (bound {tol:.0e})")
+    if bounds is not None:
+        print(f"{what}: largest difference {ratio:.2f} of its measured bound")
+    else:
+        print(f"{what}: largest relative difference {worst:.2e} (bound {tol:.0e})")
 
 
 os.makedirs(WORK, exist_ok=True)
@@ -202,26 +210,40 @@ elif TEST == "adhesive_sphere":
             skip=("iterations", "fft_pairs", "diagnostics"), exact=("halvings",))
 elif TEST == "challenge_adhesive":
     # The challenge at 512^2 with adhesion (adhesive CG): multistable at this spacing, so
-    # its answer depends on round-off. The bound is measured here: the difference between
-    # two serial runs that round differently (1 and 2 threads), times 3, floored at 1e-9
-    # relative; np = 2 must differ from the serial run by no more.
+    # its answer depends on round-off. The bound is measured here, from serial runs that
+    # round differently: 2 threads instead of 1, and FFT plans estimated instead of the
+    # built-in measured wisdom. Per number and per dataset: 3 times the larger of the two
+    # differences from the 1-thread run, floored at 1e-9 relative; np = 2 must differ from
+    # the 1-thread run by no more. A dataset whose length itself changes with round-off
+    # (the gap histogram, whose lower edge is the smallest positive gap: a round-off
+    # residue; seen in a fresh build, 25 vs 27 bins) is compared only where the serial
+    # runs agree on its length.
     c, sets = case("challenge/reference-load.toml"), ["grid.n=512", 'solver.kind="adhesive_cg"']
     solve(SERIAL, c, d("serial"), sets)
     solve(SERIAL, c, d("serial-2threads"), sets, env=dict(ENV, CMC_THREADS="2"))
+    solve(SERIAL, c, d("serial-estimate"), sets, env=dict(ENV, CMC_FFTW_PLANNER="estimate"))
     solve(MPI, c, d("np2"), sets, np_=2)
-    n1 = numbers(json.load(open(os.path.join(d("serial"), "summary.json"))))
-    n2 = numbers(json.load(open(os.path.join(d("serial-2threads"), "summary.json"))))
-    bounds = {k: max(3.0 * abs(v - n2[k]), 1e-9 * abs(v)) for k, v in n1.items() if k in n2}
+    load = lambda name: numbers(json.load(open(os.path.join(d(name), "summary.json"))))
+    n1, others = load("serial"), [load("serial-2threads"), load("serial-estimate")]
+    bounds = {k: max([3.0 * abs(v - o[k]) for o in others if k in o] + [1e-9 * abs(v)]) for k, v in n1.items()}
     f1 = datasets(os.path.join(d("serial"), "result.h5"))
-    f2 = datasets(os.path.join(d("serial-2threads"), "result.h5"))
+    fo = [datasets(os.path.join(d(name), "result.h5")) for name in ("serial-2threads", "serial-estimate")]
     scales = field_scales(f1)
-    field_bounds = {k: max(3.0 * float(np.max(np.abs(x - f2[k]))) if np.size(x) and np.shape(x) == np.shape(f2[k]) else 0.0,
-                           1e-9 * scales.get(k.split("/")[-1], 0.0)) for k, x in f1.items() if k in f2}
+    field_bounds, unstable = {}, []
+    for k, x in f1.items():
+        if any(np.shape(o.get(k)) != np.shape(x) for o in fo):
+            unstable.append(k)
+            continue
+        spread = max(float(np.max(np.abs(x - o[k]))) if np.size(x) else 0.0 for o in fo)
+        field_bounds[k] = max(3.0 * spread, 1e-9 * scales.get(k.split("/")[-1], 0.0))
     for k in ("mean_gap", "contact_fraction", "observables.n_patches"):
         key = f"step 0 {k}"
-        print(f"{key}: serial {n1[key]!r}, 2 threads {n2[key]!r}: bound {bounds[key]:.2e}")
-    compare(d("serial"), d("np2"), "challenge with adhesion 512^2, np 2 vs serial", bounds=bounds, field_bounds=field_bounds,
-            skip=("iterations", "fft_pairs", "diagnostics", "wall_s"))
+        print(f"{key}: serial {n1[key]!r}, 2 threads {others[0][key]!r}, estimated plans {others[1][key]!r}: "
+              f"bound {bounds[key]:.2e}")
+    if unstable:
+        print(f"lengths that change with round-off in serial runs, not compared: {', '.join(unstable)}")
+    compare(d("serial"), d("np2"), "challenge with adhesion 512^2, np 2 vs serial", bounds=bounds,
+            field_bounds=field_bounds, skip=("iterations", "fft_pairs", "diagnostics", "wall_s"), skip_data=unstable)
 elif TEST == "memory":
     # Peak resident memory per rank at np = 2 against the serial run's, 2048^2 hard wall
     # (the challenge surface, made on the slabs; 10 iterations: the peak is reached in the
