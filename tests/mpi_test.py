@@ -27,7 +27,8 @@ Each TEST runs a case with the serial build and with the MPI build under
                      quasi-static solver, a 1-D grid, commands other than run
 
 Tolerance: 1e-9 relative (the issue's bound); fields against the field's largest value
-over all steps. Measured: ~1e-14 for the hard-wall numbers (the distributed transform
+over all steps; iteration and FFT-pair counts are compared only where the bits must be
+identical (a solve's cost is not its answer: see COST). Measured: ~1e-14 for the hard-wall numbers (the distributed transform
 rounds differently from the serial one; the solver stops at the same iteration); ~1e-10
 for the adhesive sphere (its solves stop at a tolerance of 1e-9, a few iterations apart). Histogram edges that come from the smallest
 positive gap differ by ~3e-10 (that gap is itself a round-off residue near contact), so
@@ -108,7 +109,16 @@ def field_scales(data):
     return scales
 
 
-def compare(a_dir, b_dir, what, tol=TOL, exact=(), skip=(), bounds=None, field_bounds=None, skip_data=()):
+# What a solve costs is not its answer: round-off decides when a step changes the contact
+# set, so runs that round differently may take a few iterations more or less (measured:
+# Hertz on a free boundary, 48 vs 50 iterations in a fresh clone). Compared only where
+# the bits must be identical (tol = 0).
+COST = ("iterations", "fft_pairs")
+
+
+def compare(a_dir, b_dir, what, tol=TOL, exact=(), skip=None, bounds=None, field_bounds=None, skip_data=()):
+    if skip is None:
+        skip = () if tol == 0.0 else COST
     a = json.load(open(os.path.join(a_dir, "summary.json")))
     b = json.load(open(os.path.join(b_dir, "summary.json")))
     for s in (a, b):
@@ -183,9 +193,7 @@ elif TEST == "hertz_free":
     c = case("validation/hertz-free.toml")
     solve(SERIAL, c, d("serial"))
     solve(MPI, c, d("np2"), np_=2)
-    # FFT pairs are not an answer: round-off decides whether one step changes the contact
-    # set (a projected step costs one forward transform more; measured 48 vs 48.5 pairs).
-    compare(d("serial"), d("np2"), "hertz free boundary, np 2 vs serial", skip=("fft_pairs",))
+    compare(d("serial"), d("np2"), "hertz free boundary, np 2 vs serial")
 elif TEST == "westergaard_2d":
     c, sets = case("validation/westergaard.toml"), ["grid.ny=64", "grid.size_y=1.0e-3"]
     solve(SERIAL, c, d("serial"), sets)
@@ -196,7 +204,7 @@ elif TEST == "challenge_hardwall":
     solve(SERIAL, c, d("serial"), sets)
     solve(MPI, c, d("np2"), sets, np_=2)
     compare(d("serial"), d("np2"), "challenge hard wall 512^2, np 2 vs serial",
-            exact=("n_patches", "patch_area_counts", "contact_fraction", "iterations"))
+            exact=("n_patches", "patch_area_counts", "contact_fraction"))
 elif TEST == "adhesive_sphere":
     # Maugis-Dugdale's sphere in a periodic cell (a resolved adhesive contact, unique
     # answer), loading and unloading through jump-in and pull-off, adhesive CG at a
@@ -205,9 +213,7 @@ elif TEST == "adhesive_sphere":
     c, sets = case("validation/maugis-dugdale-lambda1.toml"), ['grid.boundary="periodic"', "solver.tolerance=1e-11"]
     solve(SERIAL, c, d("serial"), sets)
     solve(MPI, c, d("np2"), sets, np_=2)
-    # Iteration counts are not an answer: round-off ends a solve a few iterations apart.
-    compare(d("serial"), d("np2"), "adhesive sphere (periodic, Dugdale), np 2 vs serial",
-            skip=("iterations", "fft_pairs", "diagnostics"), exact=("halvings",))
+    compare(d("serial"), d("np2"), "adhesive sphere (periodic, Dugdale), np 2 vs serial", exact=("halvings",))
 elif TEST == "challenge_adhesive":
     # The challenge at 512^2 with adhesion (adhesive CG): multistable at this spacing, so
     # its answer depends on round-off. The bound is measured here, from serial runs that
@@ -243,7 +249,7 @@ elif TEST == "challenge_adhesive":
     if unstable:
         print(f"lengths that change with round-off in serial runs, not compared: {', '.join(unstable)}")
     compare(d("serial"), d("np2"), "challenge with adhesion 512^2, np 2 vs serial", bounds=bounds,
-            field_bounds=field_bounds, skip=("iterations", "fft_pairs", "diagnostics", "wall_s"), skip_data=unstable)
+            field_bounds=field_bounds, skip_data=unstable)
 elif TEST == "memory":
     # Peak resident memory per rank at np = 2 against the serial run's, 2048^2 hard wall
     # (the challenge surface, made on the slabs; 10 iterations: the peak is reached in the
