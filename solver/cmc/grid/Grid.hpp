@@ -61,9 +61,6 @@ struct Grid {
   double cell_area() const { return dx() * dy(); }
   double area() const { return lx * ly; }
   int nqx() const { return nx / 2 + 1; }  // r2c keeps half of the x-modes
-  // Modes of the whole r2c spectrum (nqx * ny); how a distributed transform splits them
-  // is its Fourier's layout().
-  std::size_t spectrum_points() const { return std::size_t(nqx()) * std::size_t(ny); }
   // Angular wavenumbers of mode (iqx, iqy) in the r2c layout (iqy global: y0 + local row).
   double qx(int iqx) const;
   double qy(int iqy) const;

@@ -55,13 +55,11 @@ int ranks() {
   MPI_Comm_size(MPI_COMM_WORLD, &n);
   return n;
 }
-bool mpi_build() { return true; }
 #else
 RankSession::RankSession(int&, char**&) {}
 RankSession::~RankSession() = default;
 int rank() { return 0; }
 int ranks() { return 1; }
-bool mpi_build() { return false; }
 #endif
 bool is_root() { return rank() == 0; }
 int ranks_on_this_machine() {
@@ -170,8 +168,6 @@ MPI_Datatype mpi_type<double>() { return MPI_DOUBLE; }
 template <>
 MPI_Datatype mpi_type<std::int64_t>() { return MPI_INT64_T; }
 template <>
-MPI_Datatype mpi_type<std::int32_t>() { return MPI_INT32_T; }
-template <>
 MPI_Datatype mpi_type<std::uint8_t>() { return MPI_UINT8_T; }
 
 template <class T>
@@ -233,9 +229,6 @@ bool any_rank(bool flag) {
   int in = flag ? 1 : 0, out = 0;
   MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
   return out != 0;
-}
-void barrier() {
-  if (ranks() > 1) MPI_Barrier(MPI_COMM_WORLD);
 }
 void abort_all_ranks(int code) {
   std::fflush(stderr);
@@ -302,7 +295,6 @@ std::vector<std::vector<double>> allgather(const std::vector<double>& local) { r
 std::vector<std::vector<std::int64_t>> allgather(const std::vector<std::int64_t>& local) { return {local}; }
 void broadcast(std::string&) {}
 bool any_rank(bool flag) { return flag; }
-void barrier() {}
 void abort_all_ranks(int) {}
 void for_each_slab(const Grid& g, const double* local, const std::function<void(int, int, const double*)>& visit) {
   const int block = rows_per_block(g);
@@ -387,8 +379,6 @@ V row_below(const Grid& g, const V& f) {
 }
 template std::vector<std::uint8_t> row_above(const Grid&, const std::vector<std::uint8_t>&);
 template std::vector<std::uint8_t> row_below(const Grid&, const std::vector<std::uint8_t>&);
-template std::vector<std::int32_t> row_above(const Grid&, const std::vector<std::int32_t>&);
-template std::vector<std::int32_t> row_below(const Grid&, const std::vector<std::int32_t>&);
 template Field row_above(const Grid&, const Field&);
 template Field row_below(const Grid&, const Field&);
 

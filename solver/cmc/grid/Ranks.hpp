@@ -36,7 +36,6 @@ class RankSession {
 int rank();         // 0 .. ranks() - 1
 int ranks();        // 1 without MPI
 bool is_root();     // rank() == 0: the rank that writes files and prints
-bool mpi_build();   // compiled with -DCMC_MPI=ON
 // Ranks that mpirun started on this machine (Open MPI's OMPI_COMM_WORLD_LOCAL_SIZE; 1
 // without): they share its cores and its memory.
 int ranks_on_this_machine();
@@ -60,7 +59,7 @@ Field slab_of(const Grid& slab, const Field& whole);
 
 // The row above this slab's last row (global row (y0 + rows()) mod ny, periodic), and
 // the row below its first: from the neighbouring rank (or this one). nx entries each.
-// V: Mask (bytes), std::vector<std::int32_t> or Field.
+// V: Mask (bytes) or Field.
 template <class V>
 V row_above(const Grid& g, const V& f);
 template <class V>
@@ -73,7 +72,6 @@ std::vector<std::vector<std::int64_t>> allgather(const std::vector<std::int64_t>
 void broadcast(std::string& text);
 // Whether any rank says `flag` (the same answer on every rank).
 bool any_rank(bool flag);
-void barrier();
 // Ends every rank now with exit code `code` (MPI_Abort); returns only without MPI.
 void abort_all_ranks(int code);
 
