@@ -18,30 +18,40 @@ constexpr int kMaxNewton = 60;
 // largest x <= g with k (g − x) = A(x) − t, A(x) = (w/ρ) exp(−x/ρ) the adhesive tension
 // of gap x; A(0) when there is no such x (the point jumps into contact).
 struct JumpPrediction {
-  double k, w_rho, rho, inv_rho, x_peak, cutoff;
+  double k, w_rho, rho, inv_rho, x_peak, cutoff, a_peak;
 
   JumpPrediction(double self_stiffness, const ExponentialAdhesion& a)
       : k(self_stiffness), w_rho(a.peak_tension()), rho(a.range()), inv_rho(1.0 / a.range()), cutoff(a.cutoff()) {
     // f(x) = k (g − x) − (A(x) − t) is concave with its maximum where A(x) = k ρ.
     x_peak = std::max(0.0, rho * std::log(w_rho / (k * rho)));
+    a_peak = tension(x_peak);
   }
   double tension(double x) const { return x >= cutoff ? 0.0 : w_rho * std::exp(-x * inv_rho); }
+  // exp(−x/ρ), 0 beyond the cutoff: tension(x) == w_rho * decay(x), bit for bit.
+  double decay(double x) const { return x >= cutoff ? 0.0 : std::exp(-x * inv_rho); }
 
   // The predicted gap of a point at gap g under tension t, with the extra pull c (the
   // change of the elastic force from neighbours that moved; c >= 0 pulls in): the largest
   // x <= g with k (g − x) = A(x) − t + c, or 0 (into contact) if there is none. Returns g
-  // itself when the point is not pulled further in.
-  double gap(double g, double t, double c) const {
+  // itself when the point is not pulled further in. `eg` is decay(g), which the caller
+  // keeps per point (the cascade asks again for the same g with a larger c).
+  double gap(double g, double eg, double t, double c) const {
     if (g <= 0.0) return 0.0;
     if (g >= cutoff && c <= 0.0) return g;
-    auto f = [&](double x) { return k * (g - x) - (tension(x) - t + c); };
-    if (f(g) >= 0.0) return g;
-    if (x_peak >= g || f(x_peak) < 0.0) return 0.0;  // no equilibrium below g: into contact
+    // f(x) = k (g − x) − (A(x) − t + c), from e = decay(x): one exponential per Newton
+    // step, shared by f and f'.
+    auto f = [&](double x, double ax) { return k * (g - x) - (ax - t + c); };
+    double e = eg, fx = f(g, w_rho * e);
+    if (fx >= 0.0) return g;
+    if (x_peak >= g || f(x_peak, a_peak) < 0.0) return 0.0;  // no equilibrium below g: into contact
     double x = g;
     for (int i = 0; i < kMaxNewton; ++i) {
-      const double fx = f(x);
+      if (i > 0) {
+        e = decay(x);
+        fx = f(x, w_rho * e);
+      }
       if (fx >= 0.0) break;
-      const double fp = -k + (x >= cutoff ? 0.0 : w_rho * inv_rho * std::exp(-x * inv_rho));  // < 0 on (x_peak, g]
+      const double fp = -k + (x >= cutoff ? 0.0 : w_rho * inv_rho * e);  // < 0 on (x_peak, g]
       const double nx = x - fx / fp;
       if (!(nx < x) || nx <= x_peak) break;  // round-off floor reached
       x = nx;
@@ -55,9 +65,10 @@ struct JumpPrediction {
 // m jump in turn. The cascade follows this with every other gap held (nonlinear
 // Gauss-Seidel on the points near contact), over the exact real-space stiffness within
 // `kRadius` points; the far field of K is negative (−E*/(4π r³)), so leaving it out pulls
-// less than the truth and keeps the prediction above the maximal equilibrium. It runs
-// point by point from a first-in-first-out queue, in index order: the same sequence on
-// every run and thread count.
+// less than the truth and keeps the prediction above the maximal equilibrium. The first
+// prediction of every point (no pull yet) is a parallel per-point pass; the cascade then
+// runs point by point from a first-in-first-out queue that starts in index order: the
+// same sequence on every run and thread count.
 constexpr int kRadius = 4;
 constexpr double kMoveFloor = 1e-3;  // in ρ: smaller predicted moves are not propagated
 
@@ -74,37 +85,48 @@ class Cascade {
       }
   }
 
-  // x: on entry the gaps g, on exit the predicted gaps. Returns the number of points moved.
+  // x: on exit the predicted gaps. Returns the number of points moved.
   long run(const Field& g, const Field& t, const JumpPrediction& jp, Field& x, double move_floor) {
     const std::size_t n = g.size();
-    pull_.assign(n, 0.0);
-    applied_ = g;
-    queued_.assign(n, 0);
-    std::vector<std::size_t> queue;
-    for (std::size_t i = 0; i < n; ++i) {
-      x[i] = jp.gap(g[i], t[i], 0.0);
-      if (x[i] < g[i] - move_floor) queue.push_back(i), queued_[i] = 1;
-    }
+    pull_.resize(n);
+    applied_.resize(n);
+    eg_.resize(n);
+    queued_.resize(n);
+    // One pass per point, in parallel: decay(g), the first prediction, and the state of the
+    // queue (pull 0, nothing passed on yet).
+    Grid::parallel_for(n, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i) {
+        eg_[i] = jp.decay(g[i]);
+        x[i] = jp.gap(g[i], eg_[i], t[i], 0.0);
+        pull_[i] = 0.0;
+        applied_[i] = g[i];
+        queued_[i] = x[i] < g[i] - move_floor;
+      }
+    }, 8 * n);
+    queue_.clear();
+    for (std::size_t i = 0; i < n; ++i)
+      if (queued_[i]) queue_.push_back(i);
     long moved = 0;
-    for (std::size_t q = 0; q < queue.size(); ++q) {
-      const std::size_t i = queue[q];
+    const int nx = nx_, ny = ny_;
+    for (std::size_t q = 0; q < queue_.size(); ++q) {
+      const std::size_t i = queue_[q];
       queued_[i] = 0;
       const double d = x[i] - applied_[i];  // not yet passed on (< 0)
       applied_[i] = x[i];
       ++moved;
-      const int ix = int(i % std::size_t(nx_)), iy = int(i / std::size_t(nx_));
+      const int iy = int(i / std::size_t(nx)), ix = int(i - std::size_t(iy) * std::size_t(nx));
       for (const auto& s : stencil_) {
         int jx = ix + s.dx, jy = iy + s.dy;
         if (periodic_) {
-          jx = (jx + nx_) % nx_, jy = (jy + ny_) % ny_;
-        } else if (jx < 0 || jy < 0 || jx >= nx_ || jy >= ny_) {
+          jx = wrap(jx, nx), jy = wrap(jy, ny);
+        } else if (jx < 0 || jy < 0 || jx >= nx || jy >= ny) {
           continue;
         }
-        const std::size_t m = std::size_t(jy) * std::size_t(nx_) + std::size_t(jx);
+        const std::size_t m = std::size_t(jy) * std::size_t(nx) + std::size_t(jx);
         if (g[m] <= 0.0) continue;  // in contact: held by the wall
         pull_[m] += s.k * d;
-        const double xm = std::min(x[m], jp.gap(g[m], t[m], pull_[m]));
-        if (xm < applied_[m] - move_floor && !queued_[m]) queue.push_back(m), queued_[m] = 1;
+        const double xm = std::min(x[m], jp.gap(g[m], eg_[m], t[m], pull_[m]));
+        if (xm < applied_[m] - move_floor && !queued_[m]) queue_.push_back(m), queued_[m] = 1;
         x[m] = xm;
       }
     }
@@ -116,11 +138,17 @@ class Cascade {
     int dx, dy;
     double k;
   };
+  // j in [−kRadius, n + kRadius) to [0, n); one add where n > kRadius (no division).
+  static int wrap(int j, int n) {
+    if (n > kRadius) return j < 0 ? j + n : (j >= n ? j - n : j);
+    return ((j % n) + n) % n;
+  }
   int nx_, ny_;
   bool periodic_;
   std::vector<Entry> stencil_;
-  Field pull_, applied_;
+  Field pull_, applied_, eg_;
   std::vector<unsigned char> queued_;
+  std::vector<std::size_t> queue_;
 };
 
 struct MaxReduction {
