@@ -2,9 +2,12 @@
 """Measure what the cluster cost model needs, on this machine (README "Running on a cluster").
 
 usage: scripts/cluster/measure.py [--out reference/cluster/measurements.json] [--sizes 1024 2048 4096]
+                                  [--solvers polonsky_keer adhesive_cg quasi_static]
 
 For each grid side n and each distributed solver (Polonsky-Keer on the hard-wall
-challenge, the adhesive CG on the challenge with adhesion) it runs the MPI build
+challenge, the adhesive CG and the quasi-static solver on the challenge with adhesion;
+--solvers measures some of them again and keeps the stored runs of the others) it runs
+the MPI build
 (build-mpi/cmc; scripts/mpi.sh builds it) at 1 and 2 ranks, 10 iterations each (the
 peak memory is reached in the first; the time of one FFT pair is timed by every run at
 its start, summary.json timing.fft_pair_s), and records per run: the FFT pair's time,
@@ -30,6 +33,11 @@ ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIR
 SOLVERS = {
     "polonsky_keer": ("cases/challenge/reference-load-hardwall.toml", []),
     "adhesive_cg": ("cases/challenge/reference-load.toml", ['solver.kind="adhesive_cg"', "loading.max_halvings=0"]),
+    # One outer step with a loose inner solve (a tension tolerance above 1 ends the loop
+    # after the first step, whose cascade runs): every field of the solver is allocated
+    # and used, in seconds rather than a whole solve.
+    "quasi_static": ("cases/challenge/reference-load.toml",
+                     ["solver.max_iterations=500", "solver.tolerance=1e-2", "solver.tension_tolerance=1.5"]),
 }
 
 
@@ -66,12 +74,15 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--out", default=os.path.join(ROOT, "reference", "cluster", "measurements.json"))
     ap.add_argument("--sizes", type=int, nargs="+", default=[1024, 2048, 4096])
+    ap.add_argument("--solvers", nargs="+", choices=sorted(SOLVERS), default=sorted(SOLVERS))
     a = ap.parse_args()
     if not os.path.exists(MPI):
         sys.exit(f"measure.py: {MPI} not found: run scripts/mpi.sh first (it builds the MPI program)")
     work = os.path.join(ROOT, "results", "cluster-measure")
-    runs = {}
-    for solver, (case, sets) in SOLVERS.items():
+    old = json.load(open(a.out)) if os.path.exists(a.out) else {}
+    runs = {k: v for k, v in old.get("runs", {}).items() if k not in a.solvers}
+    for solver in a.solvers:
+        case, sets = SOLVERS[solver]
         runs[solver] = []
         for n in a.sizes:
             for np_ in (1, 2):
@@ -80,11 +91,13 @@ def main():
                       f"largest rank {r['peak_mb_largest_rank']:.0f} MB", file=sys.stderr)
                 runs[solver].append(r)
     baseline = run(1, SOLVERS["polonsky_keer"][0], [], 64, os.path.join(work, "baseline"))["peak_mb_largest_rank"]
-    old = json.load(open(a.out)) if os.path.exists(a.out) else {}
     doc = {
         "what": "measurements for scripts/cluster/cost_model.py (README 'Running on a cluster')",
-        "command": "scripts/cluster/measure.py --sizes " + " ".join(map(str, a.sizes)),
+        "command": "scripts/cluster/measure.py --sizes " + " ".join(map(str, a.sizes))
+                   + " --solvers " + " ".join(a.solvers),
         "date": datetime.date.today().isoformat(),
+        "dates": {**old.get("dates", {s_: old.get("date", "") for s_ in old.get("runs", {})}),
+                  **{s_: datetime.date.today().isoformat() for s_ in a.solvers}},
         "machine": f"{platform.machine()}, {os.cpu_count()} cores, {platform.platform()}",
         "threads_per_rank": int(os.environ.get("CMC_THREADS", "0")) or "all cores / ranks",
         "baseline_peak_mb": baseline,

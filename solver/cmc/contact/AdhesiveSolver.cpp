@@ -57,6 +57,19 @@ struct AdhesiveSolver::Work {
   Field Kh;  // K h (periodic): makes the mean-gap rescale g <- s g an exact linear update
   std::vector<unsigned char> bound;
   double hmean = 0.0;
+  // A free boundary in a distributed run: the padded grid's rows are split on their own
+  // (HalfSpace.hpp), so the patch's rows move between the contact grid's slabs and the
+  // padded slabs (the patch is the first ny of its 2ny rows). Null otherwise.
+  std::unique_ptr<RowExchange> exchange;
+  // A contact-grid field as the padded slab's rows (0 in the padding), and back.
+  void to_padded(const Field& f, Field& out) const {
+    out.assign(M, 0.0);
+    if (exchange) {
+      exchange->forward(f.data(), out.data());
+    } else {
+      for (int iy = 0; iy < shape.ny; ++iy) std::copy_n(&f[std::size_t(iy) * shape.nx], shape.nx, &out[shape.row(iy)]);
+    }
+  }
   Arrays arrays() { return {x.data(), Ku.data(), r.data(), c.data(), d.data(), Kd.data(), bound.data()}; }
 };
 
@@ -107,12 +120,15 @@ AdhesiveSolver::AdhesiveSolver(HalfSpace& hs, const Field& heights, Interaction 
   w.n = g.size();
   w.N = double(g.points());
   w.M = hs.transform_size();
-  // Rows of the transform grid held here: a slab of the periodic grid, or the whole
-  // padded grid of a free boundary (which is never split).
-  const int mx = hs.transform_nx(), my = w.periodic ? g.rows() : hs.transform_ny();
-  w.hf.assign(w.M, 0.0);
-  for (int iy = 0; iy < g.rows(); ++iy)
-    std::copy_n(&heights[std::size_t(iy) * g.nx], g.nx, &w.hf[std::size_t(iy) * mx]);
+  // Rows of the transform grid held here: a slab of the periodic grid, or of the padded
+  // grid of a free boundary (the whole of it in a serial run), of which the first
+  // `patch_rows` are rows of the patch (global rows below ny).
+  const Grid& ts = hs.transform_slab();
+  const int mx = hs.transform_nx(), my = w.periodic ? g.rows() : ts.rows();
+  const int patch_rows = w.periodic ? g.rows() : std::clamp(g.ny - ts.y0, 0, ts.rows());
+  if (!w.periodic && (g.split() || ts.split())) w.exchange = std::make_unique<RowExchange>(g, ts, g.ny);
+  w.shape = Shape{g.nx, patch_rows, mx, my, nullptr, nullptr, 0.0};
+  w.to_padded(heights, w.hf);
   w.hmean = Grid::mean(heights);
   for (Field* f : {&w.x, &w.Ku, &w.d, &w.Kd, &w.r, &w.c, &w.trial, &w.Ktrial}) f->assign(w.M, 0.0);
   w.bound.assign(w.M, 0);
@@ -122,7 +138,7 @@ AdhesiveSolver::AdhesiveSolver(HalfSpace& hs, const Field& heights, Interaction 
   } else {
     hs.stiffness();  // made now, so that a bad operator fails here
   }
-  w.shape = Shape{g.nx, g.rows(), mx, my, w.hf.data(), w.periodic ? w.Kh.data() : nullptr, 0.0};
+  w.shape = Shape{g.nx, patch_rows, mx, my, w.hf.data(), w.periodic ? w.Kh.data() : nullptr, 0.0};
   // Pressure scale: max(peak tension, E* x rms slope of the indenter).
   pscale_ = std::max(peak_tension(interaction_), hs.contact_modulus() * rms_slope(g, heights, w.periodic));
   if (!(pscale_ > 0.0) || !std::isfinite(pscale_)) pscale_ = hs.contact_modulus();
@@ -266,17 +282,21 @@ bool Iteration<I>::start(const ContactState& st) {
     std::fill(w.x.begin(), w.x.end(), 0.0);
     if (warm && st.pressure.size() == w.n) {
       // Padding displacements of the previous solution: u = C p (one FFT pair).
-      std::fill(w.trial.begin(), w.trial.end(), 0.0);
-      for (int iy = 0; iy < S.ny; ++iy)
-        std::copy_n(&st.pressure[std::size_t(iy) * S.nx], S.nx, &w.trial[S.row(iy)]);
+      w.to_padded(st.pressure, w.trial);
       hs_.apply(w.trial.data(), w.x.data(), hs_.compliance());
     }
   }
+  // The warm state's gap and displacement on this rank's patch rows: the contact grid's
+  // own rows, or (distributed free boundary) those rows moved to the padded slab.
+  Field gap_rows, disp_rows;
+  const bool moved = w.exchange && warm;
+  if (moved) w.to_padded(st.gap, gap_rows), w.to_padded(st.displacement, disp_rows);
   for (int iy = 0; iy < S.ny; ++iy)
     for (int ix = 0; ix < S.nx; ++ix) {
-      const std::size_t k = S.row(iy) + ix, kp = std::size_t(iy) * S.nx + ix;
+      const std::size_t k = S.row(iy) + ix, kp = moved ? k : std::size_t(iy) * S.nx + ix;
+      const Field &gp = moved ? gap_rows : st.gap, &up = moved ? disp_rows : st.displacement;
       double g = S.h[k] - S.delta;  // cold: u = 0
-      if (warm) g = st.gap[kp] <= 0.0 ? 0.0 : (S.h[k] - S.delta) + st.displacement[kp];
+      if (warm) g = gp[kp] <= 0.0 ? 0.0 : (S.h[k] - S.delta) + up[kp];
       w.x[k] = g > 0.0 ? g : 0.0;  // also drops non-finite input
     }
   return exact();
@@ -488,6 +508,12 @@ bool Iteration<I>::write_state(ContactState& st, double& energy) const {
   st.gap.resize(n);
   st.displacement.resize(n);
   st.pressure.resize(n);
+  // Distributed free boundary: the state is formed on the padded slab's patch rows, then
+  // moved to the contact grid's slabs.
+  Field gap_rows, disp_rows, pres_rows;
+  if (w_.exchange) gap_rows.assign(w_.M, 0.0), disp_rows.assign(w_.M, 0.0), pres_rows.assign(w_.M, 0.0);
+  Field &gap = w_.exchange ? gap_rows : st.gap, &disp = w_.exchange ? disp_rows : st.displacement,
+        &pres = w_.exchange ? pres_rows : st.pressure;
   struct Acc {
     double psum = 0.0;
     bool finite = true;
@@ -496,14 +522,19 @@ bool Iteration<I>::write_state(ContactState& st, double& energy) const {
   const Acc a = Grid::parallel_reduce<Acc>(std::size_t(S.ny), [&](std::size_t r0, std::size_t r1, Acc& acc) {
     for (int iy = int(r0); iy < int(r1); ++iy)
       for (int ix = 0; ix < S.nx; ++ix) {
-        const std::size_t k = S.row(iy) + ix, kp = std::size_t(iy) * S.nx + ix;
-        st.gap[kp] = w_.x[k];
-        st.displacement[kp] = w_.x[k] - (S.h[k] - S.delta);
-        st.pressure[kp] = w_.Ku[k] + pbar;
-        acc.psum += st.pressure[kp];
-        acc.finite = acc.finite && std::isfinite(st.pressure[kp]) && std::isfinite(st.gap[kp]);
+        const std::size_t k = S.row(iy) + ix, kp = w_.exchange ? k : std::size_t(iy) * S.nx + ix;
+        gap[kp] = w_.x[k];
+        disp[kp] = w_.x[k] - (S.h[k] - S.delta);
+        pres[kp] = w_.Ku[k] + pbar;
+        acc.psum += pres[kp];
+        acc.finite = acc.finite && std::isfinite(pres[kp]) && std::isfinite(gap[kp]);
       }
   });
+  if (w_.exchange) {
+    w_.exchange->backward(gap_rows.data(), st.gap.data());
+    w_.exchange->backward(disp_rows.data(), st.displacement.data());
+    w_.exchange->backward(pres_rows.data(), st.pressure.data());
+  }
   st.penetration = S.delta;
   st.mean_pressure = a.psum / w_.N;
   energy = (U_ + Phi_) * hs_.grid().cell_area();

@@ -67,6 +67,8 @@ class HalfSpace {
   // Points of the transform grid this process holds (a field's length there), and of
   // the whole transform grid.
   std::size_t transform_size() const { return tgrid_.size(); }
+  // The transform grid's rows that this process holds (its y0 and rows()).
+  const Grid& transform_slab() const { return tgrid_; }
   std::size_t transform_points() const { return std::size_t(mx_) * std::size_t(my_); }
   std::size_t spectrum_size() const { return fourier_.spectrum_size(); }
   // Fourier multipliers on the transform grid (r2c layout) with the normalisation 1/M of

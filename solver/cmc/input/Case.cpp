@@ -679,10 +679,10 @@ MemoryEstimate estimate_memory(const Case& c) {
   }
   if (c.solver.kind == SolverKind::QuasiStatic) {
     // QuasiStaticAdhesion around its Polonsky-Keer (counted above): the shifted heights,
-    // tension, G t, next and predicted gaps, the inner state, the cascade's pull and
-    // applied fields and flags; K's unit response and its set-up impulse on the
-    // transform grid; the stiffness when periodic.
-    grid_fields += 5.0 + 3.0 + 2.0 + 1.0 / 8.0;
+    // tension, G t, next and predicted gaps, the inner state, the cascade's pull,
+    // applied and exp(-g/rho) fields and flags; K's unit response and its set-up impulse
+    // on the transform grid; the stiffness when periodic.
+    grid_fields += 5.0 + 3.0 + 3.0 + 1.0 / 8.0;
     transform += 2.0 + (periodic ? sp / 2.0 / m : 0.0);
   }
   // Observables: the contact mask (bytes), patch labels (ints) and their union-find

@@ -220,14 +220,6 @@ Scene build_scene(const Case& c) {
     if (ranks() == 1) throw;
     throw CaseError(c.file + ": [grid]: " + e.what());
   }
-  if (s.grid.split() && !c.grid.periodic && c.solver.kind != SolverKind::PolonskyKeer)
-    throw CaseError(c.file + ": [grid] boundary: the adhesive solvers on a free boundary are not distributed yet (they "
-                    "iterate on the zero-padded grid): run this case with one MPI rank (distributed free-boundary "
-                    "runs solve hard-wall cases)");
-  if (s.grid.split() && c.solver.kind == SolverKind::QuasiStatic)
-    throw CaseError(c.file + ": [solver] kind: the quasi-static solver's jump cascade is not distributed yet: run "
-                    "this case with one MPI rank, or with --set solver.kind=\"adhesive_cg\" (distributed runs solve "
-                    "with Polonsky-Keer and the adhesive CG)");
   build_interaction(c.interaction, s);
   s.observables = c.observables;
   s.observables.cross_section_x = u.length(c.observables.cross_section_x);
