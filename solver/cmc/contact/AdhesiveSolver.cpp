@@ -138,7 +138,8 @@ AdhesiveSolver::AdhesiveSolver(HalfSpace& hs, const Field& heights, Interaction 
   } else {
     hs.stiffness();  // made now, so that a bad operator fails here
   }
-  w.shape = Shape{g.nx, patch_rows, mx, my, w.hf.data(), w.periodic ? w.Kh.data() : nullptr, 0.0};
+  w.shape.h = w.hf.data();  // the shape's dimensions were set above
+  w.shape.Kh = w.periodic ? w.Kh.data() : nullptr;
   // Pressure scale: max(peak tension, E* x rms slope of the indenter).
   pscale_ = std::max(peak_tension(interaction_), hs.contact_modulus() * rms_slope(g, heights, w.periodic));
   if (!(pscale_ > 0.0) || !std::isfinite(pscale_)) pscale_ = hs.contact_modulus();
@@ -291,10 +292,10 @@ bool Iteration<I>::start(const ContactState& st) {
   Field gap_rows, disp_rows;
   const bool moved = w.exchange && warm;
   if (moved) w.to_padded(st.gap, gap_rows), w.to_padded(st.displacement, disp_rows);
+  const Field &gp = moved ? gap_rows : st.gap, &up = moved ? disp_rows : st.displacement;
   for (int iy = 0; iy < S.ny; ++iy)
     for (int ix = 0; ix < S.nx; ++ix) {
       const std::size_t k = S.row(iy) + ix, kp = moved ? k : std::size_t(iy) * S.nx + ix;
-      const Field &gp = moved ? gap_rows : st.gap, &up = moved ? disp_rows : st.displacement;
       double g = S.h[k] - S.delta;  // cold: u = 0
       if (warm) g = gp[kp] <= 0.0 ? 0.0 : (S.h[k] - S.delta) + up[kp];
       w.x[k] = g > 0.0 ? g : 0.0;  // also drops non-finite input
