@@ -179,14 +179,53 @@ def _grid_change(pair, key):
     return got and (got[0], f"{got[1].nx}² → {got[2].nx}², `{got[2].folder}`")
 
 
-def hardwall_sweep_band(pair, r, steps, key):
-    """Per-step absolute band of a hard-wall load sweep (run r on the grid of pair[0]) for key "ar"
-    or "gap", from the grid change of the run at 250 kPa (pair: coarsest first), with a sentence
-    saying how; (None, "") without a change. a_r: the counted area's grid error is a boundary
-    effect, first order in dx times the contact perimeter, so the change at 250 kPa is scaled by
-    each step's perimeter over that at 250 kPa; at least one grid point (1/N^2, the count's
-    quantum). Mean gap: the relative change at 250 kPa at every load (assumed), at least the
-    solver's tolerance times the rms height."""
+def finer_sweep(sweeps, r):
+    """The load sweep of r's case on the next finer grid, (run, steps), among _merged_sweeps'
+    entries; None if there is none."""
+    cands = [(rf, pf) for rf, pf, _ in sweeps if rf.name == r.name and rf.adhesive == r.adhesive and rf.nx > r.nx]
+    return min(cands, key=lambda c: c[0].nx) if cands else None
+
+
+def _measured_sweep_band(r, steps, key, finer):
+    """Band of a hard-wall sweep from the same sweep on a finer grid (finer = (run, steps)): at a
+    load both ran, the change between the grids. Elsewhere the change per unit of what it scales
+    with, interpolated linearly in log p between the loads both ran and held beyond them: for a_r
+    the contact perimeter (the counted area's grid error is a boundary effect: it vanishes at full
+    contact), for the mean gap the value itself. (None, "") with fewer than two shared loads."""
+    rf, pf = finer
+    fine = {round(st["p"], 6): st[key] for st in pf if st["converged"] and st.get(key) is not None}
+    per = key == "ar" and all(st.get("perimeter") is not None for st in steps)
+    scale = (lambda st: st["perimeter"]) if per else (lambda st: abs(st[key] or 0.0))
+    meas = [(st["p"], abs(st[key] - fine[round(st["p"], 6)]) / scale(st))
+            for st in steps if st.get(key) and round(st["p"], 6) in fine and scale(st) > 0]
+    if len(meas) < 2:
+        return None, ""
+    lp = np.log([m[0] for m in meas])
+    ratio = np.interp(np.log([st["p"] for st in steps]), lp, [m[1] for m in meas])
+    band = [b * scale(st) for b, st in zip(ratio, steps)]
+    return band, (f"the change from {r.nx}^2 to {rf.nx}^2 measured at {len(meas)} loads ("
+                  + ", ".join(f"{m[0] / 1e6:.4g}" for m in meas) + " MPa); between and beyond them the change per unit "
+                  + ("contact perimeter" if per else "of the value") + " interpolated linearly in log p and held")
+
+
+def hardwall_sweep_band(pair, r, steps, key, finer=None):
+    """Per-step absolute band of a hard-wall load sweep (run r) for key "ar" or "gap", with a
+    sentence saying how; (None, "") without one. Measured where the same sweep ran on a finer
+    grid (finer = (run, steps), finer_sweep): _measured_sweep_band. Otherwise modelled from the
+    grid change of the run at 250 kPa (pair: coarsest first; r on the grid of pair[0]). a_r:
+    the counted area's grid error is a boundary effect, first order in dx times the contact
+    perimeter, so the change at 250 kPa is scaled by each step's perimeter over that at 250
+    kPa. Mean gap: the relative change at 250 kPa at every load (assumed). Either way at least
+    one grid point (1/N^2, the count's quantum) for a_r and the solver's tolerance times the rms
+    height for the mean gap."""
+    tol = get(r.s, "case", "solver", "tolerance") or 0.0
+    h = get(r.s, "surface_facts", "rms_height") or 0.0
+    floor = 1.0 / (r.nx * r.ny) if key == "ar" else tol * h
+    if finer is not None:
+        band, how = _measured_sweep_band(r, steps, key, finer)
+        if band:
+            return [max(b, floor) for b in band], how + (f", at least one grid point (1/{r.nx}^2)" if key == "ar" else
+                                                         ", at least the solver's tolerance times the rms height")
     ch = grid_change(pair, key)
     if not ch or ch[1].nx != r.nx:
         return None, ""
@@ -196,14 +235,11 @@ def hardwall_sweep_band(pair, r, steps, key):
         if not p0 or any(st.get("perimeter") is None for st in steps):
             return None, ""
         d0 = abs(a0["ar"] - pair[1][1]["ar"])
-        quantum = 1.0 / (r.nx * r.ny)
-        band = [max(d0 * st["perimeter"] / p0, quantum) for st in steps]
+        band = [max(d0 * st["perimeter"] / p0, floor) for st in steps]
         return band, (f"the change of a_r at 250 kPa from {ch[1].nx}^2 to {ch[2].nx}^2 ({d0:.3g}) scaled by each load's "
                       "contact perimeter over that at 250 kPa (the counted area's grid error is a boundary effect), "
                       f"at least one grid point (1/{r.nx}^2)")
-    tol = get(r.s, "case", "solver", "tolerance") or 0.0
-    h = get(r.s, "surface_facts", "rms_height") or 0.0
-    band = [max(ch[0] * abs(st["gap"]), tol * h) for st in steps]
+    band = [max(ch[0] * abs(st["gap"]), floor) for st in steps]
     return band, (f"the relative change of the mean gap at 250 kPa from {ch[1].nx}^2 to {ch[2].nx}^2 "
                   f"({100 * ch[0]:.2g} %) at every load (assumed), at least the solver's tolerance times the rms "
                   "height")
@@ -472,8 +508,14 @@ def _load_sweep(runs, out_dir, data_dir, case_dir, reference_dir):
             b = _band(r, short)
             return (None, "") if not b else ([b * abs(st[key]) for st in pts],
                                              f"± {100 * b:.3g} %, strategy error, scaled family")
-        band, _ = hardwall_sweep_band(hw_pair, r, pts, key)
-        return band, f"grid change {hw_pair[0][0].nx}² → {hw_pair[1][0].nx}² at 250 kPa, scaled" if band else ""
+        finer = finer_sweep(sweeps, r)
+        band, how = hardwall_sweep_band(hw_pair, r, pts, key, finer)
+        if not band:
+            return None, ""
+        res.setdefault("hw_how", {})[key] = f"{r.nx}²: {how}"
+        if finer and how.startswith("the change from"):
+            return band, f"grid change {r.nx}² → {finer[0].nx}², measured at the loads both ran"
+        return band, f"grid change {hw_pair[0][0].nx}² → {hw_pair[1][0].nx}² at 250 kPa, scaled"
 
     # Item 2: contact area vs pressure.
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.4))
@@ -1072,11 +1114,13 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
                  "converged reference plus that reference's refinement error; `reference/challenge-scaled/`). It was "
                  "measured at μ_T = 3 and 250 kPa; that it holds at other loads and μ_T is assumed, not measured. A "
                  "run whose dx/ρ the family has not measured carries no band. The solvers are deterministic, so there "
-                 "is no round-off spread. For the hard wall (no adhesion) the band comes from the change at 250 kPa "
-                 "from the grid shown to the next finer one: for a_r scaled by each load's contact perimeter (the "
-                 "counted area's grid error is a boundary effect), for the mean gap the same relative change at every "
-                 "load (assumed). "
-                 + transfer_caveat(), ""]
+                 "is no round-off spread. For the hard wall (no adhesion): "
+                 + ("; ".join(f"{'a_r' if k == 'ar' else 'mean gap'} on {v}" for k, v in sorted(sweep["hw_how"].items()))
+                    if isinstance(sweep, dict) and sweep.get("hw_how") else
+                    "the change at 250 kPa from the grid shown to the next finer one: for a_r scaled by each load's "
+                    "contact perimeter (the counted area's grid error is a boundary effect), for the mean gap the same "
+                    "relative change at every load (assumed)")
+                 + ". " + transfer_caveat(), ""]
     section(2, "Contact area as a function of pressure (log-log; 1 − a_r for the approach to full contact)",
             area_rows(sweep["area"]), sweep_cols, band_note + [n + "\n" for n in sweep["notes"]])
     gap = _hist_figure(dists, "gap_hist_edges", "gap_hist_density", "log", "log", 1e6, 1e-6,

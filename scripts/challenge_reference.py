@@ -43,7 +43,7 @@ import numpy as np
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 sys.path.insert(0, os.path.join(ROOT, "reports"))
 from challenge_report import (Run, _centers, _find_runs, _merged_sweeps, _observables,  # noqa: E402
-                              _reference_load_runs, grid_change, hardwall_sweep_band, refinement_band)  # (the report's extraction)
+                              _reference_load_runs, finer_sweep, grid_change, hardwall_sweep_band, refinement_band)  # (the report's extraction)
 from common import CHALLENGE, FAMILY_STORE, load_json, run_strategy_error, transfer_caveat  # noqa: E402
 
 RHO, LAMBDA_S, P0 = CHALLENGE["rho"], CHALLENGE["lambda_s"], CHALLENGE["p0"]
@@ -425,14 +425,18 @@ def reference_load_curves(run, hw, notes, finer=None):
 
 
 def load_sweep_curves(runs, hw, adhesive, ref_pair):
-    """Items 2 and 8 of one problem from its load sweep on the finest grid that has one (several
-    runs of the same case and grid joined, as the report joins them: reports/challenge_report.py
-    _merged_sweeps). Adhesive: the strategy's band; adhesionless: the grid change of the run at the
-    reference load (ref_pair, coarsest first), applied at every load."""
-    merged = [m for m in _merged_sweeps(runs) if m[0].adhesive == adhesive]
+    """Items 2 and 8 of one problem from its load sweep with the most converged loads, on the
+    finest grid among those (several runs of the same case and grid joined, as the report joins
+    them: reports/challenge_report.py _merged_sweeps). Adhesive: the strategy's band;
+    adhesionless: the change to the same sweep on a finer grid where one ran (a refinement run
+    of a few loads), else the grid change of the run at the reference load (ref_pair, coarsest
+    first), applied at every load (hardwall_sweep_band)."""
+    all_sweeps = _merged_sweeps(runs)
+    merged = [m for m in all_sweeps if m[0].adhesive == adhesive]
     if not merged:
         return []
-    r, pts, shared = max(merged, key=lambda m: m[0].nx or 0)
+    r, pts, shared = max(merged, key=lambda m: (sum(1 for s in m[1] if s["converged"]), m[0].nx or 0))
+    finer = finer_sweep(all_sweeps, r)
     pts = [s for s in pts if s["converged"]]
     ps = np.array([s["p"] for s in pts])
     if len(pts) < 2 or not np.all(np.diff(ps) > 0):
@@ -465,11 +469,12 @@ def load_sweep_curves(runs, hw, adhesive, ref_pair):
         if adhesive:
             c = with_band(c, r, short)
         else:
-            band, how = hardwall_sweep_band(ref_pair, r, pts, key)
+            band, how = hardwall_sweep_band(ref_pair, r, pts, key, finer)
             if band:
                 add_abs_band(c, band)  # absolute: exact where the value is 0
-                ch = _grid_change_of(ref_pair, key)
-                c["estimated_error"] = (f"band per point: {how} ({ch[1]}). The solver is deterministic (same bits on a "
+                src = (f"{_rel(r.folder)}, {_rel(finer[0].folder)}" if finer and how.startswith("the change from")
+                       else _grid_change_of(ref_pair, key)[1])
+                c["estimated_error"] = (f"band per point: {how} ({src}). The solver is deterministic (same bits on a "
                                         "rerun): no round-off spread.")
         curves.append(c)
     return curves
@@ -570,20 +575,28 @@ def readme_adhesionless(curves, pair):
          "adhesionless counterpart.", "", "## Files", ""] + files_table(curves)
     if len(pair) >= 2:
         (r0, a), (r1, b) = pair[0], pair[1]
+        sweep = {c["quantity"]: c for c in curves}.get("contact_area_vs_pressure")
+        measured = sweep and sweep.get("estimated_error", "").startswith("band per point: the change from")
+        how_sweep = ("for the load sweep the change to the same sweep on a grid twice as fine, measured at the loads "
+                     "both ran and interpolated in log p between them (each file's `estimated_error` says which loads "
+                     "and runs)" if measured else
+                     f"for the load sweep (only run on {r0.nx}²) the change at "
+                     f"250 kPa (contact fraction {a['ar']:.5g} → {b['ar']:.5g}, mean gap {a['gap'] * 1e6:.6g} → "
+                     f"{b['gap'] * 1e6:.6g} µm), for a_r scaled by each load's contact perimeter (the counted area's "
+                     "grid error is a boundary effect; at least one grid point), for the mean gap the same relative "
+                     "change at every load (assumed; at least the solver's tolerance times the rms height)")
         L += ["## Accuracy", "",
               f"The hard-wall problem converges under refinement (no adhesion range to resolve). The bands are the "
               f"change of each curve between {r0.nx}² and {r1.nx}² (`{_rel(r0.folder)}`, `{_rel(r1.folder)}`): per "
-              f"point for the distributions and the spectrum; for the load sweep (only run on {r0.nx}²) the change at "
-              f"250 kPa (contact fraction {a['ar']:.5g} → {b['ar']:.5g}, mean gap {a['gap'] * 1e6:.6g} → "
-              f"{b['gap'] * 1e6:.6g} µm), for a_r scaled by each load's contact perimeter (the counted area's grid "
-              "error is a boundary effect; at least one grid point), for the mean gap the same relative change at "
-              "every load (assumed; at least the solver's tolerance times the rms height). A change under one refinement is a lower "
+              f"point for the distributions and the spectrum; {how_sweep}. A change under one refinement is a lower "
               "estimate of the grid error; the counted contact area converges as dx, its perimeter-corrected value "
               "much faster (see each file's `estimated_error`).", ""]
     L += ["## Regenerate", "", "```",
           "build/cmc run cases/challenge/reference-load-hardwall.toml --out results/challenge-hardwall",
           "build/cmc run cases/challenge/reference-load-hardwall.toml --set grid.n=4096 --out results/challenge-hardwall-n4096",
           "build/cmc run cases/challenge/load-sweep-hardwall.toml --out results/challenge-load-sweep-hardwall",
+          "build/cmc run cases/challenge/load-sweep-hardwall.toml --set grid.n=4096 "
+          "--set 'loading.values=[12.5e3,250e3,2.5e6,10e6,25e6]' --out results/challenge-load-sweep-hardwall-n4096",
           "/usr/bin/python3 scripts/challenge_reference.py", "```", "",
           "(all in `scripts/sweeps.sh`; the stored sweep joins two runs, the loads above 25 MPa run after the case "
           "file was extended: each file's `command` line says so).", ""]

@@ -5,10 +5,12 @@
 #     and without it, to a_r ~ 1;
 #   - quantities 6 and 7 (a_r and mean gap against mu_T = 0.0562 .. 3, scripts/tabor_sweep.sh);
 #   - the reference-load runs on the next finer grid (4096²), which give the distributions,
-#     the spectrum and the headline numbers their bands.
+#     the spectrum and the headline numbers their bands, and the hard-wall sweep at five loads
+#     on 4096², which gives the hard-wall sweep its band.
 # All at the challenge's default grid (2048²). The main job (scripts/main.sh) does not rerun
 # these (they take hours on 2 cores: about 20 min for the hard-wall sweep, 1 h for the adhesive one, 15
-# min for the Tabor sweep, 20 min for the two 4096² runs); its report draws the stored curves
+# min for the Tabor sweep, 20 min for the two 4096² runs, 51 min for the 4096² hard-wall sweep
+# with another job beside it); its report draws the stored curves
 # and says so. Every run resumes where it stopped: run this again after an interruption.
 # cmc prints a progress line per load step (iterations, elapsed, estimated remaining).
 #   scripts/sweeps.sh            (then scripts/report.sh --only challenge)
@@ -32,6 +34,10 @@ run cases/challenge/reference-load-hardwall.toml results/challenge-hardwall
 run cases/challenge/reference-load-hardwall.toml results/challenge-hardwall-n4096 --set grid.n=4096
 run cases/challenge/reference-load.toml results/challenge-reference-n4096 --set grid.n=4096
 run cases/challenge/load-sweep-hardwall.toml results/challenge-load-sweep-hardwall
+# The hard-wall sweep again on 4096² at five loads: the change between the grids is the
+# band of the stored sweep (interpolated in log p between these loads).
+run cases/challenge/load-sweep-hardwall.toml results/challenge-load-sweep-hardwall-n4096 --set grid.n=4096 \
+  --set 'loading.values=[12.5e3,250e3,2.5e6,10e6,25e6]'
 scripts/tabor_sweep.sh
 # The adhesive sweep in two runs: up to 2.5 MPa by continuation from 12.5 kPa, then from a
 # cold start at 2.5 MPa up to 25 MPa. The two halves fit separate sessions, and their
