@@ -97,16 +97,9 @@ class Cascade {
   Cascade(const HalfSpace& hs, const Field& k_response)
       : nx_(hs.grid().nx), ny_(hs.grid().ny), y0_(hs.grid().y0), rows_(hs.grid().rows()), periodic_(hs.periodic()) {
     const int mx = hs.transform_nx(), my = hs.transform_ny();
-    const Grid& ts = hs.transform_slab();  // the rows of k_response this rank holds
     for (int dy = -kRadius; dy <= kRadius; ++dy)
-      for (int dx = -kRadius; dx <= kRadius; ++dx) {
-        if (dx == 0 && dy == 0) continue;
-        const int row = (dy + my) % my;
-        const double mine = row >= ts.y0 && row < ts.y0 + ts.rows()
-                                ? k_response[std::size_t(row - ts.y0) * std::size_t(mx) + std::size_t((dx + mx) % mx)]
-                                : 0.0;
-        stencil_.push_back({dx, dy, Grid::sum(std::span<const double>(&mine, 1))});  // from the rank that holds it
-      }
+      for (int dx = -kRadius; dx <= kRadius; ++dx)
+        if (dx != 0 || dy != 0) stencil_.push_back({dx, dy, hs.transform_entry(k_response, (dy + my) % my, (dx + mx) % mx)});
   }
 
   // x: on exit the predicted gaps. Returns the number of points moved (on this rank).
@@ -198,7 +191,6 @@ class Cascade {
   std::vector<std::size_t> queue_;
   std::vector<std::int64_t> out_index_;  // pulls on other ranks' points (global index) ...
   std::vector<double> out_pull_;         // ... and their amounts
-
 };
 
 struct MaxReduction {
@@ -217,8 +209,7 @@ QuasiStaticAdhesion::QuasiStaticAdhesion(HalfSpace& hs, const Field& heights, Ex
   // The diagonal of K: the pressure at a point that holds a unit displacement there and
   // zero everywhere else (the same at every point of a translation-invariant grid).
   k_response_ = hs.unit_response();
-  const double mine = hs.transform_slab().y0 == 0 ? k_response_[0] : 0.0;  // entry 0: on the first slab
-  k_self_ = Grid::sum(std::span<const double>(&mine, 1));
+  k_self_ = hs.transform_entry(k_response_, 0, 0);
   if (!(k_self_ > 0.0)) throw std::logic_error("QuasiStaticAdhesion: the half-space's self-stiffness is not positive");
 }
 

@@ -199,10 +199,11 @@ void HalfSpace::inverse(Field& out) {
   for (int j = 0; j < grid_.ny; ++j) std::copy_n(&padded_[std::size_t(j) * mx_], nx, &out[std::size_t(j) * nx]);
 }
 
-double HalfSpace::self_stiffness() {
-  const Field r = unit_response();
-  // Entry 0 of the whole grid, from the slab that holds it.
-  const double mine = tgrid_.y0 == 0 ? r[0] : 0.0;
+double HalfSpace::self_stiffness() { return transform_entry(unit_response(), 0, 0); }
+
+double HalfSpace::transform_entry(const Field& f, int row, int col) const {
+  const bool here = row >= tgrid_.y0 && row < tgrid_.y0 + tgrid_.rows();
+  const double mine = here ? f[std::size_t(row - tgrid_.y0) * std::size_t(mx_) + std::size_t(col)] : 0.0;
   return Grid::sum(std::span<const double>(&mine, 1));
 }
 

@@ -86,6 +86,9 @@ class HalfSpace {
   // point: self_stiffness(), ≈ 1.2 E*/Δx on a periodic square grid. One FFT pair each.
   Field unit_response();
   double self_stiffness();
+  // Entry (row, col) of the whole transform grid of a field f of which this process holds
+  // its slab (transform_size()), on every rank: from the rank that holds it (collective).
+  double transform_entry(const Field& f, int row, int col) const;
 
   // ---- spectral primitives (contact-grid fields, zero-padded when free)
   // out = FFT(f) on the transform grid (unnormalised). One forward transform.
