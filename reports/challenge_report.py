@@ -763,6 +763,39 @@ def refinement_band(x, y, xf, yf, logx, logy):
     return np.abs(np.asarray(y, dtype=float) - interp_curve(x, xf, yf, logx, logy))
 
 
+def profile_band(run, key, y, v, yf, vf):
+    """(band, floor) of a cross-section profile v(y) (key cross_section_gap or _pressure): how far
+    the profile, read as `cmc check` reads a curve (linear between its points), is from the same
+    case's profile (yf, vf) on the next finer grid at every point of the finer grid: per point y_i
+    the largest |v(y') - v_f(y')| over the finer points y' between y_i's neighbours that are
+    nearest to it (on a grid twice as fine: y_i itself and the two midpoints beside it), so that
+    the band, interpolated as the checker does, holds the finer profile everywhere. At least a
+    floor, the solver's tolerance in the problem's scale: times the rms height for the gap (as for
+    the load sweep's mean gap), times E* times the rms slope for the stress (the challenge's unit
+    of pressure). Where both grids agree exactly (inside a contact for the gap, away from any
+    contact for the stress) the floor is the band. Near a contact line the change is large: the
+    line moves by up to a grid spacing between the grids, and that is the profile's uncertainty
+    there. (None, None) where the finer profile does not cover the line."""
+    y, v, yf, vf = (np.asarray(a, dtype=float) for a in (y, v, yf, vf))
+    inside = (yf >= y[0]) & (yf <= y[-1])
+    yf, vf = yf[inside], vf[inside]
+    if len(y) < 2 or not np.isfinite(vf).all() or not np.isfinite(v).all() or len(yf) < len(y):
+        return None, None
+    d = np.abs(np.interp(yf, y, v) - vf)
+    b = np.zeros(len(y))
+    # A finer point on a coarse one counts for it alone; one between two counts for both.
+    np.maximum.at(b, np.searchsorted(y, yf, "right") - 1, d)
+    np.maximum.at(b, np.searchsorted(y, yf, "left"), d)
+    tol = get(run.s, "case", "solver", "tolerance") or 0.0
+    if key.endswith("gap"):
+        floor = tol * (get(run.s, "surface_facts", "rms_height") or 0.0)
+    else:
+        floor = tol * run.Estar * (get(run.s, "case", "surface", "rms_gradient") or 1.0)
+    if not floor > 0:
+        return None, None
+    return np.maximum(b, floor), floor
+
+
 def _problem(r):
     return "with adhesion" if r.adhesive else "without adhesion"
 
@@ -916,31 +949,42 @@ def _cross_section(dists, out_dir, data_dir):
     rows, csvs = [], []
     # Drawn adhesive first, then the hard wall on top, dashed and thinner, so that neither hides the other.
     styles = [dict(ls="-", lw=0.9, alpha=0.85, zorder=2), dict(ls="--", lw=0.7, color="k", zorder=3)]
-    for k, (r, o, st, _) in enumerate(have):
+    for k, (r, o, st, finer) in enumerate(have):
         y = o["cross_section_y"]
-        g = o.get("cross_section_gap")
-        p = o.get("cross_section_pressure")
         lab = f"{_problem(r)}: {r.label}, p = {st['p'] / 1e3:.4g} kPa"
         sty = styles[min(k, 1)] if len(have) > 1 else styles[0]
         zoom = np.abs(y - yc) <= 1e-6
-        if g is not None and len(g) == len(y):
-            axes[0, 0].plot(y * 1e6, g * 1e6, label=lab, **sty)
-            axes[0, 1].plot(y[zoom] * 1e6, g[zoom] * 1e9, marker=".", ms=2, **sty)
-        if p is not None and len(p) == len(y):
-            axes[1, 0].plot(y * 1e6, p / 1e6, label=lab, **sty)
-            axes[1, 1].plot(y[zoom] * 1e6, p[zoom] / 1e6, marker=".", ms=2, **sty)
-        cols = [("y_m", y)]
-        if g is not None and len(g) == len(y):
-            cols.append(("gap_m", g))
-        if p is not None and len(p) == len(y):
-            cols.append(("pressure_Pa", p))
+        cols, how = [("y_m", y)], []
+        for row, key, col, scale in ((0, "cross_section_gap", "gap_m", (1e6, 1e9)),
+                                     (1, "cross_section_pressure", "pressure_Pa", (1e-6, 1e-6))):
+            v = o.get(key)
+            if v is None or len(v) != len(y):
+                continue
+            line, = axes[row, 0].plot(y * 1e6, v * scale[0], label=lab, **sty)
+            axes[row, 1].plot(y[zoom] * 1e6, v[zoom] * scale[1], marker=".", ms=2, **sty)
+            cols.append((col, v))
+            fo = finer[1] if finer else {}
+            b, floor = (profile_band(r, key, y, v, fo["cross_section_y"], fo[key])
+                        if "cross_section_y" in fo and key in fo else (None, None))
+            if b is None:
+                continue
+            # The band is drawn in the zoom only: on the whole line it is a grid spacing wide.
+            axes[row, 1].fill_between(y[zoom] * 1e6, (v - b)[zoom] * scale[1], (v + b)[zoom] * scale[1],
+                                      color=line.get_color(), alpha=0.2, lw=0, step="mid",
+                                      label=f"band: change to {finer[0].nx}²")
+            cols.append((col + "_err", b))
+            how.append(f"{col}: median {fmt(float(np.median(b)), 3)}, largest {fmt(float(np.max(b)), 3)}, "
+                       f"floor {fmt(floor, 3)}")
         csv = os.path.join(data_dir, f"cross_section__{r.tag()}.csv")
         x0 = get(r.s, "case", "observables", "cross_section_x")
         write_csv(csv, cols, f"cmc challenge cross section x = {x0} m: {r.name}, grid {r.nx}x{r.ny}, "
                              f"step at p = {st['p']:.6g} Pa\n"
-                             "checkable with: cmc check FILE --quantity cross_section_gap | cross_section_pressure")
+                             "checkable with: cmc check FILE --quantity cross_section_gap | cross_section_pressure"
+                             + (f"\n*_err: the band, the largest |this - the same case on {finer[0].nx}^2| at the finer "
+                                "points nearest each point, at least the solver's tolerance in the problem's scale" if how else ""))
         csvs.append(csv)
-        rows.append([_problem(r), r.label, fmt(x0 * 1e6 if finite(x0) else None, 4), len(y)])
+        rows.append([_problem(r), r.label, fmt(x0 * 1e6 if finite(x0) else None, 4), len(y),
+                     "; ".join(how) if how else "– (no run of this case on a finer grid)"])
     for a in axes[:, 1]:
         a.set_xlim((yc - 1e-6) * 1e6, (yc + 1e-6) * 1e6)
     axes[0, 0].set_ylabel("gap (µm)")
@@ -1146,9 +1190,14 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
     section(8, "Mean gap as a function of pressure (log pressure)", _no_rows(area_rows(sweep["gap"])), sweep_cols,
             ["Numbers: the table of item 2.", ""])
     section(9, "Gap and stress along the cross section x = 50 µm", _cross_section(dists, out_dir, data_dir),
-            ["problem", "run", "x (µm)", "points"],
-            ["No band: a profile at fixed y moves by a grid spacing wherever a contact line crosses it, so a "
-             "pointwise comparison of two grids measures where the lines sit, not an error of the values. The "
-             "distributions (items 1, 3, 4) carry the grid error of the same fields.", ""])
+            ["problem", "run", "x (µm)", "points", "band"],
+            ["Band (shaded in the zooms): per point, the largest change of the profile (linear between its points) to "
+             "the same case on the next finer grid at the finer points nearest it (the point and the midpoints "
+             "beside it), so that the band holds the finer profile everywhere. Near a contact line "
+             "it is large: the line moves by up to a grid spacing between the grids, and that is how well the "
+             "profile is known there. Where both grids agree exactly (inside a contact for the gap, away from contact "
+             "for the stress) the band is the floor: the solver's tolerance times the rms height (gap) or times E* "
+             "times the rms slope (stress). With adhesion the band is the numerics' change at this dx/ρ only: both "
+             "grids leave ρ unresolved.", ""])
     lines += tail
     return "\n".join(lines) + "\n"

@@ -164,6 +164,38 @@ def run_reports(root, out):
     return subprocess.run(cmd, capture_output=True, text=True)
 
 
+def profile_band_checks(np):
+    """The cross-section band (challenge_report.profile_band) holds the finer profile at every
+    finer point when read as `cmc check` reads it (band and curve linear between points), with
+    numbers worked by hand, and is never below its floor."""
+    sys.path.insert(0, HERE)
+    from challenge_report import profile_band
+
+    class R:  # the parts of a run that profile_band reads
+        s = {"case": {"solver": {"tolerance": 1e-3}, "surface": {"rms_gradient": 1.0}},
+             "surface_facts": {"rms_height": 2.0}}
+        Estar = 10.0
+
+    y, v = np.array([0.0, 1.0, 2.0, 3.0]), np.array([0.0, 0.0, 4.0, 4.0])
+    yf = np.arange(0.0, 3.5, 0.5)
+    vf = np.array([0.0, 0.0, 0.0, 3.0, 4.0, 4.0, 4.0])  # the step sits half a spacing earlier
+    out = []
+    b, floor = profile_band(R, "cross_section_gap", y, v, yf, vf)
+    # |interp - fine| at the finer points: 0, 0, 0, 1 (y = 1.5: 2 vs 3), 0, 0, 0; floor 1e-3 x 2.
+    if floor != 2e-3 or b is None or not np.allclose(b, [2e-3, 1.0, 1.0, 2e-3]):
+        out.append(f"profile_band: gap band {b} floor {floor}, expected [0.002, 1, 1, 0.002] floor 0.002")
+    else:
+        held = np.abs(np.interp(yf, y, v) - vf) <= np.interp(yf, y, b) + 1e-15
+        if not held.all():
+            out.append("profile_band: the band does not hold the finer profile at every finer point")
+    _, floor_p = profile_band(R, "cross_section_pressure", y, v, yf, vf)
+    if floor_p != 1e-2:
+        out.append(f"profile_band: stress floor {floor_p}, expected tolerance x E* x rms slope = 0.01")
+    if profile_band(R, "cross_section_gap", y, v, yf[:3], vf[:3]) != (None, None):
+        out.append("profile_band: a finer profile that covers only part of the line must give no band")
+    return out
+
+
 def main(argv):
     try:
         import numpy as np
@@ -215,6 +247,7 @@ def main(argv):
         data = os.path.join(out, "challenge", "data")
         if not os.path.isdir(data) or not any(f.startswith("load_sweep__") for f in os.listdir(data)):
             failures.append("challenge/data/load_sweep__*.csv missing")
+        failures += profile_band_checks(np)
         # Empty inputs: no crash, and lines saying what to run.
         empty = os.path.join(root, "empty")
         os.makedirs(empty, exist_ok=True)

@@ -43,7 +43,8 @@ import numpy as np
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 sys.path.insert(0, os.path.join(ROOT, "reports"))
 from challenge_report import (Run, _centers, _find_runs, _merged_sweeps, _observables,  # noqa: E402
-                              _reference_load_runs, finer_sweep, grid_change, hardwall_sweep_band, refinement_band)  # (the report's extraction)
+                              _reference_load_runs, finer_sweep, grid_change, hardwall_sweep_band, profile_band,
+                              refinement_band)  # (the report's extraction)
 from common import CHALLENGE, FAMILY_STORE, load_json, run_strategy_error, transfer_caveat  # noqa: E402
 
 RHO, LAMBDA_S, P0 = CHALLENGE["rho"], CHALLENGE["lambda_s"], CHALLENGE["p0"]
@@ -409,18 +410,27 @@ def reference_load_curves(run, hw, notes, finer=None):
             continue
         x, y, _ = _clean(ys, v, False, False)
         what = "gap" if q.endswith("gap") else "stress"
-        curves.append(dict(name=q, quantity=q, item=9,
-                           title=f"Challenge item 9: {what} along {where}, cmc {run.nx}^2{conv}",
-                           columns=[("y_m", "m", f"position y along {where}") + (x,), col + (y,)],
-                           x="y_m", y=col[0], representation="lin-lin",
-                           extra=prov + [("parameters", params),
-                                         ("sampling", f"every grid point of the line ({len(x)}), from result.h5 "
-                                                      f"step_{int(st['index']):04d}/observables/cross_section_*"),
-                                         ("generator", GENERATOR)],
-                           estimated_error=("no band: a profile at fixed y moves by a grid spacing wherever a "
-                                            "contact line crosses it, so a pointwise comparison of two grids measures "
-                                            "where the lines sit, not an error of the values (the distributions carry "
-                                            "the grid error of the same fields). " + base(keys)).strip()))
+        c = dict(name=q, quantity=q, item=9, title=f"Challenge item 9: {what} along {where}, cmc {run.nx}^2{conv}",
+                 columns=[("y_m", "m", f"position y along {where}") + (x,), col + (y,)],
+                 x="y_m", y=col[0], representation="lin-lin",
+                 extra=prov + [("parameters", params),
+                               ("sampling", f"every grid point of the line ({len(x)}), from result.h5 "
+                                            f"step_{int(st['index']):04d}/observables/cross_section_*"),
+                               ("generator", GENERATOR)],
+                 estimated_error=(base(keys) or "no band: no run of this case on a finer grid"))
+        b, floor = (profile_band(run, key, x, y, fobs["cross_section_y"], fobs[key])
+                    if "cross_section_y" in fobs and key in fobs else (None, None))
+        if b is not None:
+            add_abs_band(c, b)
+            c["estimated_error"] = (
+                f"band: per point y_i, the largest |this profile ({run.nx}^2, linear between its points) - the "
+                f"same case's on the next finer grid ({finer[0].nx}^2)| at the finer points nearest y_i (y_i and the "
+                "midpoints beside it), so that the band holds the finer profile everywhere; at least "
+                f"{floor:.3g} {col[1]} (the solver's tolerance times "
+                + ("the rms height" if what == "gap" else "E* times the rms slope") + "; median "
+                f"{float(np.median(b)):.3g}, largest {float(np.max(b)):.3g} {col[1]}, at a contact line, which moves by "
+                "up to a grid spacing between the grids). " + base(keys)).strip()
+        curves.append(c)
     return curves, st
 
 
@@ -588,7 +598,8 @@ def readme_adhesionless(curves, pair):
         L += ["## Accuracy", "",
               f"The hard-wall problem converges under refinement (no adhesion range to resolve). The bands are the "
               f"change of each curve between {r0.nx}² and {r1.nx}² (`{_rel(r0.folder)}`, `{_rel(r1.folder)}`): per "
-              f"point for the distributions and the spectrum; {how_sweep}. A change under one refinement is a lower "
+              f"point for the distributions, the spectrum and the cross sections (there at the same y, and at least the "
+              f"solver's tolerance in the problem's scale); {how_sweep}. A change under one refinement is a lower "
               "estimate of the grid error; the counted contact area converges as dx, its perimeter-corrected value "
               "much faster (see each file's `estimated_error`).", ""]
     L += ["## Regenerate", "", "```",
@@ -658,10 +669,17 @@ def readme(curves, out_dir, hw, ref_run, ref_step):
     else:
         L += ["The distributions (items 1, 3, 4, 5) have **no error estimate**: no run of the reference-load case "
               "on a finer grid (`--set grid.n=4096`).", ""]
-    L += ["The **cross sections** (item 9) carry no band: a profile at fixed y moves by a grid spacing wherever a "
-          "contact line crosses it, so a pointwise comparison of two grids measures where the lines sit rather than "
-          "an error of the values. No `tolerance` is stored, so `cmc check` uses the quantity's default acceptance "
-          "for it.", ""]
+    if any(c.get("band") for c in curves if c["item"] == 9):
+        L += ["**Cross sections** (item 9): the band is, per point, the largest change of the profile (linear between "
+              "its points) to the same case on the next finer grid at the finer points nearest it (the point and the "
+              "midpoints beside it), so that the band holds the finer profile everywhere; at least the solver's "
+              "tolerance in the problem's scale (times the rms height for the gap, times E* times the rms slope for "
+              "the stress), which is the band wherever both grids agree exactly. It is large at contact lines, which "
+              "move by up to a grid spacing between the grids, so a prediction from another grid may fail there by "
+              "many band widths; its median says more (`cmc check` prints both).", ""]
+    else:
+        L += ["The **cross sections** (item 9) have no error estimate: no run of the reference-load case on a finer "
+              "grid.", ""]
     if hw:
         n1, n2 = hw["grids"]
         L += [f"For context only, the **hard-wall** problem at the same load (`{hw['folder']}`"
