@@ -29,10 +29,11 @@ struct Args {
 // error (CaseError, exit code 2).
 Args parse_args(int argc, char** argv, int first, const std::vector<std::string>& valued = {});
 
-// Progress on stderr, only for a terminal and without --quiet: step (*step, numbered as
-// in summary.json), iteration, residual, elapsed time and, once a step has finished, the
-// estimated time left (elapsed per step finished since `first_step` x steps left; a
-// resumed run starts at its first unfinished step).
+// Progress on stderr without --quiet: step (*step, numbered as in summary.json),
+// iteration, residual, elapsed time and, once a step has finished, the estimated time left
+// (elapsed per step finished since `first_step` x steps left; a resumed run starts at its
+// first unfinished step). On a terminal one line rewritten in place; into a file or pipe
+// (a batch job's log) a line of its own at most every 30 s.
 // One line on stderr before anything large is allocated: the grid, the memory the run
 // will hold at its peak (estimate_memory, counted from the code) and what is available.
 void print_memory_plan(const Case& c, bool quiet);

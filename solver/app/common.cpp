@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <memory>
 
 namespace cmc::app {
 
@@ -52,14 +53,23 @@ void print_memory_plan(const Case& c, bool quiet) {
 
 Progress make_progress(bool quiet, int* step, std::chrono::steady_clock::time_point t0, int total_steps,
                        int first_step) {
-  if (quiet || !isatty(STDERR_FILENO)) return {};
-  return [step, t0, total_steps, first_step](int it, double residual) {
+  if (quiet) return {};
+  // On a terminal one line, rewritten in place; into a file or a pipe (a batch job's log) a
+  // line of its own at most every kLogEvery seconds, so that a long run shows it is alive.
+  constexpr double kLogEvery = 30.0;
+  const bool tty = isatty(STDERR_FILENO);
+  auto last = std::make_shared<double>(0.0);
+  return [step, t0, total_steps, first_step, tty, last](int it, double residual) {
     const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::fprintf(stderr, "\r  step %d%s%s  iteration %5d  residual %.3e  elapsed %7.1f s", *step,
+    if (!tty) {
+      if (el - *last < kLogEvery) return;
+      *last = el;
+    }
+    std::fprintf(stderr, "%s  step %d%s%s  iteration %5d  residual %.3e  elapsed %7.1f s", tty ? "\r" : "", *step,
                  total_steps ? "/" : "", total_steps ? std::to_string(total_steps).c_str() : "", it, residual, el);
     const int solved = *step - first_step;  // steps finished by this process, in el
     if (total_steps && solved > 0) std::fprintf(stderr, "  left ~%7.0f s", el / solved * (total_steps - *step));
-    std::fputs("  ", stderr);
+    std::fputs(tty ? "  " : "\n", stderr);
     std::fflush(stderr);
   };
 }
