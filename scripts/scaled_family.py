@@ -42,10 +42,12 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "reports"))
-from common import FAMILY_QUANTITIES as QUANTITIES, strategy_errors, strategy_run_near  # noqa: E402
+from common import (FAMILY_QUANTITIES as QUANTITIES, s_extrapolation, s_extrapolation_verdict, strategy_errors,
+                    strategy_run_near)  # noqa: E402
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 CASE = "cases/challenge/scaled-family.toml"
+CASE_HW = "cases/challenge/scaled-family-hardwall.toml"  # the same surfaces under the hard wall alone
 L = 1.0e-4                 # m, the case's grid.size
 LAMBDA_S1, W1 = 0.1e-6, 0.05  # the challenge's cutoff (m) and work of adhesion (J/m²), s = 1
 # The resolution strategy's runs: the coarse grids with the range coarse-graining
@@ -117,9 +119,9 @@ def summary_ok(path):
         return False
 
 
-def run(cmc, s, n, out, extra, dry):
-    sets = member_sets(s) + [f"grid.n={n}"] + extra
-    cmd = [cmc, "run", CASE, "--out", out, "--resume"] + sum((["--set", x] for x in sets), [])
+def run(cmc, s, n, out, extra, dry, case=CASE):
+    sets = (member_sets(s) if case == CASE else member_sets(s)[:1]) + [f"grid.n={n}"] + extra
+    cmd = [cmc, "run", case, "--out", out, "--resume"] + sum((["--set", x] for x in sets), [])
     shown = " ".join(["cmc"] + cmd[1:])
     if summary_ok(os.path.join(ROOT, out, "summary.json")):
         print(f"scaled_family: s = {s}, {n}²: done ({out})", file=sys.stderr)
@@ -136,17 +138,37 @@ def record(out, role, n, rho, command):
     with open(os.path.join(ROOT, out, "summary.json"), encoding="utf-8") as f:
         d = json.load(f)
     st = d["steps"][-1]
+    facts = d["surface_facts"]
     r = {"role": role, "n": n, "dx_m": L / n, "dx_over_rho": (L / n) / rho, "status": d["status"],
          "command": command, "output": out, "cmc_version": d.get("cmc_version"),
-         "solver": d["case"]["solver"], "range_used_m": d["surface_facts"]["interaction_range"],
-         "tabor_used": d["surface_facts"].get("tabor_parameter"),
+         "solver": d["case"]["solver"], "range_used_m": facts.get("interaction_range"),
+         "tabor_used": facts.get("tabor_parameter"),
          "iterations": st["iterations"], "fft_pairs": st.get("fft_pairs"), "wall_s": d["timing"]["wall_s"],
          "residual": st["residual"], "mean_pressure_Pa": st["mean_pressure"],
-         "bistability_number": d["surface_facts"]["bistability_number"]}
+         "bistability_number": facts.get("bistability_number")}
     obs = st.get("observables", {})
     for key, short, _ in QUANTITIES:
         r[short] = obs.get(key, st.get(key))
+    if role.startswith("hardwall"):
+        # The hard wall's counted area converges as dx (a boundary effect); its perimeter-
+        # corrected value (Observables) much faster: that one is the adhesionless a_r.
+        r["a_r_corrected"] = obs.get("contact_fraction_corrected")
     return r
+
+
+def adhesionless(runs):
+    """The member's hard-wall values from its two finest hard-wall runs: a_r (the perimeter-
+    corrected contact fraction; the repulsive area is the whole contact without adhesion) and the
+    mean gap, each with |finest - next| as its refinement error. {} without two such runs."""
+    hw = sorted((r for r in runs if r["role"].startswith("hardwall") and r["status"] == "converged"),
+                key=lambda r: -r["n"])
+    if len(hw) < 2 or hw[0]["a_r_corrected"] is None or hw[1]["a_r_corrected"] is None:
+        return {}
+    out = {}
+    for short, key in (("a_r", "a_r_corrected"), ("a_rep", "a_r_corrected"), ("mean_gap", "mean_gap")):
+        out[short] = {"value": hw[0][key], "refinement_error": abs(hw[0][key] - hw[1][key]),
+                      "grid": hw[0]["n"], "coarser_grid": hw[1]["n"]}
+    return out
 
 
 def atomic_write(path, text):
@@ -235,7 +257,35 @@ def readme(data):
                 lines.append(f"| {e['n']}² ({e['role']}) | {e['dx_over_rho']:.1f} | " + " | ".join(cells)
                              + f" | {'; '.join(e['measured_on']) or '—'} |")
             lines.append("")
+    lines += s_route_lines(data.get("s_extrapolation"))
     return "\n".join(lines)
+
+
+def s_route_lines(x):
+    """README lines for the second route (reports/common.py s_extrapolation)."""
+    lines = ["## Second route to the challenge: extrapolation in s", ""]
+    if not x:
+        return lines + ["Not computed: it needs two members with a reference and a hard-wall value "
+                        "(`--s 32 16`) and the challenge's hard-wall runs (`--s 1 --no-resolved --grids 2048 4096`).", ""]
+    sa, sb = x["members"]
+    lines += [f"Each member's adhesive reference over its adhesionless value (the same surface under the hard wall, "
+              f"`{CASE_HW}`: a_r perimeter-corrected, on the two finest grids), R(s), extrapolated to s = 1 on a line "
+              f"through s = {sa} and {sb} in log s, times the challenge's hard-wall value. Along the family only the "
+              "bandwidth λ_r/λ_s changes; the ratio carries what adhesion adds. Error: the two refinement errors "
+              "through the line, the hard-wall value's refinement error, and the distance to the same line in s "
+              "(two points cannot tell the models apart: a third member, s = 8 on 8192², would).", "",
+              f"| quantity | R(s = {sb}) | R(s = {sa}) | R(1), line in log s | R(1), line in s | hard wall at s = 1 | "
+              "value at s = 1 |", "|---|---|---|---|---|---|---|"]
+    for _, short, unit in QUANTITIES:
+        q = x[short]
+        ra, rb = q["ratios"][str(sa)], q["ratios"][str(sb)]
+        hw = q["adhesionless_at_1"]
+        lines.append(f"| {short} ({unit}) | {rb['value']:.4f} ± {rb['error']:.2g} | {ra['value']:.4f} ± {ra['error']:.2g} | "
+                     f"{q['ratio_at_1_log_s']:.4f} ± {q['ratio_error_propagated']:.2g} | {q['ratio_at_1_linear_s']:.4f} | "
+                     f"{hw['value']:.5g} ± {hw['refinement_error']:.2g} ({hw['grid']}²) | "
+                     f"**{q['value']:.4g} ± {q['error']:.2g}** |")
+    verdict = s_extrapolation_verdict(x)
+    return lines + [""] + ([verdict, ""] if verdict else [])
 
 
 def main():
@@ -245,6 +295,8 @@ def main():
                     help="coarse spacings dx = k rho(s) to run plain and with the strategy (default 2 4)")
     ap.add_argument("--grids", type=int, nargs="*", default=[], help="explicit grids, plain and with the strategy")
     ap.add_argument("--no-resolved", action="store_true", help="skip the resolved and refinement grids")
+    ap.add_argument("--no-hardwall", action="store_true",
+                    help="skip the hard-wall runs (the resolved and refinement grids, or the two finest --grids)")
     ap.add_argument("--results", default="results/scaled-family")
     ap.add_argument("--store", default=None, help="write scaled_family.json and README.md here")
     ap.add_argument("--cmc", default="build/cmc")
@@ -265,7 +317,18 @@ def main():
             cmd = run(a.cmc, s, g[role], out, a.set + (STRATEGY[strategy] if strategy else []), a.dry_run)
             if not a.dry_run:
                 runs.append(record(out, role, g[role], rho, cmd))
-        m = {"s": s, "lambda_s_m": s * LAMBDA_S1, "w_J_m2": s * W1, "rho_m": rho, "runs": runs, "reference": {}}
+        # The same surface under the hard wall on the two finest grids (the second route's
+        # denominator; a hard-wall solve costs little beside the adhesive one).
+        if not a.no_hardwall:
+            hw_grids = ({"hardwall_refinement": g["refinement"], "hardwall_resolved": g["resolved"]}
+                        if "resolved" in g else {f"hardwall_n{n}": n for n in sorted(a.grids)[-2:]})
+            for role, n in hw_grids.items():
+                out = os.path.join(a.results, f"s{s}", f"n{n}-hardwall")
+                cmd = run(a.cmc, s, n, out, [], a.dry_run, case=CASE_HW)
+                if not a.dry_run:
+                    runs.append(record(out, role, n, rho, cmd))
+        m = {"s": s, "lambda_s_m": s * LAMBDA_S1, "w_J_m2": s * W1, "rho_m": rho, "runs": runs, "reference": {},
+             "adhesionless": adhesionless(runs)}
         by = {r["role"]: r for r in runs}
         if "resolved" in by and "refinement" in by:
             for _, short, unit in QUANTITIES:
@@ -286,14 +349,15 @@ def main():
                 m["runs"] = [r for r in prev["runs"] if r["role"] not in roles] + m["runs"]
                 if not m["reference"]:
                     m["reference"] = prev.get("reference", {})
+                m["adhesionless"] = adhesionless(m["runs"])
             old[m["s"]] = m
         merged = [old[s] for s in sorted(old, reverse=True)]
         for m in merged:
             m["runs"].sort(key=lambda r: (r["role"].split("_")[0] not in ("resolved", "refinement"), -r["n"], r["role"]))
         estimates(merged)
-        data = {"generator": "scripts/scaled_family.py", "case_file": CASE,
+        data = {"generator": "scripts/scaled_family.py", "case_file": CASE, "case_file_hardwall": CASE_HW,
                 "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
-                "load_Pa": 250e3, "members": merged}
+                "load_Pa": 250e3, "members": merged, "s_extrapolation": s_extrapolation(merged)}
         atomic_write(path, json.dumps(data, indent=1) + "\n")
         atomic_write(os.path.join(ROOT, a.store, "README.md"), readme(data))
         print(f"scaled_family: wrote {a.store}/scaled_family.json and README.md", file=sys.stderr)
