@@ -4,7 +4,7 @@
 # (2048², the smallest that holds the whole surface spectrum), with and without
 # adhesion, and write the challenge report (reports/challenge/index.md).
 # Results: results/challenge-reference/ and results/challenge-hardwall/. The load and Tabor
-# sweeps (quantities 2, 6-8) take hours: scripts/sweeps.sh runs them; until then the report
+# sweeps (quantities 2, 6-8) take about 25 min more: scripts/sweeps.sh runs them; until then the report
 # draws the stored reference curves (reference/challenge/) and says so.
 # A run interrupted half-way continues where it stopped when this is run again.
 set -euo pipefail
