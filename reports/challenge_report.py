@@ -123,11 +123,14 @@ class Run:
 def _find_runs(results_dir, notes):
     """Challenge runs: every results/**/summary.json whose case name starts with
     "challenge" (results/challenge*/ by convention; also e.g. results/refine/<run>/),
-    except the validation, performance and bench folders and the scaled family's runs (other
+    except the validation, performance and bench folders, the scaled family's runs (other
     problems, s != 1, or the challenge with other settings: the family's own section reads
-    them from its store)."""
+    them from its store) and the cluster cost measurements (scripts/cluster/measure.py: the
+    challenge's cases on small grids, at several rank counts, some stopped after a fixed number
+    of iterations; not results)."""
     files = set(glob.glob(os.path.join(results_dir, "**", "summary.json"), recursive=True))
-    skip = tuple(os.path.join(results_dir, d) + os.sep for d in ("validation", "performance", "scaled-family", "bench"))
+    skip = tuple(os.path.join(results_dir, d) + os.sep
+                 for d in ("validation", "performance", "scaled-family", "bench", "cluster-measure"))
     runs = []
     for f in sorted(files):
         if f.startswith(skip):

@@ -105,6 +105,13 @@ def make_inputs(root, np, h5py):
     # A run of another project in the same folder must be ignored.
     write_json(os.path.join(res, "challenge-not", "summary.json"),
                {"case": {"case": {"name": "hertz-free"}}, "grid": grid(64), "steps": []})
+    # A cluster cost measurement (scripts/cluster/measure.py) of the same case on a coarser grid
+    # is not a result: the headline must not show it.
+    write_json(os.path.join(res, "cluster-measure", "baseline", "summary.json"),
+               {"case": challenge_case("challenge-reference-test"), "grid": grid(64), "status": "converged",
+                "steps": [{"index": 0, "mean_pressure": 250e3, "contact_fraction": 0.5, "mean_gap": 9e-6,
+                           "converged": True, "observables": {"contact_fraction": 0.5, "mean_gap": 9e-6,
+                                                               "mean_pressure": 250e3}}]})
     # A malformed summary must not crash the report.
     os.makedirs(os.path.join(res, "challenge-broken"), exist_ok=True)
     with open(os.path.join(res, "challenge-broken", "summary.json"), "w") as f:
@@ -230,6 +237,8 @@ def main(argv):
             os.path.join(out, "challenge", "index.md")) else ""
         if "not computed yet" in idx:
             failures.append("challenge/index.md says 'not computed yet' although every input exists")
+        if "cluster-measure" in idx:
+            failures.append("challenge/index.md uses a run of results/cluster-measure/ (cost measurements)")
         if "hertz-free" in idx:
             failures.append("challenge/index.md lists a run whose case name does not start with 'challenge'")
         # dx/λ_s and dx/ρ are cmc's (surface_facts), not recomputed by the report.
