@@ -120,7 +120,10 @@ def summary_ok(path):
 
 
 def run(cmc, s, n, out, extra, dry, case=CASE):
-    sets = (member_sets(s) if case == CASE else member_sets(s)[:1]) + [f"grid.n={n}"] + extra
+    # The case files name the s = 32 member; each run is named for its own s.
+    name = f"challenge-scaled-s{s}" if case == CASE else f"challenge-scaled-hardwall-s{s}"
+    sets = ([f"case.name={name}"] + (member_sets(s) if case == CASE else member_sets(s)[:1]) + [f"grid.n={n}"]
+            + extra)
     cmd = [cmc, "run", case, "--out", out, "--resume"] + sum((["--set", x] for x in sets), [])
     shown = " ".join(["cmc"] + cmd[1:])
     if summary_ok(os.path.join(ROOT, out, "summary.json")):
