@@ -1029,6 +1029,9 @@ def _grid_table(runs):
     return md_table(["case", "folder", "grid", "dx (nm)", "dx/λ_s", "dx/ρ", "steps", "status", "wall (s)", "μ_T"], rows)
 
 
+_FAMILY_LABEL = {"a_r": "a_r", "a_rep": "repulsive a_r", "mean_gap": "mean gap (µm)"}  # FAMILY_QUANTITIES' rows
+
+
 def _adhesion_resolution(reference_dir):
     """Issue 13: the challenge's adhesive numbers with error bars, from the scaled-family store
     (reference/challenge-scaled/scaled_family.json, written by scripts/scaled_family.py)."""
@@ -1095,7 +1098,7 @@ def _adhesion_resolution(reference_dir):
         for _, short, _ in FAMILY_QUANTITIES:
             q = x[short]
             scale, digits = (1e6, 5) if short == "mean_gap" else (1.0, 4)
-            rows.append([{"a_r": "a_r", "a_rep": "repulsive a_r", "mean_gap": "mean gap (µm)"}[short],
+            rows.append([_FAMILY_LABEL[short],
                          f"{q['ratios'][str(sb)]['value']:.4f}", f"{q['ratios'][str(sa)]['value']:.4f}",
                          f"{q['ratio_at_1_log_s']:.4f} / {q['ratio_at_1_linear_s']:.4f}",
                          f"{q['adhesionless_at_1']['value'] * scale:.{digits + 1}g}",
@@ -1116,7 +1119,7 @@ def _adhesion_resolution(reference_dir):
                     a, b = e[short], x[short]
                     gap = abs(a["value"] - b["value"])
                     both = a["error"] + b["error"]
-                    rows.append([{"a_r": "a_r", "a_rep": "repulsive a_r", "mean_gap": "mean gap (µm)"}[short],
+                    rows.append([_FAMILY_LABEL[short],
                                  f"{a['value'] * scale:.{digits}g} ± {a['error'] * scale:.2g}",
                                  f"{b['value'] * scale:.{digits}g} ± {b['error'] * scale:.2g}",
                                  f"{gap / both:.2f}" if both > 0 else "–"])
