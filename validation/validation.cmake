@@ -93,3 +93,14 @@ set(CMC_RERUN_ONE "rm -f ${CMC_RERUN}/wisdom && CMC_THREADS=2 CMC_FFTW_WISDOM=${
 cmc_cli_test(rerun.same_bits "rm -rf ${CMC_RERUN} && mkdir -p ${CMC_RERUN} && ${CMC_RERUN_ONE} ${CMC_RERUN}/a && ${CMC_RERUN_ONE} ${CMC_RERUN}/b && /usr/bin/python3 ${CMAKE_SOURCE_DIR}/scripts/compare_runs.py ${CMC_RERUN}/a ${CMC_RERUN}/b")
 # A planner name cmc does not know is an error that names the variable, before any output.
 cmc_cli_test(cli.bad_fft_planner "rm -rf ${CMAKE_BINARY_DIR}/bad-planner; CMC_FFTW_PLANNER=bogus $<TARGET_FILE:cmc> run ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load-hardwall.toml --set grid.n=64 --out ${CMAKE_BINARY_DIR}/bad-planner 2>&1 | grep -q 'CMC_FFTW_PLANNER: expected builtin' && test ! -e ${CMAKE_BINARY_DIR}/bad-planner")
+
+# Progress in a log (stderr a pipe, as under ctest or a batch system): with
+# CMC_PROGRESS_EVERY=0 every line the solver reports is printed, each on its own line;
+# a malformed value is refused (exit 2, naming the variable) before any output is made.
+add_test(NAME cli.progress_in_log
+         COMMAND sh -c "rm -rf ${CMAKE_BINARY_DIR}/cli_progress && CMC_PROGRESS_EVERY=0 $<TARGET_FILE:cmc> run ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load.toml --set grid.n=128 --out ${CMAKE_BINARY_DIR}/cli_progress 2>&1 | cat")
+set_tests_properties(cli.progress_in_log PROPERTIES LABELS quick
+                     PASS_REGULAR_EXPRESSION "\n  step 0/1  iteration +[0-9]+  residual [0-9.e+-]+  elapsed +[0-9.]+ s\n")
+add_test(NAME cli.progress_every_malformed
+         COMMAND sh -c "rm -rf ${CMAKE_BINARY_DIR}/cli_progress_bad; CMC_PROGRESS_EVERY=-1 $<TARGET_FILE:cmc> run ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load.toml --set grid.n=128 --out ${CMAKE_BINARY_DIR}/cli_progress_bad 2>${CMAKE_BINARY_DIR}/cli_progress_bad.err; rc=$?; grep -q CMC_PROGRESS_EVERY ${CMAKE_BINARY_DIR}/cli_progress_bad.err && test $rc -eq 2 && test ! -e ${CMAKE_BINARY_DIR}/cli_progress_bad")
+set_tests_properties(cli.progress_every_malformed PROPERTIES LABELS quick)

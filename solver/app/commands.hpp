@@ -33,7 +33,8 @@ Args parse_args(int argc, char** argv, int first, const std::vector<std::string>
 // iteration, residual, elapsed time and, once a step has finished, the estimated time left
 // (elapsed per step finished since `first_step` x steps left; a resumed run starts at its
 // first unfinished step). On a terminal one line rewritten in place; into a file or pipe
-// (a batch job's log) a line of its own at most every 30 s.
+// (a batch job's log) a line of its own at most every 30 s (CMC_PROGRESS_EVERY = seconds,
+// >= 0; parse_args refuses a malformed value).
 // One line on stderr before anything large is allocated: the grid, the memory the run
 // will hold at its peak (estimate_memory, counted from the code) and what is available.
 void print_memory_plan(const Case& c, bool quiet);

@@ -5,7 +5,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 
 namespace cmc::app {
@@ -16,7 +18,23 @@ std::string Args::option(const std::string& name, const std::string& def) const 
   return def;
 }
 
+namespace {
+// Seconds between progress lines when stderr is a file or a pipe: CMC_PROGRESS_EVERY
+// (a number >= 0; 0 prints every line the solver reports), else 30.
+double progress_every() {
+  const char* v = std::getenv("CMC_PROGRESS_EVERY");
+  if (!v || !*v) return 30.0;
+  char* end = nullptr;
+  const double s = std::strtod(v, &end);
+  if (end == v || *end != '\0' || !std::isfinite(s) || s < 0.0)
+    throw CaseError(std::string("environment variable CMC_PROGRESS_EVERY = '") + v +
+                    "': expected the seconds between progress lines in a log, a number >= 0 (unset: 30)");
+  return s;
+}
+}  // namespace
+
 Args parse_args(int argc, char** argv, int first, const std::vector<std::string>& valued) {
+  progress_every();  // a malformed value is refused before anything is read or written
   Args a;
   a.quiet = !is_root();  // in a distributed run rank 0 alone prints
   for (int i = first; i < argc; ++i) {
@@ -55,14 +73,14 @@ Progress make_progress(bool quiet, int* step, std::chrono::steady_clock::time_po
                        int first_step) {
   if (quiet) return {};
   // On a terminal one line, rewritten in place; into a file or a pipe (a batch job's log) a
-  // line of its own at most every kLogEvery seconds, so that a long run shows it is alive.
-  constexpr double kLogEvery = 30.0;
+  // line of its own at most every `every` seconds, so that a long run shows it is alive.
+  const double every = progress_every();
   const bool tty = isatty(STDERR_FILENO);
   auto last = std::make_shared<double>(0.0);
-  return [step, t0, total_steps, first_step, tty, last](int it, double residual) {
+  return [step, t0, total_steps, first_step, tty, every, last](int it, double residual) {
     const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (!tty) {
-      if (el - *last < kLogEvery) return;
+      if (el - *last < every) return;
       *last = el;
     }
     std::fprintf(stderr, "%s  step %d%s%s  iteration %5d  residual %.3e  elapsed %7.1f s", tty ? "\r" : "", *step,
