@@ -55,8 +55,10 @@ LAMBDA_S1, W1 = 0.1e-6, 0.05  # the challenge's cutoff (m) and work of adhesion 
 STRATEGY = {"range": ['interaction.coarse_graining="range"']}
 
 
-def member_sets(s):
-    return [f"surface.cutoff_wavelength={s * LAMBDA_S1:.6g}", f"interaction.work_of_adhesion={s * W1:.6g}"]
+def member_sets(s, adhesion=True):
+    """The --set overrides that make member s of a family case (the hard-wall case has no w)."""
+    return ([f"surface.cutoff_wavelength={s * LAMBDA_S1:.6g}"]
+            + ([f"interaction.work_of_adhesion={s * W1:.6g}"] if adhesion else []))
 
 
 def rho_of(cmc, s, extra):
@@ -122,8 +124,7 @@ def summary_ok(path):
 def run(cmc, s, n, out, extra, dry, case=CASE):
     # The case files name the s = 32 member; each run is named for its own s.
     name = f"challenge-scaled-s{s}" if case == CASE else f"challenge-scaled-hardwall-s{s}"
-    sets = ([f"case.name={name}"] + (member_sets(s) if case == CASE else member_sets(s)[:1]) + [f"grid.n={n}"]
-            + extra)
+    sets = [f"case.name={name}"] + member_sets(s, adhesion=case == CASE) + [f"grid.n={n}"] + extra
     cmd = [cmc, "run", case, "--out", out, "--resume"] + sum((["--set", x] for x in sets), [])
     shown = " ".join(["cmc"] + cmd[1:])
     if summary_ok(os.path.join(ROOT, out, "summary.json")):
