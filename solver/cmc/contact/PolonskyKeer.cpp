@@ -331,7 +331,7 @@ void PkRun::run(SolveResult& res) {
     res.iterations = it;
     if (opt_.progress && it % std::max(1, opt_.progress_every) == 0) opt_.progress(it, res.residual);
     if (res.residual <= opt_.tolerance) {
-      if (since_exact_ == 0) return;
+      if (since_exact_ == 0 || !opt_.confirm) return;
       exact();  // confirm on u recomputed from the real-space p (removes spectral drift)
       ++res.diagnostics.exact_recomputes;
       continue;

@@ -38,11 +38,17 @@ class PolonskyKeer {
     // inverse of the contact-set block of G by the inverse of the whole operator. Exact at
     // full contact; costs one more FFT pair per iteration.
     bool precondition = true;
+    // Before declaring convergence, recompute u from the real-space p and test again
+    // (removes the drift of the incremental spectral update; one FFT pair). A caller that
+    // solves again from the returned state before using it (an outer iteration) may turn
+    // this off and confirm only its last solve: the next solve starts from the exact u.
+    bool confirm = true;
   };
 
   PolonskyKeer(HalfSpace& half_space, const Field& heights, Options options);
   // Solve for `target`, starting from `state` when it holds a pressure field.
   SolveResult solve(const Target& target, ContactState& state);
+  void set_confirm(bool on) { opt_.confirm = on; }
 
  private:
   HalfSpace& hs_;

@@ -232,6 +232,11 @@ SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st) {
   po.max_iterations = opt_.max_iterations;
   po.recompute_every = opt_.recompute_every;
   po.precondition = opt_.precondition;
+  // Each outer solve starts from the exact u of its pressure (Polonsky-Keer's first step),
+  // so only the last one needs Polonsky-Keer's confirmation on an exact u: the others skip
+  // it, and the converged tension is confirmed by one more solve at the same t (a "confirm"
+  // step, usually 0 iterations: one FFT pair and a half instead of one per outer step).
+  po.confirm = false;
   PolonskyKeer pk(hs_, hp, po);  // its residual scale is that of h (hp == h here)
   ContactState inner;
   const bool warm = st.gap.size() == n && st.pressure.size() == n;
@@ -254,8 +259,9 @@ SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st) {
   bool pk_ok = true;
   std::string pk_message;
   int outer = 0;
+  bool confirming = false;  // this solve repeats the last one (same t) on the exact u
   for (;; ++outer) {
-    if (outer > 0 || warm) {
+    if (!confirming && (outer > 0 || warm)) {
       hs_.displacement(t, gt);
       Grid::parallel_for(n, [&](std::size_t b, std::size_t e) {
         for (std::size_t i = b; i < e; ++i) hp[i] = h_[i] - gt[i];
@@ -263,6 +269,7 @@ SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st) {
     }
     Target tk = target;
     if (target.control == Control::MeanPressure) tk.value = target.value + Grid::mean(t);
+    pk.set_confirm(confirming);
     const SolveResult r = pk.solve(tk, inner);
     res.iterations += r.iterations;
     res.diagnostics += r.diagnostics;
@@ -295,7 +302,13 @@ SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st) {
       pk_message = "the adhesive tension became non-finite at outer step " + std::to_string(outer);
       break;
     }
-    if (residual <= opt_.tension_tolerance || outer + 1 >= opt_.max_outer) break;
+    if (residual <= opt_.tension_tolerance) {
+      if (confirming) break;
+      confirming = true;  // not counted against max_outer
+      continue;
+    }
+    if (outer + 1 >= opt_.max_outer) break;
+    confirming = false;
     // Warm start of the next solve: keep the total pressure p − t of the points in contact,
     // i.e. raise their repulsion by the change of their tension. The first solve after the
     // hard-wall one then starts from the hard-wall state itself instead of a rescaled
