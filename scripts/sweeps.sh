@@ -7,11 +7,12 @@
 #   - the reference-load runs on the next finer grid (4096²), which give the distributions,
 #     the spectrum and the headline numbers their bands, and the hard-wall sweep at five loads
 #     on 4096², which gives the hard-wall sweep its band.
-# All at the challenge's default grid (2048²). The main job (scripts/main.sh) does not rerun
-# these (on 2 cores, measured at 02caad2: 6 min for the hard-wall sweep, 12.3 min for the
-# adhesive one, 6 min for the Tabor sweep, about 10 min for the two 4096² runs, 51 min for the
-# 4096² hard-wall sweep with another job beside it); its report draws the stored curves and
-# says so. Every run resumes where it stopped: run this again after an interruption.
+# All at the challenge's default grid (2048²) but the 4096² ones. The main job
+# (scripts/main.sh) runs the reference-load runs and the two adhesive sweeps itself; this
+# adds the rest (on 2 cores: 6 min for the hard-wall sweep, about 5 min for the two 4096²
+# reference-load runs, 51 min for the 4096² hard-wall sweep, measured with another job
+# beside it), and the report draws their stored curves until they run. Every run resumes
+# where it stopped: run this again after an interruption.
 # cmc prints a progress line per load step (iterations, elapsed, estimated remaining).
 #   scripts/sweeps.sh            (then scripts/report.sh --only challenge)
 set -euo pipefail
@@ -39,9 +40,7 @@ run cases/challenge/load-sweep-hardwall.toml results/challenge-load-sweep-hardwa
 run cases/challenge/load-sweep-hardwall.toml results/challenge-load-sweep-hardwall-n4096 --set grid.n=4096 \
   --set 'loading.values=[12.5e3,250e3,2.5e6,10e6,25e6]'
 scripts/tabor_sweep.sh
-# The adhesive sweep in two runs: up to 2.5 MPa by continuation from 12.5 kPa, then from a
-# cold start at 2.5 MPa up to 25 MPa. The two halves fit separate sessions, and their
-# overlap at 2.5 MPa measures how much the load path matters (the report quotes it).
+# The adhesive sweep: one quasi-static loading path from out of contact, 12.5 kPa .. 25 MPa.
 run cases/challenge/load-sweep.toml results/challenge-load-sweep
 /usr/bin/python3 scripts/challenge_reference.py
 echo "sweeps: references rewritten (reference/challenge/); scripts/report.sh --only challenge draws them" >&2
