@@ -91,7 +91,7 @@ class Run:
                 "perimeter": pick("contact_perimeter"),
                 "tabor": float(tabor) if finite(tabor) else run_tabor,
                 "converged": st.get("converged", True), "branch": st.get("branch", ""),
-                "has_observables": bool(ob),
+                "iterations": st.get("iterations"), "has_observables": bool(ob),
             })
 
     @property
@@ -439,6 +439,23 @@ def _stored(reference_dir, quantity, adhesive):
     return {"path": path, "meta": meta, "x": col[meta["x"]], "y": col[meta["y"]], "band": col.get(meta.get("band"))}
 
 
+def sweep_end_note(r, pts):
+    """Where a load sweep's curve ends and why (issue 14: 'as far as the solver goes, stating
+    where and why it stops'): at full contact, at a load its solver did not converge at, or
+    at the last load the run was given."""
+    last = pts[-1]
+    where = f"The sweep {_problem(r)} on {r.nx}² ends at {last['p'] / 1e6:.4g} MPa (p/(E*ḡ) = {last['p'] / r.Estar:.3g})"
+    if last["ar"] is not None and last["ar"] >= 1.0:
+        return where + ", in full contact (a_r = 1)."
+    if not last["converged"]:
+        return where + f", a_r = {last['ar']:.4g}, where its solver stopped before its tolerance."
+    case_file = r.s.get("case_file") or "its case file"
+    its = f" in {last['iterations']} iterations" if isinstance(last.get("iterations"), int) else ""
+    return (where + f", a_r = {last['ar']:.4g}: the last load the run was given "
+            f"(`loading.values`; case `{case_file}`), where the solver converged{its}. "
+            "The curve stops there by the case's choice, not the solver's; a_r = 1 is not reached at this load.")
+
+
 def _stored_label(ref, adhesive):
     return f"{'with' if adhesive else 'without'} adhesion: stored reference ({ref['meta'].get('grid', '?').split(',')[0]})"
 
@@ -569,6 +586,7 @@ def _load_sweep(runs, out_dir, data_dir, case_dir, reference_dir):
                                                for p, a, b in shared if a['gap'] and b['gap'])
                                    + " (the other run starts there from the undeformed solid: the difference is how "
                                      "much the load path matters)" if shared else "") + ".")
+        res["notes"].append(sweep_end_note(r, pts))
         unconverged = [s for s in pts if not s["converged"]]
         if unconverged:
             res["notes"].append(f"The sweep {_problem(r)} on {r.nx}²: the solver stopped before its tolerance at "

@@ -203,6 +203,29 @@ def profile_band_checks(np):
     return out
 
 
+def sweep_end_checks():
+    """challenge_report.sweep_end_note says why a load sweep's curve ends: full contact, a
+    solver that stopped before its tolerance, or the case's last load."""
+    sys.path.insert(0, HERE)
+    from challenge_report import sweep_end_note
+
+    class R:  # the parts of a run that sweep_end_note reads
+        s = {"case_file": "cases/x.toml", "case": {"interaction": {"kind": "exponential_adhesion"}}}
+        nx, Estar, adhesive = 64, 25e6, True
+
+    def step(ar, converged=True):
+        return {"p": 25e6, "ar": ar, "converged": converged, "iterations": 121}
+
+    out = []
+    for pts, want in (([step(0.5), step(1.0)], "in full contact"),
+                      ([step(0.988, converged=False)], "stopped before its tolerance"),
+                      ([step(0.988)], "the last load the run was given (`loading.values`; case `cases/x.toml`), where the solver converged in 121 iterations")):
+        note = sweep_end_note(R, pts)
+        if want not in note or "25 MPa" not in note:
+            out.append(f"sweep_end_note: {note!r} does not say '{want}' at 25 MPa")
+    return out
+
+
 def main(argv):
     try:
         import numpy as np
@@ -257,6 +280,7 @@ def main(argv):
         if not os.path.isdir(data) or not any(f.startswith("load_sweep__") for f in os.listdir(data)):
             failures.append("challenge/data/load_sweep__*.csv missing")
         failures += profile_band_checks(np)
+        failures += sweep_end_checks()
         # Empty inputs: no crash, and lines saying what to run.
         empty = os.path.join(root, "empty")
         os.makedirs(empty, exist_ok=True)
