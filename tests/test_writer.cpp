@@ -68,6 +68,13 @@ TEST(Writer, WritesSummaryAndFieldsOnlyWhenFinished) {
   ASSERT_NE(st, std::string::npos);
   EXPECT_EQ(j.find("\"converged\"", st), j.find('"', j.find(':', st)));  // "status" : "converged"
   EXPECT_NE(j.find("\"steps\""), std::string::npos);
+  // What decides the round-off (README "Reproducibility"): the thread count and the
+  // fingerprint of the build's FFT plans, 16 hex digits.
+  EXPECT_NE(j.find("\"threads\" : " + std::to_string(thread_count())), std::string::npos);
+  const std::string fp = builtin_wisdom_fingerprint();
+  EXPECT_EQ(fp.size(), 16u);
+  EXPECT_EQ(fp.find_first_not_of("0123456789abcdef"), std::string::npos);
+  EXPECT_NE(j.find("\"fft_wisdom_fingerprint\" : \"" + fp + "\""), std::string::npos);
   fs::remove_all(dir);
 }
 

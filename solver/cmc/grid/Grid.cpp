@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <limits>
@@ -112,6 +114,17 @@ int thread_count() {
   const unsigned h = std::thread::hardware_concurrency();
   // Ranks started on this machine by mpirun share its threads.
   return std::max(1, (h ? int(h) : 1) / ranks_on_this_machine());
+}
+
+const std::string& builtin_wisdom_fingerprint() {
+  static const std::string id = [] {
+    std::uint64_t h = 14695981039346656037ull;  // FNV-1a, 64 bit
+    for (const char* c = detail::kBuiltinWisdom; *c; ++c) h = (h ^ std::uint8_t(*c)) * 1099511628211ull;
+    char buf[17];
+    std::snprintf(buf, sizeof buf, "%016llx", (unsigned long long)h);
+    return std::string(buf);
+  }();
+  return id;
 }
 
 namespace {

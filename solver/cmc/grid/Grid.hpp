@@ -198,6 +198,12 @@ class Fourier {
 // the hardware threads shared among the ranks that run on this machine.
 int thread_count();
 
+// A fingerprint of the FFT plans compiled into this build (FNV-1a 64 of the built-in
+// wisdom, 16 hex digits). Every build plans at build time (FFTW_MEASURE), and two builds
+// may pick plans that round differently: runs at the same thread count with the same
+// fingerprint give the same bits, others may differ by round-off (summary.json grid).
+const std::string& builtin_wisdom_fingerprint();
+
 // ---------------------------------------------------------------- pass templates
 
 // Combining the partial results of the ranks of a distributed run (Ranks.cpp; without

@@ -502,7 +502,9 @@ toml::table Writer::summary_base() const {
                            {"boundary", scene_.half_space->periodic() ? "periodic" : "free"},
                            {"fft_size", (long long)scene_.half_space->transform_points()},
                            {"mpi_ranks", ranks()},
-                           {"fft_plans", std::string(scene_.half_space->plan_source())}}},
+                           {"threads", thread_count()},
+                           {"fft_plans", std::string(scene_.half_space->plan_source())},
+                           {"fft_wisdom_fingerprint", builtin_wisdom_fingerprint()}}},
       {"surface", scene_.topography.description},
   };
   toml::table facts;
