@@ -25,11 +25,40 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 jobs=$(nproc 2>/dev/null || echo 2)
-if [ ! -f build/CMakeCache.txt ]; then
-  cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >.cmake-configure.log 2>&1 || {
+# The FFT plans compiled into cmc are timed (FFTW_MEASURE) once per machine and kept in
+# this machine's cache, so that every build and every clone here plans alike and gives the
+# same bits (README "Reproducibility"). Keyed by FFTW's version, the CPU's model and flags
+# and the core count; CMC_WISDOM_CACHE=off plans anew for this build and keeps nothing.
+wisdom_cache=""
+if [ "${CMC_WISDOM_CACHE:-on}" != off ] && [ -n "${XDG_CACHE_HOME:-${HOME:-}}" ]; then
+  key=$({ pkg-config --modversion fftw3 2>/dev/null || true; grep -m1 "^model name" /proc/cpuinfo || true
+          grep -m1 "^flags" /proc/cpuinfo || true; echo "$jobs"; } | sha256sum | cut -c1-16)
+  wisdom_cache="${XDG_CACHE_HOME:-$HOME/.cache}/cmc/builtin-wisdom-$key.cpp"
+fi
+if [ -f build/CMakeCache.txt ]; then
+  prev=$(sed -n 's/^CMC_WISDOM_FROM:FILEPATH=//p' build/CMakeCache.txt)
+  if [ -n "$prev" ] && [ ! -f "$prev" ]; then  # a cache file removed since: keep the plans compiled in
+    echo "cmc setup: $prev (the FFT plans this build was configured with) is gone; keeping build/generated's" >&2
+    cmake -S . -B build -DCMC_WISDOM_FROM= >.cmake-configure.log 2>&1 || { cat .cmake-configure.log >&2; exit 1; }
+  fi
+else
+  from=()
+  if [ -n "$wisdom_cache" ] && [ -f "$wisdom_cache" ]; then
+    echo "cmc setup: FFT plans from this machine's cache ($wisdom_cache)" >&2
+    from=(-DCMC_WISDOM_FROM="$wisdom_cache")
+  fi
+  cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "${from[@]}" >.cmake-configure.log 2>&1 || {
     cat .cmake-configure.log >&2; exit 1; }
 fi
 # FFT plans first, alone on the machine (they are timed; see solver/tools/make_wisdom.cpp).
 cmake --build build --target cmc_builtin_wisdom 2>&1 | grep -E "error|Error" >&2 || true
+# A build that planned its own, with the default extent, fills the cache.
+if [ -n "$wisdom_cache" ] && [ ! -f "$wisdom_cache" ] && [ -s build/generated/fftw_wisdom.cpp ] &&
+   grep -q "^CMC_WISDOM_MAX_N:STRING=4096$" build/CMakeCache.txt &&
+   grep -q "^CMC_WISDOM_FROM:FILEPATH=$" build/CMakeCache.txt; then
+  mkdir -p "$(dirname "$wisdom_cache")" &&
+    cp build/generated/fftw_wisdom.cpp "$wisdom_cache.tmp.$$" && mv "$wisdom_cache.tmp.$$" "$wisdom_cache" &&
+    echo "cmc setup: FFT plans kept for the next builds on this machine ($wisdom_cache)" >&2 || true
+fi
 cmake --build build -j"$jobs" 2>&1 | grep -E "error|Error|warning: unused" >&2 || true
 test -x build/cmc || { echo "cmc setup: build failed; run 'cmake --build build' to see why" >&2; exit 1; }
