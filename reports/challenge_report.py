@@ -22,7 +22,7 @@ import re
 import numpy as np
 
 from common import (CHALLENGE, FAMILY_QUANTITIES, case_name, family_members, finite, fmt, get, h5_open, load_json,
-                    md_table, plt, read_reference_csv, rel, run_strategy_error, s_extrapolation,
+                    md_table, plt, read_reference_csv, rel, roundoff_note, run_strategy_error, s_extrapolation,
                     s_extrapolation_verdict, savefig, step_groups, transfer_caveat, write_csv)
 
 P0 = CHALLENGE["p0"]
@@ -125,12 +125,13 @@ def _find_runs(results_dir, notes):
     "challenge" (results/challenge*/ by convention; also e.g. results/refine/<run>/),
     except the validation, performance and bench folders, the scaled family's runs (other
     problems, s != 1, or the challenge with other settings: the family's own section reads
-    them from its store) and the cluster cost measurements (scripts/cluster/measure.py: the
+    them from its store), the cluster cost measurements (scripts/cluster/measure.py: the
     challenge's cases on small grids, at several rank counts, some stopped after a fixed number
-    of iterations; not results)."""
+    of iterations; not results) and the round-off runs (results/roundoff/: the same cases by
+    another build or thread count, for scripts/roundoff_spread.py; duplicates, not results)."""
     files = set(glob.glob(os.path.join(results_dir, "**", "summary.json"), recursive=True))
     skip = tuple(os.path.join(results_dir, d) + os.sep
-                 for d in ("validation", "performance", "scaled-family", "bench", "cluster-measure"))
+                 for d in ("validation", "performance", "scaled-family", "bench", "cluster-measure", "roundoff"))
     runs = []
     for f in sorted(files):
         if f.startswith(skip):
@@ -1224,8 +1225,8 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
                  "interaction) has on the scaled challenge family at the run's dx/ρ (deviation from the family's "
                  "converged reference plus that reference's refinement error; `reference/challenge-scaled/`). It was "
                  "measured at μ_T = 3 and 250 kPa; that it holds at other loads and μ_T is assumed, not measured. A "
-                 "run whose dx/ρ the family has not measured carries no band. The solvers are deterministic, so there "
-                 "is no round-off spread. For the hard wall (no adhesion): "
+                 "run whose dx/ρ the family has not measured carries no band. " + roundoff_note() + " "
+                 "For the hard wall (no adhesion): "
                  + ("; ".join(f"{'a_r' if k == 'ar' else 'mean gap'} on {v}" for k, v in sorted(sweep["hw_how"].items()))
                     if isinstance(sweep, dict) and sweep.get("hw_how") else
                     "the change at 250 kPa from the grid shown to the next finer one: for a_r scaled by each load's "

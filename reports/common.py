@@ -187,6 +187,31 @@ def rel(path, start):
         return path
 
 
+# ---------------------------------------------------------------- round-off spread
+# Measured by scripts/roundoff_spread.py from pairs of runs of one case by two builds or at
+# two thread counts.
+ROUNDOFF_STORE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "reference", "challenge",
+                              "roundoff_spread.json")
+
+
+def roundoff_note(path=ROUNDOFF_STORE, rel=None):
+    """One sentence on round-off for error statements: a rerun of one build at one thread count
+    gives the same bits; between builds and thread counts the measured spread (largest relative
+    difference per quantity), or that it was not measured."""
+    head = ("A rerun of one build at one thread count gives the same bits; another build (each plans its "
+            "FFTs at build time) or thread count rounds differently")
+    doc = load_json(path)
+    big = (doc or {}).get("largest") or {}
+    parts = [f"{v['relative']:.2g} in {v.get('label', k)}" for k, v in big.items()
+             if isinstance(v, dict) and isinstance(v.get("relative"), (int, float))]
+    if not parts:
+        return head + ", a spread not measured here."
+    where = rel(path) if rel else "reference/challenge/roundoff_spread.json"
+    n = len(doc.get("comparisons") or [])
+    return (head + f": the spread that causes, measured on {n} pair{'s' if n != 1 else ''} of runs (`{where}`), "
+            "is at most " + ", ".join(parts) + " (relative), and is not added to the bands.")
+
+
 # ---------------------------------------------------------------- the scaled challenge family
 # Its store (scripts/scaled_family.py --store) and the coarse-grid strategy's measured error,
 # shared by scripts/scaled_family.py, scripts/challenge_reference.py and the challenge report.

@@ -45,7 +45,8 @@ sys.path.insert(0, os.path.join(ROOT, "reports"))
 from challenge_report import (Run, _centers, _find_runs, _merged_sweeps, _observables,  # noqa: E402
                               _reference_load_runs, finer_sweep, grid_change, hardwall_sweep_band, profile_band,
                               refinement_band)  # (the report's extraction)
-from common import CHALLENGE, FAMILY_STORE, load_json, run_strategy_error, transfer_caveat  # noqa: E402
+from common import (CHALLENGE, FAMILY_STORE, load_json, roundoff_note, run_strategy_error,  # noqa: E402
+                    transfer_caveat)
 
 RHO, LAMBDA_S, P0 = CHALLENGE["rho"], CHALLENGE["lambda_s"], CHALLENGE["p0"]
 GENERATOR = "scripts/challenge_reference.py (extraction: reports/challenge_report.py)"
@@ -263,8 +264,8 @@ def strategy_band(run, short):
     return rel, (f"band: the error of {what} measured on the scaled challenge family at the same "
                  f"dx/rho ({k:.3g} rho; {'; '.join(used)}; {store}): +-{100 * rel:.3g} % (deviation from the "
                  "family's converged reference plus that reference's refinement error). Measured at mu_T = 3 and "
-                 "250 kPa; that it holds at this point's load and mu_T is assumed, not measured. The solver is "
-                 "deterministic (same bits on a rerun): no round-off spread. " + transfer_caveat())
+                 "250 kPa; that it holds at this point's load and mu_T is assumed, not measured. "
+                 + roundoff_note(rel=_rel) + " " + transfer_caveat())
 
 
 def add_abs_band(curve, band):
@@ -282,11 +283,23 @@ def add_band(curve, rels):
 
 
 def with_band(curve, run, short):
-    """Adds the strategy's error band to a curve of one adhesive run (every point the same dx/rho)."""
+    """Adds the strategy's error band to a curve of one adhesive run (every point the same dx/rho),
+    at least the floor the hard-wall bands have: one grid point (1/N^2) for a_r, the solver's
+    tolerance times the rms height for the mean gap (which is 0 in full contact, where a
+    relative band would be 0)."""
     rel, text = strategy_band(run, short)
     if text:
         curve["estimated_error"] = text
-    return curve if rel is None else add_band(curve, [rel] * len(curve["columns"][1][3]))
+    if rel is None:
+        return curve
+    tol = (((run.s.get("case") or {}).get("solver") or {}).get("tolerance")) or 0.0
+    floor, what = ((1.0 / (run.nx * run.ny), f"one grid point (1/{run.nx}^2)") if short == "a_r" else
+                   (tol * ((run.s.get("surface_facts") or {}).get("rms_height") or 0.0),
+                    "the solver's tolerance times the rms height"))
+    ys = curve["columns"][1][3]
+    if any(rel * abs(v) < floor for v in ys):
+        curve["estimated_error"] += f" At least {what} where the relative band is smaller."
+    return add_abs_band(curve, [max(rel * abs(v), floor) for v in ys])
 
 
 # ------------------------------------------------------------------ curves
@@ -484,8 +497,7 @@ def load_sweep_curves(runs, hw, adhesive, ref_pair):
                 add_abs_band(c, band)  # absolute: exact where the value is 0
                 src = (f"{_rel(r.folder)}, {_rel(finer[0].folder)}" if finer and how.startswith("the change from")
                        else _grid_change_of(ref_pair, key)[1])
-                c["estimated_error"] = (f"band per point: {how} ({src}). The solver is deterministic (same bits on a "
-                                        "rerun): no round-off spread.")
+                c["estimated_error"] = f"band per point: {how} ({src}). " + roundoff_note(rel=_rel)
         curves.append(c)
     return curves
 
@@ -539,8 +551,8 @@ def tabor_curves(runs, hw):
                     f"band per point ({per}): the strategy's error measured on the scaled challenge "
                     f"family ({_rel(FAMILY_STORE)}) at that point's dx/rho (deviation from the family's converged "
                     "reference plus that reference's refinement error). Measured at mu_T = 3 and 250 kPa; that it "
-                    "holds at the other mu_T is assumed, not measured. The solver is deterministic (same bits on a "
-                    "rerun): no round-off spread. " + transfer_caveat())
+                    "holds at the other mu_T is assumed, not measured. " + roundoff_note(rel=_rel) + " "
+                    + transfer_caveat())
             elif any(text for _, text in bands):
                 missing = [f"{m:.3g}" for m, (rel, _) in zip(mus, bands) if rel is None]
                 c["estimated_error"] = ("no error band: the scaled family has no run of this strategy "
@@ -657,7 +669,7 @@ def readme(curves, out_dir, hw, ref_run, ref_step):
               "dx = 0.8 ρ(s)) at the same dx/ρ: its deviation from the family's converged value plus that value's "
               "refinement error. It was measured at μ_T = 3 and 250 kPa; that it holds at the other loads and μ_T "
               "of the sweeps is **assumed, not measured** (each file's `estimated_error` says so, per point for "
-              "the Tabor sweep). The solvers are deterministic, so there is no round-off spread.", "",
+              "the Tabor sweep). " + roundoff_note(rel=_rel), "",
               "**Caveat.** " + (transfer_caveat() or "No transfer check possible (the store lacks the runs)."), ""]
     dist = [c for c in curves if c["item"] in (1, 3, 4, 5)]
     if any(c.get("band") for c in dist):
@@ -699,8 +711,10 @@ def readme(curves, out_dir, hw, ref_run, ref_step):
           "build/cmc run cases/challenge/reference-load.toml --out results/challenge-reference   # items 1, 3, 4, 5, 9",
           "build/cmc run cases/challenge/reference-load.toml --set grid.n=4096 --out results/challenge-reference-n4096"
           "   # their bands",
-          "build/cmc run cases/challenge/load-sweep.toml --out results/challenge-load-sweep ...  # items 2, 8 (two runs)",
+          "build/cmc run cases/challenge/load-sweep.toml --out results/challenge-load-sweep     # items 2, 8",
           "scripts/tabor_sweep.sh                                                                 # items 6, 7",
+          "/usr/bin/python3 scripts/roundoff_spread.py NAME:RUN_A:RUN_B ...  # round-off spread: one case by two "
+          "builds or thread counts (roundoff_spread.json, its command line)",
           "/usr/bin/python3 scripts/scaled_family.py --s 32 --coarse 2 4 6 8 12 24 --store reference/challenge-scaled"
           "   # the strategy bands",
           "/usr/bin/python3 scripts/challenge_reference.py        # rewrites reference/challenge/*.csv and this README",

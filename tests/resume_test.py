@@ -44,7 +44,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 PATH_CASE = os.path.join(HERE, "data", "resume_path.toml")  # adhesive load path, 64²
 HARDWALL_CASE = os.path.join(ROOT, "cases", "validation", "hertz-free.toml")
-QUASI_STATIC_CASE = os.path.join(ROOT, "cases", "challenge", "load-sweep.toml")  # quasi_static, 12 steps
+QUASI_STATIC_CASE = os.path.join(ROOT, "cases", "challenge", "load-sweep.toml")  # quasi_static, 14 steps
 COMPARE = os.path.join(ROOT, "scripts", "compare_runs.py")
 
 failures = []
@@ -179,7 +179,7 @@ def test_kill_anywhere(cmc, work):
             compare(ref, out, f"killed {label} ({' then '.join(kills)}), resumed")
     # Polonsky–Keer (hard wall, three force steps): killed in its second step, resumed.
     kill_once_and_resume(cmc, work, HARDWALL_CASE, "hardwall", "solve:2", "hard wall killed in step 1")
-    # The quasi-static solver (the challenge's load sweep at 64², 12 loading steps): killed
+    # The quasi-static solver (the challenge's load sweep at 64², 14 loading steps): killed
     # in its fifth step, resumed.
     kill_once_and_resume(cmc, work, QUASI_STATIC_CASE, "quasi-static", "solve:5",
                          "quasi-static load sweep killed in step 4")
