@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The long runs behind the stored challenge references (reference/challenge/ and
 # reference/challenge/adhesionless/), then the references rewritten from them:
-#   - quantities 2 and 8 (a_r and mean gap against load) with adhesion, 12.5 kPa .. 25 MPa,
+#   - quantities 2 and 8 (a_r and mean gap against load) with adhesion, 12.5 kPa .. 100 MPa,
 #     and without it, to a_r ~ 1;
 #   - quantities 6 and 7 (a_r and mean gap against mu_T = 0.0562 .. 3, scripts/tabor_sweep.sh);
 #   - the reference-load runs on the next finer grid (4096²), which give the distributions,
@@ -40,7 +40,7 @@ run cases/challenge/load-sweep-hardwall.toml results/challenge-load-sweep-hardwa
 run cases/challenge/load-sweep-hardwall.toml results/challenge-load-sweep-hardwall-n4096 --set grid.n=4096 \
   --set 'loading.values=[12.5e3,250e3,2.5e6,10e6,25e6]'
 scripts/tabor_sweep.sh
-# The adhesive sweep: one quasi-static loading path from out of contact, 12.5 kPa .. 25 MPa.
+# The adhesive sweep: one quasi-static loading path from out of contact, 12.5 kPa .. 100 MPa.
 run cases/challenge/load-sweep.toml results/challenge-load-sweep
 /usr/bin/python3 scripts/challenge_reference.py
 echo "sweeps: references rewritten (reference/challenge/); scripts/report.sh --only challenge draws them" >&2
