@@ -5,7 +5,7 @@
 #   - the reference load (250 kPa) with and without adhesion (quantities 1, 3, 4, 5, 9);
 #   - with adhesion, the load sweep 12.5 kPa .. 100 MPa, to full contact (quantities 2 and
 #     8), and the Tabor sweep mu_T = 0.0562 .. 3 (quantities 6 and 7).
-# About 14 min on 2 cores after the build (README). The hard-wall load sweep and the 4096²
+# 12 to 14 min on 2 cores after the build (README). The hard-wall load sweep and the 4096²
 # runs that give the bands are scripts/sweeps.sh's (about an hour more); until they run the
 # report draws their stored reference curves (reference/challenge/) and says so.
 #   scripts/main.sh            everything above
