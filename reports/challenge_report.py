@@ -213,6 +213,16 @@ def _measured_sweep_band(r, steps, key, finer):
                   + ("contact perimeter" if per else "of the value") + " interpolated linearly in log p and held")
 
 
+def band_floor(r, key):
+    """(least band, its words) of a load-sweep point of run r, for key "ar" or "gap": one grid
+    point (1/N^2, the count's quantum) for a_r, the solver's tolerance times the rms height for
+    the mean gap (exact where the mean gap is 0, in full contact)."""
+    if key == "ar":
+        return 1.0 / (r.nx * r.ny), f"one grid point (1/{r.nx}^2)"
+    tol = get(r.s, "case", "solver", "tolerance") or 0.0
+    return tol * (get(r.s, "surface_facts", "rms_height") or 0.0), "the solver's tolerance times the rms height"
+
+
 def hardwall_sweep_band(pair, r, steps, key, finer=None):
     """Per-step absolute band of a hard-wall load sweep (run r) for key "ar" or "gap", with a
     sentence saying how; (None, "") without one. Measured where the same sweep ran on a finer
@@ -221,16 +231,12 @@ def hardwall_sweep_band(pair, r, steps, key, finer=None):
     the counted area's grid error is a boundary effect, first order in dx times the contact
     perimeter, so the change at 250 kPa is scaled by each step's perimeter over that at 250
     kPa. Mean gap: the relative change at 250 kPa at every load (assumed). Either way at least
-    one grid point (1/N^2, the count's quantum) for a_r and the solver's tolerance times the rms
-    height for the mean gap."""
-    tol = get(r.s, "case", "solver", "tolerance") or 0.0
-    h = get(r.s, "surface_facts", "rms_height") or 0.0
-    floor = 1.0 / (r.nx * r.ny) if key == "ar" else tol * h
+    band_floor."""
+    floor, floor_words = band_floor(r, key)
     if finer is not None:
         band, how = _measured_sweep_band(r, steps, key, finer)
         if band:
-            return [max(b, floor) for b in band], how + (f", at least one grid point (1/{r.nx}^2)" if key == "ar" else
-                                                         ", at least the solver's tolerance times the rms height")
+            return [max(b, floor) for b in band], how + ", at least " + floor_words
     ch = grid_change(pair, key)
     if not ch or ch[1].nx != r.nx:
         return None, ""
@@ -243,11 +249,10 @@ def hardwall_sweep_band(pair, r, steps, key, finer=None):
         band = [max(d0 * st["perimeter"] / p0, floor) for st in steps]
         return band, (f"the change of a_r at 250 kPa from {ch[1].nx}^2 to {ch[2].nx}^2 ({d0:.3g}) scaled by each load's "
                       "contact perimeter over that at 250 kPa (the counted area's grid error is a boundary effect), "
-                      f"at least one grid point (1/{r.nx}^2)")
+                      "at least " + floor_words)
     band = [max(ch[0] * abs(st["gap"]), floor) for st in steps]
     return band, (f"the relative change of the mean gap at 250 kPa from {ch[1].nx}^2 to {ch[2].nx}^2 "
-                  f"({100 * ch[0]:.2g} %) at every load (assumed), at least the solver's tolerance times the rms "
-                  "height")
+                  f"({100 * ch[0]:.2g} %) at every load (assumed), at least " + floor_words)
 
 
 def _stored_grid_change(reference_dir, adhesive, key, nx):

@@ -43,8 +43,8 @@ import numpy as np
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 sys.path.insert(0, os.path.join(ROOT, "reports"))
 from challenge_report import (Run, _centers, _find_runs, _merged_sweeps, _observables,  # noqa: E402
-                              _reference_load_runs, finer_sweep, grid_change, hardwall_sweep_band, profile_band,
-                              refinement_band)  # (the report's extraction)
+                              _reference_load_runs, band_floor, finer_sweep, grid_change, hardwall_sweep_band,
+                              profile_band, refinement_band)  # (the report's extraction)
 from common import (CHALLENGE, FAMILY_STORE, load_json, roundoff_note, run_strategy_error,  # noqa: E402
                     transfer_caveat)
 
@@ -284,18 +284,14 @@ def add_band(curve, rels):
 
 def with_band(curve, run, short):
     """Adds the strategy's error band to a curve of one adhesive run (every point the same dx/rho),
-    at least the floor the hard-wall bands have: one grid point (1/N^2) for a_r, the solver's
-    tolerance times the rms height for the mean gap (which is 0 in full contact, where a
-    relative band would be 0)."""
+    at least the floor the hard-wall bands have (band_floor: the mean gap is 0 in full contact,
+    where a relative band would be 0)."""
     rel, text = strategy_band(run, short)
     if text:
         curve["estimated_error"] = text
     if rel is None:
         return curve
-    tol = (((run.s.get("case") or {}).get("solver") or {}).get("tolerance")) or 0.0
-    floor, what = ((1.0 / (run.nx * run.ny), f"one grid point (1/{run.nx}^2)") if short == "a_r" else
-                   (tol * ((run.s.get("surface_facts") or {}).get("rms_height") or 0.0),
-                    "the solver's tolerance times the rms height"))
+    floor, what = band_floor(run, "ar" if short == "a_r" else "gap")
     ys = curve["columns"][1][3]
     if any(rel * abs(v) < floor for v in ys):
         curve["estimated_error"] += f" At least {what} where the relative band is smaller."
