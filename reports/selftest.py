@@ -226,6 +226,45 @@ def sweep_end_checks():
     return out
 
 
+def roundoff_checks(root):
+    """scripts/roundoff_spread.py on hand-made runs: the largest relative difference per quantity
+    over the steps, and a clear error (non-zero exit, nothing written) for runs of two cases;
+    reports/common.py roundoff_note states what it wrote."""
+    sys.path.insert(0, HERE)
+    from common import roundoff_note
+
+    def run(folder, name, ar, gap):
+        write_json(os.path.join(root, "roundoff", folder, "summary.json"),
+                   {"case": {"case": {"name": name}}, "grid": {"nx": 64, "ny": 64, "threads": 2},
+                    "steps": [{"index": k, "mean_pressure": 1e5 * (k + 1), "contact_fraction": a, "mean_gap": g,
+                               "observables": {"repulsive_fraction": a}} for k, (a, g) in enumerate(zip(ar, gap))]})
+        return os.path.join(root, "roundoff", folder)
+
+    a = run("a", "challenge-x", [0.1, 0.2], [1e-6, 5e-7])
+    b = run("b", "challenge-x", [0.1, 0.2002], [1e-6, 5.005e-7])
+    c = run("c", "challenge-y", [0.1, 0.2], [1e-6, 5e-7])
+    out = os.path.join(root, "roundoff", "spread.json")
+    script = os.path.join(ROOT, "scripts", "roundoff_spread.py")
+    got, fails = subprocess.run([sys.executable, script, "--out", out, f"two builds:{a}:{b}"],
+                                capture_output=True, text=True), []
+    doc = json.load(open(out)) if got.returncode == 0 and os.path.isfile(out) else {}
+    big = doc.get("largest", {})
+    want = {"contact_fraction": 1e-3, "repulsive_fraction": 1e-3, "mean_gap": 1e-3}
+    if any(not math.isclose(big.get(k, {}).get("relative", -1), v, rel_tol=1e-9) for k, v in want.items()):
+        fails.append(f"roundoff_spread.py: largest {big}, expected 1e-3 in each quantity (exit {got.returncode}: "
+                     f"{got.stderr.strip()})")
+    elif doc["comparisons"][0]["steps_identical"] != 1:
+        fails.append("roundoff_spread.py: the first step is equal in every quantity and must count as identical")
+    elif "0.001 in a_r" not in roundoff_note(out):
+        fails.append(f"roundoff_note does not state the spread: {roundoff_note(out)!r}")
+    os.remove(out)
+    bad = subprocess.run([sys.executable, script, "--out", out, f"mixed:{a}:{c}"], capture_output=True, text=True)
+    if bad.returncode == 0 or "expected the same case" not in bad.stderr or os.path.exists(out):
+        fails.append(f"roundoff_spread.py on two cases: exit {bad.returncode}, {bad.stderr.strip()!r}, "
+                     f"output {'written' if os.path.exists(out) else 'absent'}")
+    return fails
+
+
 def main(argv):
     try:
         import numpy as np
@@ -281,6 +320,7 @@ def main(argv):
             failures.append("challenge/data/load_sweep__*.csv missing")
         failures += profile_band_checks(np)
         failures += sweep_end_checks()
+        failures += roundoff_checks(root)
         # Empty inputs: no crash, and lines saying what to run.
         empty = os.path.join(root, "empty")
         os.makedirs(empty, exist_ok=True)
