@@ -32,8 +32,9 @@ Each TEST runs a case with the serial build and with the MPI build under
   memory             peak memory per rank at np = 2 at most 0.6 of the serial peak (2048^2)
   rerun_bits         the same case twice at np = 2: summary numbers and result.h5 identical
   one_rank           the MPI build at np = 1 equals the serial build bit for bit
-  resume             a run at np = 2 killed at its second checkpoint and resumed equals an
-                     uninterrupted run at np = 2 bit for bit
+  resume             a run at np = 2 killed at its second checkpoint, and a quasi-static run
+                     killed inside its step (between outer steps 4 and 5), resumed, equal
+                     uninterrupted runs at np = 2 bit for bit
   refusals           what is not distributed yet stops with exit code 2 and says so, before
                      anything is written: a 1-D grid, commands other than run
 
@@ -331,29 +332,31 @@ elif TEST == "one_rank":
     solve(MPI, c, d("np1"), sets, np_=1)
     compare(d("serial"), d("np1"), "MPI build at np 1 vs serial", tol=0.0)
 elif TEST == "resume":
-    c = case("validation/westergaard.toml")
-    sets = ["grid.ny=64", "grid.size_y=1.0e-3"]
-    solve(MPI, c, d("whole"), sets, np_=2)
-    killed = dict(ENV, CMC_TEST_KILL_AT="step:2")
-    solve(MPI, c, d("resumed"), sets, np_=2, expect=None, env=killed)
-    if os.path.exists(os.path.join(d("resumed"), "summary.json")):
-        failures.append("resume: the killed run left a summary.json")
-    if not os.path.exists(os.path.join(d("resumed"), ".partial", "checkpoint.h5")):
-        failures.append("resume: the killed run left no checkpoint")
-    cmd = [MPI, "run", c, "--out", d("resumed"), "--quiet", "--resume"]
-    for s in sets:
-        cmd += ["--set", s]
-    run(cmd, None, 2)
-    a = json.load(open(os.path.join(d("whole"), "summary.json")))
-    b = json.load(open(os.path.join(d("resumed"), "summary.json")))
-    na, nb = numbers(a), numbers(b)
-    for k in na:
-        if k.endswith("wall_s"):
-            continue
-        if na[k] != nb.get(k):
-            failures.append(f"resume: {k}: {na[k]!r} (uninterrupted) != {nb.get(k)!r} (resumed)")
-    if not failures:
-        print(f"resume: {len(na)} numbers identical after a kill at step 2 and --resume")
+    # Killed between two steps (Polonsky-Keer), and inside a quasi-static step between two
+    # outer steps (its checkpoint written by both ranks' slabs, --checkpoint-every 0).
+    for label, c, sets, point, extra in (
+            ("step 2", case("validation/westergaard.toml"), ["grid.ny=64", "grid.size_y=1.0e-3"], "step:2", []),
+            ("outer step 4", case("challenge/scaled-family.toml"), ["grid.n=128"], "outer:4",
+             ["--checkpoint-every", "0"])):
+        tag = point.replace(":", "")
+        solve(MPI, c, d("whole-" + tag), sets, np_=2)
+        killed = dict(ENV, CMC_TEST_KILL_AT=point)
+        cmd = [MPI, "run", c, "--out", d("resumed-" + tag), "--quiet"] + extra
+        for s in sets:
+            cmd += ["--set", s]
+        run(cmd, d("resumed-" + tag), 2, expect=None, env=killed)
+        if os.path.exists(os.path.join(d("resumed-" + tag), "summary.json")):
+            failures.append(f"resume ({label}): the killed run left a summary.json")
+        if not os.path.exists(os.path.join(d("resumed-" + tag), ".partial", "checkpoint.h5")):
+            failures.append(f"resume ({label}): the killed run left no checkpoint")
+        run(cmd[:cmd.index("--quiet")] + ["--resume"] + cmd[cmd.index("--quiet") + 1:], None, 2)
+        a = json.load(open(os.path.join(d("whole-" + tag), "summary.json")))
+        b = json.load(open(os.path.join(d("resumed-" + tag), "summary.json")))
+        na, nb = numbers(a), numbers(b)
+        bad = [k for k in na if not k.endswith("wall_s") and na[k] != nb.get(k)]
+        failures += [f"resume ({label}): {k}: {na[k]!r} (uninterrupted) != {nb.get(k)!r} (resumed)" for k in bad]
+        if not bad:
+            print(f"resume: {len(na)} numbers identical after a kill at {label} and --resume")
 elif TEST == "refusals":
     checks = [
         ([MPI, "run", case("validation/westergaard.toml"), "--out", d("line")], "(ny = 1)"),

@@ -22,6 +22,13 @@ TEST is one of
                     from where the run resumed
   D8_stale_summary  a run killed before its first checkpoint leaves no earlier run's
                     summary.json (nor result.h5) behind, and an INCOMPLETE marker
+  inside_step       the quasi-static solver killed between two outer steps of a load step,
+                    with checkpoints inside steps (--checkpoint-every 0): the resumed run
+                    says it continues inside the step and equals the uninterrupted one bit
+                    for bit (one long step, also killed twice in a chain; a step in the
+                    middle of a load sweep); with the default interval (600 s) the same kill
+                    resumes from the step's start, also bit for bit; a malformed
+                    --checkpoint-every is refused (exit 2) before anything is written
   D7_lock           a second cmc run / validate / refine on a folder in use stops at once
                     with exit code 4, naming the folder and the first run's process id,
                     and the first run's results are intact
@@ -45,6 +52,7 @@ ROOT = os.path.dirname(HERE)
 PATH_CASE = os.path.join(HERE, "data", "resume_path.toml")  # adhesive load path, 64²
 HARDWALL_CASE = os.path.join(ROOT, "cases", "validation", "hertz-free.toml")
 QUASI_STATIC_CASE = os.path.join(ROOT, "cases", "challenge", "load-sweep.toml")  # quasi_static, 14 steps
+FAMILY_CASE = os.path.join(ROOT, "cases", "challenge", "scaled-family.toml")  # quasi_static, one step, 7 outer at 128²
 COMPARE = os.path.join(ROOT, "scripts", "compare_runs.py")
 
 failures = []
@@ -267,6 +275,51 @@ def test_D8_stale_summary(cmc, work):
     marker = os.path.join(out, "INCOMPLETE")
     check(os.path.exists(marker) and "--resume" in open(marker).read(),
           f"{marker}: missing, or it does not say how to continue the run")
+
+
+def test_inside_step(cmc, work):
+    every0 = ["--checkpoint-every", "0"]
+    cases = {  # label: (case, grid, kills, options of the killed runs)
+        "one step of 7 outer steps, killed after outer step 4": (FAMILY_CASE, 128, ["outer:4"], every0),
+        "the same, its resumed run killed again after 2 more": (FAMILY_CASE, 128, ["outer:4", "outer:2"], every0),
+        "load sweep, killed inside step 6": (QUASI_STATIC_CASE, 64, ["outer:9"], every0),
+        "load sweep, default interval: from step 6's start": (QUASI_STATIC_CASE, 64, ["outer:9"], []),
+    }
+    refs = {}
+    for label, (case, n, kills, extra) in cases.items():
+        args = ["--set", f"grid.n={n}"]
+        if case not in refs:
+            ref, trace = reference(cmc, work, case, *args, "--checkpoint-every", "0",
+                                   name=os.path.basename(case).split(".")[0] + "-reference")
+            refs[case] = ref, sum(1 for name, _ in trace if name == "outer")
+        need = sum(int(k.split(":")[1]) for k in kills)
+        assert refs[case][1] > need, f"{case} at {n}²: {refs[case][1]} outer-step test points, the test needs {need}"
+        out = os.path.join(work, "k-" + re.sub(r"\W+", "-", label).strip("-"))
+        shutil.rmtree(out, ignore_errors=True)
+        ok = True
+        for i, point in enumerate(kills):
+            ok = ok and interrupted(cmc, case, out, point, *args, *extra, resume=i > 0)
+        if not ok:
+            continue
+        # Resumed without --quiet: it says where it goes on from.
+        p = subprocess.run([cmc, "run", case, "--out", out, "--resume", *args], env=env(), capture_output=True,
+                           text=True)
+        said = re.search(r"^resuming .*$", p.stderr, re.M)
+        if not check(p.returncode == 0 and said is not None,
+                     f"{label}: the resumed run exited {p.returncode} or did not say it resumed:\n{p.stderr}"):
+            continue
+        check(("inside" in said.group(0)) == bool(extra),
+              f"{label}: expected the resumed run to go on {'inside the step' if extra else 'from the step start'}, "
+              f"it said: {said.group(0)!r}")
+        compare(refs[case][0], out, f"{label}: killed at {' then '.join(kills)}, resumed")
+    # Bad input: refused before anything is written.
+    for bad in ("-1", "soon", "nan"):
+        out = os.path.join(work, "bad-every")
+        shutil.rmtree(out, ignore_errors=True)
+        p = cmc_run(cmc, FAMILY_CASE, out, "--set", "grid.n=64", "--checkpoint-every", bad)
+        check(p.returncode == 2 and "--checkpoint-every" in p.stderr and not os.path.exists(out),
+              f"--checkpoint-every {bad}: exit {p.returncode} (expected 2, a message naming the option, no "
+              f"folder):\n{p.stderr}")
 
 
 def test_D7_lock(cmc, work):

@@ -90,7 +90,7 @@ TEST(Writer, ResumesAnInterruptedRun) {
     s.targets.resize(2);
     Writer w(dir, c, s);
     run_scene(c, s, [&](const StepRecord& r, const ContactState& st) { w.add_step(r, st); }, {}, nullptr,
-              [&](const ContactState& st, const PathState* p) { w.checkpoint(st, p); });
+              [&](const ContactState& st, const PathState* p, const OuterPoint* in) { w.checkpoint(st, p, in); });
   }
   EXPECT_FALSE(fs::exists(dir / "summary.json"));
   EXPECT_TRUE(fs::exists(dir / "INCOMPLETE"));
@@ -117,7 +117,7 @@ TEST(Writer, ResumesAnInterruptedRun) {
     Scene s2 = build_scene(c);
     Writer w2(dir, c, s2);
     run_scene(c, s2, [&](const StepRecord& r, const ContactState& st) { w2.add_step(r, st); }, {}, nullptr,
-              [&](const ContactState& st, const PathState* p) { w2.checkpoint(st, p); });
+              [&](const ContactState& st, const PathState* p, const OuterPoint* in) { w2.checkpoint(st, p, in); });
   }
   Scene s3 = build_scene(other);
   EXPECT_THROW(Writer(dir, other, s3, true), CaseError);

@@ -4,12 +4,15 @@
 #include "cmc/grid/Ranks.hpp"
 #include "cmc/output/OutputLock.hpp"
 
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 
 namespace cmc::app {
 
 namespace {
 const char* kRunHelp = R"(usage: cmc run CASE.toml --out DIR [--set section.key=value ...] [--resume] [--quiet]
+               [--checkpoint-every SECONDS]
 
 Solves every load step of CASE.toml and writes, atomically:
   DIR/summary.json  the resolved case, units, grid, status, timing and one record per step
@@ -20,9 +23,12 @@ Solves every load step of CASE.toml and writes, atomically:
 Progress goes to stderr when it is a terminal; --quiet silences it.
 Until the run finishes DIR holds no summary.json (an earlier run's results are removed
 when it starts) but a file DIR/INCOMPLETE, and checkpoints (DIR/.partial/): after every
-load step and every pull-off refinement solve. --resume continues an interrupted run of
-the same case (same file and --set values) from its last checkpoint, with the same
-results, bit for bit, as a run that was not interrupted.
+load step and every pull-off refinement solve, and inside a load step of the quasi-static
+solver between two of its outer steps, at most every SECONDS (--checkpoint-every, default
+600; 0: after every outer step): a step that takes hours loses at most that much.
+--resume continues an interrupted run of the same case (same file and --set values) from
+its last checkpoint, with the same results, bit for bit, as a run that was not
+interrupted (on the same machine and thread count).
 One cmc process at a time writes into DIR: a second one stops at once (exit code 4)
 naming the process that holds DIR/.cmc.lock.
 Exit codes: 0 converged, 2 bad input, 3 not converged (results are still written,
@@ -32,16 +38,23 @@ with "status": "not_converged"), 4 failed (I/O, memory, DIR in use).
 }  // namespace
 
 int cmd_run(int argc, char** argv) {
-  const Args a = parse_args(argc, argv, 2);
+  const Args a = parse_args(argc, argv, 2, {"--checkpoint-every"});
   if (a.help) return std::fputs(kRunHelp, stdout), kOk;
   if (a.positional.size() != 1) throw CaseError("cmc run takes exactly one case file (see cmc run --help)");
   if (a.out.empty()) throw CaseError("cmc run needs --out DIR (see cmc run --help)");
+  double every = kCheckpointEverySeconds;
+  if (const std::string e = a.option("--checkpoint-every"); !e.empty()) {
+    char* end = nullptr;
+    every = std::strtod(e.c_str(), &end);
+    if (end == e.c_str() || *end != '\0' || !(every >= 0.0) || !std::isfinite(every))
+      throw CaseError("--checkpoint-every '" + e + "': expected seconds, a number >= 0");
+  }
   const Case c = load_case(a.positional[0], a.overrides);
   // Before the scene is built: a second run on DIR stops at once (rank 0 holds the lock).
   const OutputLock lock = is_root() ? OutputLock(a.out) : OutputLock();
   print_memory_plan(c, a.quiet);
   Scene scene = build_scene(c);
-  const RunSummary run = run_case_to(c, scene, a.out, a.resume, a.quiet);
+  const RunSummary run = run_case_to(c, scene, a.out, a.resume, a.quiet, every);
   if (run.status != RunStatus::Converged) {
     if (is_root()) std::fprintf(stderr, "cmc run: %s\n", run.message.c_str());
     return kNotConverged;

@@ -44,7 +44,11 @@ Progress make_progress(bool quiet, int* step, std::chrono::steady_clock::time_po
 // Solve `c` on `scene` into the folder `out` (summary.json, result.h5, result.xdmf),
 // continuing a partial run there when `resume` is set (run_case.cpp; `cmc run` and
 // `cmc refine` both use it). Progress and per-step lines on stderr unless `quiet`.
-RunSummary run_case_to(const Case& c, Scene& scene, const std::string& out, bool resume, bool quiet);
+// checkpoint_every_s: the least time between two checkpoints inside a load step (the
+// quasi-static solver's outer steps; cmc run --checkpoint-every). Steps always end in one.
+constexpr double kCheckpointEverySeconds = 600.0;
+RunSummary run_case_to(const Case& c, Scene& scene, const std::string& out, bool resume, bool quiet,
+                       double checkpoint_every_s = kCheckpointEverySeconds);
 
 int cmd_run(int argc, char** argv);
 int cmd_refine(int argc, char** argv);     // cmd_refine.cpp

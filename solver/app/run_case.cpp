@@ -1,6 +1,7 @@
 // Solving one case into an output folder: what `cmc run` does, shared with `cmc refine`.
 #include "commands.hpp"
 
+#include "cmc/grid/Ranks.hpp"
 #include "cmc/output/Writer.hpp"
 
 #include <unistd.h>
@@ -9,14 +10,19 @@
 
 namespace cmc::app {
 
-RunSummary run_case_to(const Case& c, Scene& scene, const std::string& out, bool resume, bool quiet) {
+RunSummary run_case_to(const Case& c, Scene& scene, const std::string& out, bool resume, bool quiet,
+                       double checkpoint_every_s) {
   Writer writer(out, c, scene, resume);
-  const RunPoint& rp = writer.resume_point();
+  RunPoint& rp = writer.resume_point();
   if (!writer.notice().empty()) std::fprintf(stderr, "cmc: warning: %s\n", writer.notice().c_str());
   if (writer.resuming() && !quiet) {
     std::fprintf(stderr, "resuming %s: %zu of %zu steps finished", c.name.c_str(), rp.done.size(), scene.targets.size());
     if (rp.path.refinement != PathState::Refinement::NotStarted)
       std::fprintf(stderr, ", %d pull-off refinement solves done", rp.path.refinement_solves);
+    if (rp.inside)
+      std::fprintf(stderr, ", step %zu inside: %d outer steps, %d iterations, %.0f FFT pairs, %.0f s done",
+                   rp.done.size(), rp.inside->outer, rp.inside->so_far.iterations, rp.inside->so_far.fft_pairs,
+                   rp.inside->so_far.wall_s);
     std::fputc('\n', stderr);
   }
   // The step being solved, numbered as in summary.json (a resumed run goes on from its
@@ -25,6 +31,9 @@ RunSummary run_case_to(const Case& c, Scene& scene, const std::string& out, bool
   const auto t0 = std::chrono::steady_clock::now();
   const bool tty = !quiet && isatty(STDERR_FILENO);
   RunSummary run;
+  // Checkpoints inside a step (between the quasi-static solver's outer steps) are written
+  // at most every checkpoint_every_s seconds: each holds two fields of the grid.
+  auto last_checkpoint = std::chrono::steady_clock::now();
   try {
     run = run_scene(
         c, scene,
@@ -39,7 +48,14 @@ RunSummary run_case_to(const Case& c, Scene& scene, const std::string& out, bool
           step = r.index + 1;
         },
         make_progress(quiet, &step, t0, int(scene.targets.size()), step), writer.resuming() ? &rp : nullptr,
-        [&](const ContactState& st, const PathState* path) { writer.checkpoint(st, path); });
+        [&](const ContactState& st, const PathState* path, const OuterPoint* inside) {
+          const auto now = std::chrono::steady_clock::now();
+          // The same choice on every rank of a distributed run (each writes its slab).
+          if (inside && !any_rank(std::chrono::duration<double>(now - last_checkpoint).count() >= checkpoint_every_s))
+            return;
+          writer.checkpoint(st, path, inside);
+          last_checkpoint = std::chrono::steady_clock::now();
+        });
     writer.finish(run);
   } catch (const std::exception& e) {
     writer.fail(e.what());

@@ -213,10 +213,16 @@ QuasiStaticAdhesion::QuasiStaticAdhesion(HalfSpace& hs, const Field& heights, Ex
   if (!(k_self_ > 0.0)) throw std::logic_error("QuasiStaticAdhesion: the half-space's self-stiffness is not positive");
 }
 
-SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st) {
+SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st, OuterPoint* from) {
   const SolveClock clock(hs_);
   SolveResult res;
-  auto finish = [&](bool converged, std::string msg) { return clock.finish(res, converged, std::move(msg)); };
+  // A continued solve counts the outer steps of the process before it.
+  double pairs_before = 0.0, seconds_before = 0.0;
+  auto finish = [&](bool converged, std::string msg) {
+    clock.finish(res, converged, std::move(msg));
+    res.fft_pairs += pairs_before, res.wall_s += seconds_before;
+    return res;
+  };
   const std::size_t n = h_.size();
   const JumpPrediction jump(k_self_, adh_);
   if (target.control == Control::MeanPressure && !(target.value > 0.0))
@@ -225,7 +231,22 @@ SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st) {
                          "\"adhesive_cg\"");
 
   // Polonsky-Keer on the shifted heights h − G t (hp), warm-started from its own state.
-  Field hp = h_, t(n, 0.0), gt(n, 0.0), next(n, 0.0), predicted(n, 0.0);
+  // The tension and Polonsky-Keer's state live in `at`, where the solve stands between
+  // outer steps (what on_outer is shown, without copies).
+  OuterPoint at;
+  if (from) {
+    if (from->tension.size() != n || from->inner.pressure.size() != n || from->outer < 1)
+      throw std::invalid_argument("QuasiStaticAdhesion: the solve to continue does not fit this grid");
+    at = std::move(*from);
+    res.iterations = at.so_far.iterations;
+    res.diagnostics = at.so_far.diagnostics;
+    pairs_before = at.so_far.fft_pairs, seconds_before = at.so_far.wall_s;
+  } else {
+    at.tension.assign(n, 0.0);
+  }
+  Field& t = at.tension;
+  ContactState& inner = at.inner;
+  Field hp = h_, gt(n, 0.0), next(n, 0.0), predicted(n, 0.0);
   Cascade cascade(hs_, k_response_);
   PolonskyKeer::Options po;
   po.tolerance = opt_.tolerance;
@@ -238,8 +259,7 @@ SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st) {
   // step, usually 0 iterations: one FFT pair and a half instead of one per outer step).
   po.confirm = false;
   PolonskyKeer pk(hs_, hp, po);  // its residual scale is that of h (hp == h here)
-  ContactState inner;
-  const bool warm = st.gap.size() == n && st.pressure.size() == n;
+  const bool warm = !from && st.gap.size() == n && st.pressure.size() == n;
   if (warm) {
     // Start from the previous (smaller) load's state: its tension, and its repulsive
     // pressure p + t as Polonsky-Keer's warm start.
@@ -258,7 +278,7 @@ SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st) {
   double residual = 1.0;
   bool pk_ok = true;
   std::string pk_message;
-  int outer = 0;
+  int outer = from ? at.outer : 0;
   bool confirming = false;  // this solve repeats the last one (same t) on the exact u
   for (;; ++outer) {
     if (!confirming && (outer > 0 || warm)) {
@@ -327,6 +347,14 @@ SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st) {
         if (pr[i] > 0.0 || x[i] <= 0.0) pr[i] = std::max(0.0, pr[i] + tn[i] - tp[i]);
     });
     t.swap(next);
+    if (opt_.on_outer) {
+      at.outer = outer + 1;
+      at.so_far.iterations = res.iterations;
+      at.so_far.diagnostics = res.diagnostics;
+      at.so_far.fft_pairs = pairs_before + clock.pairs();
+      at.so_far.wall_s = seconds_before + clock.seconds();
+      opt_.on_outer(at);
+    }
   }
   res.diagnostics.outer_iterations += outer + 1;
   res.residual = residual;

@@ -69,7 +69,21 @@
 #include "cmc/contact/Solver.hpp"
 #include "cmc/elastic/HalfSpace.hpp"
 
+#include <functional>
+
 namespace cmc {
+
+// Where a solve stands between two of its outer steps: enough to continue it bit for bit
+// in another process (a checkpoint inside a load step, for runs that outlast a session:
+// the challenge family's resolved members take hours on one machine). Polonsky–Keer's
+// next solve needs only its warm-start pressure and the penetration (it recomputes u from
+// p, and the gap at its end); the shifted heights are recomputed from the tension.
+struct OuterPoint {
+  int outer = 0;        // outer steps done (the next one's index)
+  Field tension;        // t, the fixed tension of the next outer step
+  ContactState inner;   // Polonsky–Keer's warm start: pressure and penetration are used
+  SolveResult so_far;   // iterations, FFT pairs, wall time and diagnostics of the steps done
+};
 
 class QuasiStaticAdhesion {
  public:
@@ -83,6 +97,10 @@ class QuasiStaticAdhesion {
     bool precondition = true;  // passed to Polonsky-Keer (its stiffness preconditioner)
     bool predict_jumps = true;  // the nonlinear Jacobi prediction (off: the plain iteration)
     bool cascade = true;        // jumps that trigger jumps within an outer step (needs predict_jumps)
+    // Called after every outer step that leaves the solve unfinished, with where it stands
+    // (the solver's own fields, not copies): a caller may save it and hand it back to
+    // solve() in another process to continue.
+    std::function<void(const OuterPoint&)> on_outer;
   };
 
   QuasiStaticAdhesion(HalfSpace& half_space, const Field& heights, ExponentialAdhesion adhesion,
@@ -90,8 +108,11 @@ class QuasiStaticAdhesion {
 
   // Solve for `target` on the loading branch. `state`, when it holds a solution on this
   // grid, must come from a smaller (or equal) load of the same loading path: it is the
-  // start from above. Otherwise the solve starts from the hard-wall solution.
-  SolveResult solve(const Target& target, ContactState& state);
+  // start from above. Otherwise the solve starts from the hard-wall solution. `from`: where
+  // an interrupted solve of the same target stood (Options::on_outer); it is moved from,
+  // `state` is then not read, and the result is the uninterrupted solve's bit for bit
+  // (wall time aside), its counters those of the whole solve.
+  SolveResult solve(const Target& target, ContactState& state, OuterPoint* from = nullptr);
 
   const Options& options() const { return opt_; }
   double self_stiffness() const { return k_self_; }

@@ -56,6 +56,9 @@ class SolveClock {
     r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
     return r;
   }
+  // The FFT pairs and seconds since construction.
+  double pairs() const { return op_.fft_pairs() - pairs0_; }
+  double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count(); }
 
  private:
   const Operator& op_;

@@ -119,30 +119,42 @@ bool read_text(hid_t where, const char* name, std::string& text) {
   text = buf.substr(0, buf.find('\0'));
   return true;
 }
-// A (ny, nx) field of reduced values, exactly as the solver holds them.
-void write_state(hid_t where, const char* group, const Grid& g, const ContactState& st) {
+// Reduced fields of a checkpoint, exactly as the solver holds them: (name, field, unit).
+struct NamedField {
+  const char* name;
+  Field* field;
+  const char* unit;
+};
+std::vector<NamedField> state_fields(ContactState& st) {
+  return {{"pressure", &st.pressure, "E*"}, {"displacement", &st.displacement, "L"}, {"gap", &st.gap, "L"}};
+}
+// Where a quasi-static solve stood inside a step: Polonsky-Keer's warm-start pressure and
+// the tension (QuasiStaticAdhesion.hpp, OuterPoint).
+std::vector<NamedField> inside_fields(OuterPoint& at) {
+  return {{"pressure", &at.inner.pressure, "E*"}, {"tension", &at.tension, "E*"}};
+}
+// The (ny, nx) datasets of `group`, one per field.
+void write_fields(hid_t where, const char* group, const Grid& g, const std::vector<NamedField>& fields) {
   H5Handle grp;
   if (is_root()) {
     grp = H5Handle(H5Gcreate2(where, group, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
     check(grp, std::string("group ") + group);
   }
-  dataset(grp, "pressure", g, st.pressure, 1.0, "E*", "reduced pressure");
-  dataset(grp, "displacement", g, st.displacement, 1.0, "L", "reduced displacement");
-  dataset(grp, "gap", g, st.gap, 1.0, "L", "reduced gap");
+  for (const NamedField& f : fields) dataset(grp, f.name, g, *f.field, 1.0, f.unit, "reduced value (checkpoint)");
 }
-// The (ny, nx) fields of `group` into st, each rank its slab of grid g (rank 0 reads
-// blocks of rows and sends each rank its own). False (on every rank) if rank 0 finds
-// them missing or of another shape.
-bool read_state(hid_t where, const char* group, const Grid& g, ContactState& st) {
-  const char* names[3] = {"pressure", "displacement", "gap"};
-  Field* fields[3] = {&st.pressure, &st.displacement, &st.gap};
-  H5Handle grp, d[3], space[3];
+// The (ny, nx) datasets of `group` into the fields, each rank its slab of grid g (rank 0
+// reads blocks of rows and sends each rank its own). False (on every rank) if rank 0 finds
+// one missing or of another shape.
+bool read_fields(hid_t where, const char* group, const Grid& g, const std::vector<NamedField>& fields) {
+  const std::size_t k = fields.size();
+  H5Handle grp;
+  std::vector<H5Handle> d(k), space(k);
   bool ok = true;
   if (is_root()) {
     grp = H5Handle(H5Gopen2(where, group, H5P_DEFAULT), H5Gclose);
     ok = grp.ok();
-    for (int i = 0; ok && i < 3; ++i) {
-      d[i] = H5Handle(H5Dopen2(grp, names[i], H5P_DEFAULT), H5Dclose);
+    for (std::size_t i = 0; ok && i < k; ++i) {
+      d[i] = H5Handle(H5Dopen2(grp, fields[i].name, H5P_DEFAULT), H5Dclose);
       if (d[i].ok()) space[i] = H5Handle(H5Dget_space(d[i]), H5Sclose);
       hsize_t dims[2] = {0, 0};
       ok = d[i].ok() && space[i].ok() && H5Sget_simple_extent_ndims(space[i]) == 2 &&
@@ -151,9 +163,9 @@ bool read_state(hid_t where, const char* group, const Grid& g, ContactState& st)
   }
   if (!any_rank(ok)) return false;
   bool read_ok = true;
-  for (int i = 0; i < 3; ++i) {
-    fields[i]->resize(g.size());
-    scatter_slabs(g, fields[i]->data(), [&](int y0, int rows, double* v) {
+  for (std::size_t i = 0; i < k; ++i) {
+    fields[i].field->resize(g.size());
+    scatter_slabs(g, fields[i].field->data(), [&](int y0, int rows, double* v) {
       hsize_t start[2] = {hsize_t(y0), 0}, count[2] = {hsize_t(rows), hsize_t(g.nx)};
       H5Handle mem(H5Screate_simple(2, count, nullptr), H5Sclose);
       read_ok = read_ok && H5Sselect_hyperslab(space[i], H5S_SELECT_SET, start, nullptr, count, nullptr) >= 0;
@@ -161,6 +173,25 @@ bool read_state(hid_t where, const char* group, const Grid& g, ContactState& st)
     });
   }
   return !any_rank(!read_ok);
+}
+
+toml::table diagnostics_table(const SolveDiagnostics& d) {
+  return toml::table{{"restarts", d.restarts},
+                     {"backtracks", d.backtracks},
+                     {"negative_curvature", d.negative_curvature},
+                     {"clipped_steps", d.clipped_steps},
+                     {"exact_recomputes", d.exact_recomputes},
+                     {"outer_iterations", d.outer_iterations}};
+}
+SolveDiagnostics diagnostics_from(toml::node_view<const toml::node> t) {
+  SolveDiagnostics d;
+  d.restarts = int(t["restarts"].value_or(0));
+  d.backtracks = int(t["backtracks"].value_or(0));
+  d.negative_curvature = int(t["negative_curvature"].value_or(0));
+  d.clipped_steps = int(t["clipped_steps"].value_or(0));
+  d.exact_recomputes = int(t["exact_recomputes"].value_or(0));
+  d.outer_iterations = int(t["outer_iterations"].value_or(0));
+  return d;
 }
 
 const char* refinement_name(PathState::Refinement r) {
@@ -329,14 +360,7 @@ void Writer::load_partial() {
       rec.result.wall_s = r["wall_s"].value_or(0.0);
       rec.result.fft_pairs = r["fft_pairs"].value_or(0.0);
       rec.result.message = r["message"].value_or(std::string());
-      SolveDiagnostics& d = rec.result.diagnostics;
-      const auto diag = r["diagnostics"];
-      d.restarts = int(diag["restarts"].value_or(0));
-      d.backtracks = int(diag["backtracks"].value_or(0));
-      d.negative_curvature = int(diag["negative_curvature"].value_or(0));
-      d.clipped_steps = int(diag["clipped_steps"].value_or(0));
-      d.exact_recomputes = int(diag["exact_recomputes"].value_or(0));
-      d.outer_iterations = int(diag["outer_iterations"].value_or(0));
+      rec.result.diagnostics = diagnostics_from(r["diagnostics"]);
       rec.jump = r["jump"].value_or(false);
       rec.halvings = int(r["halvings"].value_or(0));
       if (auto* o = r["observables"].as_table()) {
@@ -353,14 +377,35 @@ void Writer::load_partial() {
   const auto* pen = state ? (*state)["penetration"].as_floating_point() : nullptr;
   const auto* mp = state ? (*state)["mean_pressure"].as_floating_point() : nullptr;
   if (!pen || !mp) throw damaged("key 'state': expected {penetration, mean_pressure}");
-  if (!read_state(f, "state", n, resume_.state)) throw damaged("group 'state': expected the fields on this grid");
-  resume_.state.penetration = pen->get();
-  resume_.state.mean_pressure = mp->get();
+  // A checkpoint inside a step leaves the state out (the step's solve goes on from `inside`).
+  if ((*state)["fields"].value_or(true)) {
+    if (!read_fields(f, "state", n, state_fields(resume_.state)))
+      throw damaged("group 'state': expected the fields on this grid");
+    resume_.state.penetration = pen->get();
+    resume_.state.mean_pressure = mp->get();
+  }
+  if (const auto* in = t["inside"].as_table()) {
+    OuterPoint at;
+    const auto* outer = (*in)["outer"].as_integer();
+    const auto* ipen = (*in)["penetration"].as_floating_point();
+    if (!outer || outer->get() < 1 || !ipen) throw damaged("key 'inside': expected {outer >= 1, penetration, ...}");
+    if (resume_.done.size() >= scene_.targets.size())
+      throw damaged("key 'inside': a step inside a run whose steps are all done");
+    at.outer = int(outer->get());
+    at.inner.penetration = ipen->get();
+    at.so_far.iterations = int((*in)["iterations"].value_or(0));
+    at.so_far.fft_pairs = (*in)["fft_pairs"].value_or(0.0);
+    at.so_far.wall_s = (*in)["wall_s"].value_or(0.0);
+    at.so_far.diagnostics = diagnostics_from((*in)["diagnostics"]);
+    if (!read_fields(f, "inside", n, inside_fields(at)))
+      throw damaged("group 'inside': expected the fields on this grid");
+    resume_.inside = std::move(at);
+  }
   if (const auto* path = t["path"].as_table()) {
     resume_.path = path_from(*path, file);
     const double pp = resume_.path.pulloff_state.penetration, pm = resume_.path.pulloff_state.mean_pressure;
     if ((*path)["pulloff_state"].value_or(false)) {
-      if (!read_state(f, "pulloff", n, resume_.path.pulloff_state))
+      if (!read_fields(f, "pulloff", n, state_fields(resume_.path.pulloff_state)))
         throw damaged("group 'pulloff': expected the fields on this grid");
       resume_.path.pulloff_state.penetration = pp;
       resume_.path.pulloff_state.mean_pressure = pm;
@@ -428,13 +473,21 @@ void Writer::add_step(const StepRecord& rec, const ContactState& st) {
   records_.push_back(step_json(rec));
 }
 
-void Writer::checkpoint(const ContactState& st, const PathState* path) {
+void Writer::checkpoint(const ContactState& st, const PathState* path, const OuterPoint* inside) {
   // Everything in one file, renamed over the last checkpoint: a run interrupted at any
-  // moment is continued from the last complete one.
+  // moment is continued from the last complete one. Inside a step, the step's solve
+  // (`inside`) replaces the state it started from. The writers read the fields only; the
+  // casts let one list of names serve reading and writing.
   const fs::path tmp = partial_ / "checkpoint.h5.tmp";
+  const bool with_state = !inside && !st.empty();
+  auto fields = [&](hid_t f) {
+    if (with_state) write_fields(f, "state", scene_.grid, state_fields(const_cast<ContactState&>(st)));
+    if (inside) write_fields(f, "inside", scene_.grid, inside_fields(const_cast<OuterPoint&>(*inside)));
+    if (path && !path->pulloff_state.empty())
+      write_fields(f, "pulloff", scene_.grid, state_fields(const_cast<ContactState&>(path->pulloff_state)));
+  };
   if (!is_root()) {  // the fields' slabs go to rank 0
-    write_state(-1, "state", scene_.grid, st);
-    if (path && !path->pulloff_state.empty()) write_state(-1, "pulloff", scene_.grid, path->pulloff_state);
+    fields(-1);
     return;
   }
   {
@@ -443,13 +496,21 @@ void Writer::checkpoint(const ContactState& st, const PathState* path) {
     toml::table t{{"format", 1},
                   {"case", to_json(case_.resolved)},
                   {"steps", records_},
-                  {"state", toml::table{{"penetration", st.penetration}, {"mean_pressure", st.mean_pressure}}}};
+                  {"state", toml::table{{"penetration", st.penetration},
+                                        {"mean_pressure", st.mean_pressure},
+                                        {"fields", with_state}}}};
     if (path) t.insert("path", path_table(*path));
+    if (inside)
+      t.insert("inside", toml::table{{"outer", inside->outer},
+                                     {"penetration", inside->inner.penetration},
+                                     {"iterations", inside->so_far.iterations},
+                                     {"fft_pairs", inside->so_far.fft_pairs},
+                                     {"wall_s", inside->so_far.wall_s},
+                                     {"diagnostics", diagnostics_table(inside->so_far.diagnostics)}});
     std::ostringstream p;
     p << t << "\n";
     text_dataset(f, "progress", p.str());
-    write_state(f, "state", scene_.grid, st);
-    if (path && !path->pulloff_state.empty()) write_state(f, "pulloff", scene_.grid, path->pulloff_state);
+    fields(f);
     check(f.reset(), "closing the checkpoint " + tmp.string());
   }
   fs::rename(tmp, checkpoint_);
@@ -472,13 +533,7 @@ toml::table Writer::step_json(const StepRecord& r) {
                      {"jump", r.jump},
                      {"halvings", r.halvings},
                      {"message", r.result.message}};
-  const SolveDiagnostics& d = r.result.diagnostics;
-  t.insert("diagnostics", toml::table{{"restarts", d.restarts},
-                                      {"backtracks", d.backtracks},
-                                      {"negative_curvature", d.negative_curvature},
-                                      {"clipped_steps", d.clipped_steps},
-                                      {"exact_recomputes", d.exact_recomputes},
-                                      {"outer_iterations", d.outer_iterations}});
+  t.insert("diagnostics", diagnostics_table(r.result.diagnostics));
   if (r.observables) {
     toml::table o;
     for (const auto& [k, v] : r.observables->scalars) o.insert(k, v);

@@ -10,7 +10,8 @@
 //   DIR/.partial/step_NNNN.h5    each finished step's fields, written atomically;
 //   DIR/.partial/checkpoint.h5   where the run stands (a RunPoint: the finished steps'
 //                                records, the state to go on from and the load path's
-//                                walk), replaced atomically at every checkpoint; --resume
+//                                walk, or where a quasi-static step's solve stands inside
+//                                it), replaced atomically at every checkpoint; --resume
 //                                continues from it exactly as if the run had not stopped;
 //   DIR/.cmc.lock                the lock of the process writing there (OutputLock.hpp).
 #pragma once
@@ -34,6 +35,7 @@ class Writer {
   ~Writer();  // keeps the partial files of an unfinished run, so it can be resumed
   // Where the interrupted run stood (nothing done, and an empty state, without --resume).
   const RunPoint& resume_point() const { return resume_; }
+  RunPoint& resume_point() { return resume_; }  // run_scene moves the fields out of it
   bool resuming() const { return resuming_; }
   // What the caller should tell the user about the folder (empty: nothing), e.g. that a
   // partial run of an earlier cmc version there could not be continued and was discarded.
@@ -45,7 +47,8 @@ class Writer {
   void add_step(const StepRecord& rec, const ContactState& st);
   // Commit a point the run can be continued from: the steps added so far, the state the
   // run goes on from and its load path's walk (null: none), replacing the last checkpoint.
-  void checkpoint(const ContactState& st, const PathState* path);
+  // `inside`: where the next step's solve stands (its state is then not written).
+  void checkpoint(const ContactState& st, const PathState* path, const OuterPoint* inside = nullptr);
   // Write summary.json (+ result.h5, result.xdmf when fields were written) and move
   // them into place. `extra` entries are merged into the summary's top level.
   void finish(const RunSummary& run, const toml::table& extra = {});

@@ -63,8 +63,9 @@ class Run {
     if (on_step_) on_step_(summary.steps.back(), st);
   }
   // A point the run can be continued from; `point` names it for the test points.
-  void checkpoint(const ContactState& st, const PathState* path, const char* point) {
-    if (on_checkpoint_) on_checkpoint_(st, path);
+  void checkpoint(const ContactState& st, const PathState* path, const char* point,
+                  const OuterPoint* inside = nullptr) {
+    if (on_checkpoint_) on_checkpoint_(st, path, inside);
     test_point(point);
   }
 
@@ -100,16 +101,20 @@ void run_polonsky_keer(const Case& c, const Scene& s, Run& run, std::size_t firs
 
 // Quasi-static adhesion: the loading branch, each step starting from the previous one
 // (a smaller load), which is the start from above that the solver needs. The solver keeps
-// nothing between solves beyond the state, so a resumed run continues exactly.
+// nothing between solves beyond the state, and within a solve nothing between outer steps
+// beyond an OuterPoint, so a resumed run continues exactly, from a step's start or from
+// inside it (`inside`: where the first step's solve stood).
 void run_quasi_static(const Case& c, const Scene& s, Run& run, std::size_t first, ContactState& state,
-                      const Progress& progress) {
+                      std::optional<OuterPoint>& inside, const Progress& progress) {
   auto o = solver_options<QuasiStaticAdhesion::Options>(c.solver, progress);
   o.tension_tolerance = c.solver.tension_tolerance;
   o.precondition = c.solver.precondition;
+  o.on_outer = [&](const OuterPoint& at) { run.checkpoint(state, nullptr, "outer", &at); };
   QuasiStaticAdhesion solver(*s.half_space, s.topography.heights, std::get<ExponentialAdhesion>(s.interaction), o);
   for (std::size_t k = first; k < s.targets.size(); ++k) {
     test_point("solve");
-    const SolveResult r = solver.solve(s.targets[k], state);
+    const SolveResult r = solver.solve(s.targets[k], state, k == first && inside ? &*inside : nullptr);
+    inside.reset();
     run.keep(run.record(k, r, state), state);
     run.checkpoint(state, nullptr, "step");
   }
@@ -162,23 +167,26 @@ void run_adhesive_cg(const Case& c, const Scene& s, Run& run, PathState& path, C
 }  // namespace
 
 RunSummary run_scene(const Case& c, Scene& s, const StepCallback& on_step, const Progress& progress,
-                     const RunPoint* from, const CheckpointCallback& on_checkpoint) {
+                     RunPoint* from, const CheckpointCallback& on_checkpoint) {
   check_test_points();
   const double pair_s = s.half_space->time_fft_pair();
   const auto t0 = std::chrono::steady_clock::now();
   Run run(s, on_step, on_checkpoint);
   ContactState state;
   PathState path;
-  if (from) state = from->state, path = from->path;
+  std::optional<OuterPoint> inside;
+  if (from) state = std::move(from->state), path = from->path, inside = std::move(from->inside);
+  if (inside && c.solver.kind != SolverKind::QuasiStatic)
+    throw std::invalid_argument("run_scene: a run continued from inside a step needs the quasi-static solver");
   const std::size_t first = from ? from->done.size() : 0;
-  if (first > s.targets.size() || (path.started && path.next != first))
+  if (first > s.targets.size() || (path.started && path.next != first) || (inside && first >= s.targets.size()))
     throw std::invalid_argument("run_scene: the run to continue does not fit the case's load steps");
   for (std::size_t k = 0; k < first; ++k) run.account(from->done[k]);
   // The case's solver, resolved by the parser (never Auto here).
   switch (c.solver.kind) {
     case SolverKind::PolonskyKeer: run_polonsky_keer(c, s, run, first, state, progress); break;
     case SolverKind::AdhesiveCg: run_adhesive_cg(c, s, run, path, state, progress); break;
-    case SolverKind::QuasiStatic: run_quasi_static(c, s, run, first, state, progress); break;
+    case SolverKind::QuasiStatic: run_quasi_static(c, s, run, first, state, inside, progress); break;
     case SolverKind::Auto: throw std::logic_error("run_scene: the case's solver kind was not resolved");
   }
   RunSummary& sum = run.summary;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "cmc/contact/LoadPath.hpp"
+#include "cmc/contact/QuasiStaticAdhesion.hpp"
 #include "cmc/observe/StepObservables.hpp"
 #include "cmc/scene/Scene.hpp"
 
@@ -64,18 +65,25 @@ struct RunPoint {
   std::vector<StepRecord> done;
   ContactState state;
   PathState path;  // unused by Polonsky–Keer
+  // Inside the next step (quasi-static solver only): where its solve stood between two
+  // outer steps. `state` is then not needed (empty in a checkpoint).
+  std::optional<OuterPoint> inside;
 };
 
 using StepCallback = std::function<void(const StepRecord&, const ContactState&)>;
 // Called wherever the run can be continued from: after every step (after the
 // StepCallback) and after every pull-off refinement solve, with the state the run goes on
 // from and, for a load path, its walk (null for Polonsky–Keer). With the steps handed to
-// the StepCallback so far, that is a RunPoint.
-using CheckpointCallback = std::function<void(const ContactState&, const PathState*)>;
+// the StepCallback so far, that is a RunPoint. The quasi-static solver also calls it
+// between two outer steps of a step, with `inside` (null otherwise) and the state the step
+// started from: a caller saves those when it wants (a long step's solve is continued
+// from there; writing a checkpoint after every outer step would cost more than it saves).
+// In a distributed run every rank must make the same choice.
+using CheckpointCallback = std::function<void(const ContactState&, const PathState*, const OuterPoint* inside)>;
 
 // `from`: where an interrupted run stood (its finished steps are skipped and kept in the
-// summary); null: from the start.
+// summary; its state and `inside` are moved from); null: from the start.
 RunSummary run_scene(const Case& c, Scene& s, const StepCallback& on_step, const Progress& progress = {},
-                     const RunPoint* from = nullptr, const CheckpointCallback& on_checkpoint = {});
+                     RunPoint* from = nullptr, const CheckpointCallback& on_checkpoint = {});
 
 }  // namespace cmc

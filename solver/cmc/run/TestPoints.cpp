@@ -22,7 +22,7 @@ struct Point {
   long count = 0;  // 0: none
 };
 
-const char* const kNames[] = {"solve", "step", "refine"};
+const char* const kNames[] = {"solve", "step", "refine", "outer"};
 
 Point parse(const char* variable) {
   const char* v = std::getenv(variable);
@@ -41,7 +41,7 @@ Point parse(const char* variable) {
     ok = ok && known;
   }
   if (!ok)
-    throw CaseError(std::string(variable) + ": expected NAME:N with NAME one of solve, step, refine and N >= 1, got '" +
+    throw CaseError(std::string(variable) + ": expected NAME:N with NAME one of solve, step, refine, outer and N >= 1, got '" +
                     s + "'");
   return p;
 }

@@ -12,7 +12,9 @@
 // The points (run/Driver.cpp):
 //   solve   before every solve (a load step's solves, sub-steps, pull-off refinement);
 //   step    after a load step's checkpoint (between two steps);
-//   refine  after the checkpoint of a pull-off refinement solve.
+//   refine  after the checkpoint of a pull-off refinement solve;
+//   outer   between two outer steps of a quasi-static solve (after the checkpoint inside
+//           the step, where one is due: cmc run --checkpoint-every).
 #pragma once
 
 namespace cmc {
