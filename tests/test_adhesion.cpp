@@ -112,6 +112,60 @@ TEST(Interaction, ExponentialDerivativesAndPeak) {
   EXPECT_THROW(ExponentialAdhesion(w, 0.0), std::invalid_argument);
 }
 
+// The shape coarse-graining's laws (Interaction.hpp, shape_coarse_grained), for the three
+// regimes of the self-stiffness k: a monostable exponential is returned unchanged, bit for
+// bit; a bistable one gets a linear head of slope θ k with the peak tension w/ρ kept; where
+// even the triangle would be bistable, the triangle with its peak lowered to √(2 w θ k).
+// Each keeps w = ∫ tension dg (midpoint rule over 4e5 cells: the kink at g1 and the tail's
+// curvature leave < 1e-6 w), its largest |φ''| is at most θ k, force and curvature are the
+// derivatives of the energy (central differences, h = 1e-5 ρ), the tension is continuous
+// at g1, and the law is concave.
+TEST(Interaction, ShapeCoarseGrainedLaws) {
+  const double w = 0.3, rho = 0.02, theta = kCoarseGrainingMargin;
+  const double k_exp = w / (rho * rho) / theta;  // the exponential exactly monostable at the margin
+  const double k_tri = (w / rho) * (w / rho) / (2 * w) / theta;  // the triangle exactly at it
+  for (double k : {2.0 * k_exp, 0.5 * (k_exp + k_tri), 0.7 * k_tri, 0.05 * k_tri}) {
+    const ExponentialAdhesion a = shape_coarse_grained(w, rho, k);
+    const double peak = k >= k_tri ? w / rho : std::sqrt(2 * w * theta * k);
+    EXPECT_NEAR(a.peak_tension(), peak, 1e-12 * peak) << k;
+    EXPECT_NEAR(a.evaluate(0.0).force, -peak, 1e-12 * peak) << k;
+    EXPECT_NEAR(a.evaluate(0.0).energy, -w, 1e-12 * w) << k;
+    double integral = 0.0;
+    const int m = 400000;
+    const double top = a.cutoff(), dg = top / m;
+    for (int j = 0; j < m; ++j) integral += a.evaluate((j + 0.5) * dg).force * dg;
+    EXPECT_NEAR(integral, -w, 1e-6 * w) << k;
+    if (k >= k_exp) {  // unchanged
+      EXPECT_EQ(a.head(), 0.0);
+      for (double g : {0.0, 0.3 * rho, 5 * rho}) {
+        const ExponentialAdhesion e(w, rho);
+        EXPECT_EQ(a.evaluate(g).energy, e.evaluate(g).energy);
+        EXPECT_EQ(a.evaluate(g).force, e.evaluate(g).force);
+        EXPECT_EQ(a.evaluate(g).curvature, e.evaluate(g).curvature);
+      }
+      continue;
+    }
+    EXPECT_GT(a.head(), 0.0) << k;
+    EXPECT_NEAR(a.largest_curvature(), theta * k, 1e-12 * theta * k) << k;
+    EXPECT_EQ(a.tail_tension() == 0.0, k < k_tri) << k;  // the triangle where the peak had to fall
+    const double g1 = a.head(), hstep = 1e-5 * rho;
+    EXPECT_NEAR(a.evaluate(g1 * (1 - 1e-12)).force, a.evaluate(g1).force, 1e-9 * peak) << k;
+    double last_force = -peak;
+    for (double f : {0.1, 0.5, 0.9, 1.1, 2.0, 5.0, 20.0}) {
+      const double g = f * g1;
+      if (g + hstep >= a.cutoff() || std::abs(g - g1) < 2 * hstep) continue;
+      const auto v = a.evaluate(g), vp = a.evaluate(g + hstep), vm = a.evaluate(g - hstep);
+      EXPECT_NEAR(v.force, -(vp.energy - vm.energy) / (2 * hstep), 1e-8 * peak) << k << " " << f;
+      EXPECT_NEAR(v.curvature, -(vp.force - vm.force) / (2 * hstep), 1e-6 * theta * k) << k << " " << f;
+      EXPECT_LE(v.curvature, 0.0);
+      EXPECT_GE(-v.curvature, -theta * k * (1 + 1e-12));
+      EXPECT_GE(v.force, last_force);  // the tension falls: concave
+      last_force = v.force;
+    }
+  }
+  EXPECT_THROW(ExponentialAdhesion::with_head(w, w / rho, 0.1 * w / (rho * rho)), std::invalid_argument);
+}
+
 // The smoothed Dugdale law keeps w = ∫ f dg and σ0 exactly for every smoothing width, and
 // its force/curvature are the derivatives of its energy.
 TEST(Interaction, DugdaleDerivativesWorkAndStress) {
@@ -538,30 +592,42 @@ TEST(JKR, ForceVersusPenetrationTabor5) {
   EXPECT_LE(res.halved_steps, 2);
 }
 
-// Issue 13, item 4: the range coarse-graining (coarse_grained_range, Interaction.hpp) on the
-// exponential-law sphere, μ_T = 3, s = 1/6. Pull-off (golden-section refined, on a path
-// that unloads from a ≈ 2s through snap-off) on the resolved grid, n = 256 (Δx = 0.75 ρ,
-// the plain law), against n = 48 (Δx = 3.98 ρ) with the strategy (ρ_c = √(2w/K_ii) =
-// 1.60 ρ, so μ_T falls to 1.87) and without it. Measured (2026-11-23): resolved pull-off
-// 1.0280 (3/2)πwR (as JKR.ExponentialPathTabor3 finds at n = 128 and 256); at 4 ρ the
-// strategy is 3.5 % stronger, the plain law 6.2 % stronger (with θ = 1, ρ_c = 1.13 ρ:
-// 3.3 %). Issue 13 asks for 2 %: NOT met. Asserted: the strategy is closer to the
-// resolved pull-off than the plain law on the same grid, and both err on the strong side
-// (the sign the measurement found; a sign change would be a new finding to explain).
-TEST(JKR, PullOffRangeCoarseGrainingAtFourRho) {
+// Issue 13, item 4: the coarse-grainings of Interaction.hpp on the exponential-law sphere,
+// μ_T = 3, s = 1/6. Pull-off (golden-section refined, on a path that unloads from a ≈ 2s
+// through snap-off) on the resolved grid, n = 256 (Δx = 0.75 ρ, the plain law), against
+// n = 48 (Δx = 3.98 ρ) with each strategy and without one.
+//  * range (coarse_grained_range: ρ_c = √(2w/K_ii) = 1.60 ρ, so μ_T falls to 1.87):
+//    measured 3.5 % stronger than the resolved pull-off 1.0280 (3/2)πwR (2026-11-23; as
+//    JKR.ExponentialPathTabor3 finds at n = 128 and 256); with θ = 1, ρ_c = 1.13 ρ: 3.3 %.
+//  * shape (shape_coarse_grained: w and the peak tension kept, so μ_T stays 3 as long as
+//    the triangle is monostable; at 4 ρ it is not quite, and the peak falls to 0.88 w/ρ):
+//    measured 0.78 % stronger (2026-11-24). Issue 13 asks for 2 % at 4 ρ: met, and
+//    asserted. On other grids (same path, measured once, not asserted): +0.19 % at 1.5 ρ
+//    (the plain law: monostable there), +0.66 % at 2 ρ, +1.2 % at 2.4 ρ, +0.79 % at 3 ρ,
+//    +3.0 % at 4.8 ρ, +1.1 % at 6 ρ, +5.0 % at 8 ρ, against range +6.2 % at 6 ρ: not
+//    monotone in Δx (the sphere's pixels and the contact edge's position among them).
+//  * plain: 6.2 % stronger.
+// Asserted besides: each strategy is closer to the resolved pull-off than the plain law
+// on the same grid, and all err on the strong side (the sign measured; a change of sign
+// would be a new finding to explain).
+TEST(JKR, PullOffCoarseGrainingAtFourRho) {
   const double Es = 1, R = 1, s = 1.0 / 6, w = work_for_scale(s), muT = 3.0;
   const double rho = exponential_range_from_tabor(Es, R, w, muT);
   const double Fc = 1.5 * pi * w * R;
   const auto dc = an::jkr_pulloff_displacement_controlled(Es, R, w);
   const double d_peak = an::jkr_penetration(Es, R, w, 2.0 * s);
-  auto pulloff = [&](int n, bool coarse, double* rho_used) {
+  enum Law { Plain, Range, Shape };
+  auto pulloff = [&](int n, Law kind, double* peak) {
     Grid g{n, n, 1.0, 1.0};
     auto topo = sphere(g, R, 0.5, 0.5, false);
     FreeHalfSpace hs(g, Es);
-    *rho_used = coarse ? coarse_grained_range(w, rho, hs.self_stiffness()) : rho;
+    const ExponentialAdhesion law = kind == Shape   ? shape_coarse_grained(w, rho, hs.self_stiffness())
+                                    : kind == Range ? ExponentialAdhesion(w, coarse_grained_range(w, rho, hs.self_stiffness()))
+                                                    : ExponentialAdhesion(w, rho);
+    *peak = law.peak_tension() / (w / rho);
     AdhesiveSolver::Options o;
     o.tolerance = 1e-6;
-    AdhesiveSolver solver(hs, topo.heights, ExponentialAdhesion(w, *rho_used), o);
+    AdhesiveSolver solver(hs, topo.heights, law, o);
     LoadPathOptions lo;
     lo.pressure_floor = 2 * Fc / g.area();
     lo.max_halvings = 3;
@@ -575,21 +641,28 @@ TEST(JKR, PullOffRangeCoarseGrainingAtFourRho) {
     return res.pulloff_mean_pressure * g.area() / (-Fc);
   };
   const int n_fine = 256, n4 = int(std::lround(1.0 / (4.0 * rho)));
-  double r_fine = 0, r_range = 0, r_plain = 0;
-  const double fine = pulloff(n_fine, false, &r_fine);
-  const double range = pulloff(n4, true, &r_range);
-  const double plain = pulloff(n4, false, &r_plain);
+  double p_fine = 0, p_range = 0, p_shape = 0, p_plain = 0;
+  const double fine = pulloff(n_fine, Plain, &p_fine);
+  const double range = pulloff(n4, Range, &p_range);
+  const double shape = pulloff(n4, Shape, &p_shape);
+  const double plain = pulloff(n4, Plain, &p_plain);
   report("sphere_cg.dx_over_rho.fine", 1.0 / n_fine / rho);
   report("sphere_cg.dx_over_rho.coarse", 1.0 / n4 / rho);
-  report("sphere_cg.rho_c_over_rho", r_range / rho);
+  report("sphere_cg.range_peak_over_w_rho", p_range);
+  report("sphere_cg.shape_peak_over_w_rho", p_shape);
   report("sphere_cg.pulloff_fine/(1.5 pi w R)", fine);
   report("sphere_cg.pulloff_range_rel_err", range / fine - 1);
+  report("sphere_cg.pulloff_shape_rel_err", shape / fine - 1);
   report("sphere_cg.pulloff_plain_rel_err", plain / fine - 1);
   EXPECT_LE(1.0 / n_fine, 0.8 * rho);
   EXPECT_NEAR(1.0 / n4 / rho, 4.0, 0.1);
+  EXPECT_LT(std::abs(shape / fine - 1), 0.02);  // issue 13: within 2 % at Δx = 4 ρ
   EXPECT_LT(std::abs(range / fine - 1), std::abs(plain / fine - 1));
+  EXPECT_LT(std::abs(shape / fine - 1), std::abs(plain / fine - 1));
   EXPECT_GT(range, fine);
+  EXPECT_GT(shape, fine);
   EXPECT_GT(plain, fine);
+  EXPECT_GT(p_shape, p_range);  // the shape rule lowers the peak tension (μ_T) less
 }
 
 // Refinement: grid spacing and range shrink together (ρ ∝ √Δx, i.e. w Δx/(E* ρ²) fixed at
@@ -786,3 +859,4 @@ TEST(AdhesionLongRange, Tabor03PullOff) {
   EXPECT_GT(P, -2.0);
   EXPECT_LE(res.halved_steps, 4);
 }
+

@@ -140,6 +140,46 @@ TEST(Scene, StepRecordAndObservablesShareTheContactRule) {
   EXPECT_GT(without, 0.0);
 }
 
+// coarse_graining = "shape" (Scene.cpp, shape_coarse_grained): on a grid that resolves rho
+// nothing changes; on one where the exponential is bistable but the triangle is not, w and
+// the peak tension w/rho (the Tabor parameter) are kept and the law gets a head of slope
+// theta K_ii (summary: law_head); where even the triangle is bistable, the peak falls
+// (summary: specified_range). The law the scene holds is the one shape_coarse_grained makes.
+TEST(Scene, ShapeCoarseGrainingKeepsWAndPeakWherePossible) {
+  int regimes[3] = {0, 0, 0};
+  for (double range : {1e-6, 7e-7, 1e-9}) {  // m: resolved; a head, peak kept; triangle with a lower peak
+    toml::table t = base();
+    t.insert_or_assign("interaction", toml::table{{"kind", "exponential"}, {"work_of_adhesion", 0.05},
+                                                   {"range", range}, {"coarse_graining", "shape"}});
+    const Case c = parse_case(t, "mem");
+    Scene s = build_scene(c);
+    const auto& law = std::get<ExponentialAdhesion>(s.interaction);
+    const double w = s.units.energy_per_area(0.05), rho = s.units.length(range);
+    const double k = s.half_space->self_stiffness(), kappa = kCoarseGrainingMargin * k;
+    const ExponentialAdhesion want = shape_coarse_grained(w, rho, k);
+    EXPECT_EQ(law.w, want.w);
+    EXPECT_EQ(law.rho, want.rho);
+    EXPECT_EQ(law.head(), want.head());
+    EXPECT_DOUBLE_EQ(law.w, w);
+    const double b = w / (rho * rho) / kappa, tri = (w / rho) * (w / rho) / (2 * w) / kappa;
+    ++regimes[b <= 1 ? 0 : tri <= 1 ? 1 : 2];
+    if (b <= 1) {
+      EXPECT_EQ(law.rho, rho) << range;
+      EXPECT_EQ(law.head(), 0.0) << range;
+      EXPECT_FALSE(s.surface_facts.specified_range) << range;
+      EXPECT_FALSE(s.surface_facts.law_head) << range;
+    } else {
+      ASSERT_TRUE(s.surface_facts.law_head) << range;
+      EXPECT_NEAR(*s.surface_facts.law_head, s.units.to_m(law.head()), 1e-12 * range);
+      EXPECT_NEAR(law.largest_curvature(), kappa, 1e-12 * kappa) << range;
+      EXPECT_EQ(bool(s.surface_facts.specified_range), tri > 1) << range;
+      if (tri <= 1) EXPECT_DOUBLE_EQ(law.rho, rho) << range;  // the peak tension kept
+      else EXPECT_GT(law.rho, rho) << range;
+    }
+  }
+  EXPECT_EQ(regimes[0] * regimes[1] * regimes[2], 1);  // each regime once
+}
+
 // coarse_graining = "range" (Scene.cpp, coarse_grained_range): on a grid that does not
 // resolve rho, the range becomes sqrt(w / K_ii), so that the law's largest curvature
 // w/rho² equals the point's own stiffness (no bistable point), with w kept; on a grid
@@ -168,6 +208,15 @@ TEST(Scene, RangeCoarseGrainingRemovesBistabilityAndKeepsW) {
     }
   }
   toml::table t = base();
+  t.insert_or_assign("interaction", toml::table{{"kind", "dugdale"}, {"work_of_adhesion", 0.05},
+                                                 {"range", 1e-9}, {"coarse_graining", "shape"}});
+  try {
+    parse_case(t, "mem");
+    FAIL() << "coarse_graining = shape with Dugdale accepted";
+  } catch (const CaseError& e) {
+    EXPECT_NE(std::string(e.what()).find("coarse_graining"), std::string::npos) << e.what();
+  }
+  t = base();
   t.insert_or_assign("interaction", toml::table{{"kind", "dugdale"}, {"work_of_adhesion", 0.05},
                                                  {"range", 1e-9}, {"coarse_graining", "range"}});
   try {

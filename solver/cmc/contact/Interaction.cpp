@@ -12,8 +12,51 @@ bool positive_finite(double x) { return x > 0.0 && std::isfinite(x); }
 ExponentialAdhesion::ExponentialAdhesion(double work, double range) : w(work), rho(range) {
   if (!positive_finite(work) || !positive_finite(range))
     throw std::invalid_argument("ExponentialAdhesion: need a positive, finite work of adhesion w and range rho");
-  inv_rho_ = 1.0 / rho;
+  // The pure exponential: no head, the tail is the whole law (evaluate() then computes
+  // exactly −w exp(−g/ρ) and its derivatives, as before the head existed).
+  sigma0_ = w / rho;
+  tail_a_ = sigma0_;
+  tail_w_ = w;
+  ell_ = rho;
+  inv_ell_ = 1.0 / rho;
+  kappa_ = sigma0_ * inv_ell_;
   cut_ = rho * 52.0 * std::numbers::ln2;  // exp(-g/rho) < 2^-52 beyond
+}
+
+ExponentialAdhesion ExponentialAdhesion::with_head(double work, double sigma0, double kappa) {
+  if (!positive_finite(work) || !positive_finite(sigma0) || !positive_finite(kappa))
+    throw std::invalid_argument("ExponentialAdhesion::with_head: need a positive, finite w, sigma0 and kappa");
+  const double lo = sigma0 * sigma0 / (2.0 * work), hi = sigma0 * sigma0 / work;
+  if (kappa < lo * (1.0 - 1e-12) || kappa > hi * (1.0 + 1e-12))
+    throw std::invalid_argument("ExponentialAdhesion::with_head: the head slope kappa must lie between sigma0^2/(2w) "
+                                "(the triangle) and sigma0^2/w (the exponential)");
+  ExponentialAdhesion a(work, work / sigma0);
+  if (kappa >= hi) return a;  // the pure exponential
+  a.kappa_ = kappa;
+  a.sigma0_ = sigma0;
+  // κ g1 = σ0 − sqrt(2 w κ − σ0²) (the work; Interaction.hpp); a = σ0 − κ g1.
+  // (Within round-off of the triangle, the triangle: no tail of vanishing length.)
+  const double excess = 2.0 * work * kappa - sigma0 * sigma0;
+  const double root = excess > 1e-12 * sigma0 * sigma0 ? std::sqrt(excess) : 0.0;
+  a.tail_a_ = root;
+  a.g1_ = (sigma0 - root) / kappa;
+  if (root > 0.0) {
+    a.ell_ = root / kappa;
+    a.inv_ell_ = 1.0 / a.ell_;
+    a.tail_w_ = root * a.ell_;
+    a.cut_ = a.g1_ + a.ell_ * 52.0 * std::numbers::ln2;
+  } else {  // the triangle: nothing beyond g1
+    a.ell_ = a.inv_ell_ = a.tail_w_ = 0.0;
+    a.cut_ = a.g1_;
+  }
+  return a;
+}
+
+ExponentialAdhesion shape_coarse_grained(double w, double rho, double k_self) {
+  const double kappa = kCoarseGrainingMargin * k_self, sigma0 = w / rho;
+  if (w / (rho * rho) <= kappa) return ExponentialAdhesion(w, rho);  // monostable as it is
+  if (sigma0 * sigma0 / (2.0 * w) <= kappa) return ExponentialAdhesion::with_head(w, sigma0, kappa);
+  return ExponentialAdhesion::with_head(w, std::sqrt(2.0 * w * kappa), kappa);  // the triangle, peak lowered
 }
 
 DugdaleAdhesion::DugdaleAdhesion(double work, double range, double smoothing_width)

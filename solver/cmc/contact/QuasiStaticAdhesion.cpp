@@ -17,20 +17,44 @@ namespace {
 constexpr int kMaxNewton = 60;
 
 // The next tension of one point (see the header, "Jump prediction"): the tension at the
-// largest x <= g with k (g − x) = A(x) − t, A(x) = (w/ρ) exp(−x/ρ) the adhesive tension
-// of gap x; A(0) when there is no such x (the point jumps into contact).
+// largest x <= g with k (g − x) = A(x) − t, A(x) the adhesive tension of gap x; A(0) when
+// there is no such x (the point jumps into contact). A is the exponential law's, or one
+// of the shape coarse-graining's laws (a linear head to g1, then an exponential tail;
+// Interaction.hpp): convex and decreasing in x either way.
 struct JumpPrediction {
-  double k, w_rho, rho, inv_rho, x_peak, cutoff, a_peak;
+  double k, w_rho, cutoff, x_peak, a_peak;
+  double g1, kappa;                    // the head: A(x) = w_rho − kappa x for x < g1 (g1 = 0: none)
+  double tail_a, inv_ell, tail_slope;  // the tail: A(x) = tail_a decay(x), −A'(x) = tail_slope decay(x)
 
   JumpPrediction(double self_stiffness, const ExponentialAdhesion& a)
-      : k(self_stiffness), w_rho(a.peak_tension()), rho(a.range()), inv_rho(1.0 / a.range()), cutoff(a.cutoff()) {
-    // f(x) = k (g − x) − (A(x) − t) is concave with its maximum where A(x) = k ρ.
-    x_peak = std::max(0.0, rho * std::log(w_rho / (k * rho)));
+      : k(self_stiffness), w_rho(a.peak_tension()), cutoff(a.cutoff()), g1(a.head()), kappa(a.head_slope()),
+        tail_a(a.tail_tension()), inv_ell(a.tail_length() > 0.0 ? 1.0 / a.tail_length() : 0.0) {
+    tail_slope = tail_a * inv_ell;
+    // f(x) = k (g − x) − (A(x) − t) is concave with its maximum where A'(x) = −k: in the
+    // tail when the law is steeper than k at contact, else at 0 (a head no steeper than
+    // k: f' < 0 everywhere); at g1 for a triangle steeper than k.
+    if (g1 > 0.0 && kappa <= k) {
+      x_peak = 0.0;
+    } else if (tail_a > 0.0) {
+      x_peak = std::max(0.0, g1 + a.tail_length() * std::log(tail_a / (k * a.tail_length())));
+    } else {
+      x_peak = g1;
+    }
     a_peak = tension(x_peak);
   }
-  double tension(double x) const { return x >= cutoff ? 0.0 : w_rho * std::exp(-x * inv_rho); }
-  // exp(−x/ρ), 0 beyond the cutoff: tension(x) == w_rho * decay(x), bit for bit.
-  double decay(double x) const { return x >= cutoff ? 0.0 : std::exp(-x * inv_rho); }
+  bool in_head(double x) const { return g1 > 0.0 && x < g1; }
+  // exp(−(x − g1)/ℓ) in the tail, 0 beyond the cutoff, 1 in the head (unused there): what
+  // the cascade keeps per point, so that a tension and its slope cost one exponential.
+  double decay(double x) const {
+    if (x >= cutoff) return 0.0;
+    return in_head(x) ? 1.0 : std::exp(-(x - g1) * inv_ell);
+  }
+  double tension(double x, double e) const { return in_head(x) ? w_rho - kappa * x : tail_a * e; }
+  double tension(double x) const { return tension(x, decay(x)); }
+  double slope(double x, double e) const {  // −A'(x)
+    if (x >= cutoff) return 0.0;
+    return in_head(x) ? kappa : tail_slope * e;
+  }
 
   // The predicted gap of a point at gap g under tension t, with the extra pull c (the
   // change of the elastic force from neighbours that moved; c >= 0 pulls in): the largest
@@ -43,17 +67,17 @@ struct JumpPrediction {
     // f(x) = k (g − x) − (A(x) − t + c), from e = decay(x): one exponential per Newton
     // step, shared by f and f'.
     auto f = [&](double x, double ax) { return k * (g - x) - (ax - t + c); };
-    double e = eg, fx = f(g, w_rho * e);
+    double e = eg, fx = f(g, tension(g, e));
     if (fx >= 0.0) return g;
     if (x_peak >= g || f(x_peak, a_peak) < 0.0) return 0.0;  // no equilibrium below g: into contact
     double x = g;
     for (int i = 0; i < kMaxNewton; ++i) {
       if (i > 0) {
         e = decay(x);
-        fx = f(x, w_rho * e);
+        fx = f(x, tension(x, e));
       }
       if (fx >= 0.0) break;
-      const double fp = -k + (x >= cutoff ? 0.0 : w_rho * inv_rho * e);  // < 0 on (x_peak, g]
+      const double fp = -k + slope(x, e);  // < 0 on (x_peak, g]
       const double nx = x - fx / fp;
       if (!(nx < x) || nx <= x_peak) break;  // round-off floor reached
       x = nx;
@@ -89,7 +113,7 @@ struct JumpPrediction {
 // within 5e-7. Within 2 points: 10 outer steps, 8 s of queue. A larger move floor (1e-2,
 // 1e-1 ρ) costs outer steps (1024²: 9 and 12 instead of 6).
 constexpr int kRadius = 1;
-constexpr double kMoveFloor = 1e-3;  // in ρ: smaller predicted moves are not propagated
+constexpr double kMoveFloor = 1e-3;  // in ρ (w / peak tension): smaller predicted moves are not propagated
 
 class Cascade {
  public:
@@ -186,7 +210,7 @@ class Cascade {
   int nx_, ny_, y0_, rows_;  // the whole grid, and this rank's rows [y0_, y0_ + rows_)
   bool periodic_;
   std::vector<Entry> stencil_;
-  Field pull_, applied_, eg_;
+  Field pull_, applied_, eg_;  // eg_: decay(g) of each point
   std::vector<unsigned char> queued_;
   std::vector<std::size_t> queue_;
   std::vector<std::int64_t> out_index_;  // pulls on other ranks' points (global index) ...

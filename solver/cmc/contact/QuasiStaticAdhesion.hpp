@@ -58,7 +58,8 @@
 // displacement). The challenge at 250 kPa: 10 outer steps at 2048², 164 Polonsky-Keer
 // iterations, 68 of them in the first (hard-wall) solve.
 //
-// Scope: exponential adhesion (concave; the jump prediction uses its closed form), any
+// Scope: exponential adhesion and the shape coarse-graining's laws (Interaction.hpp; all
+// concave, the jump prediction uses their closed forms), any
 // boundary, mean-pressure or penetration control, steps of increasing load only (the
 // loading branch). Unloading, pull-off and Dugdale adhesion are the adhesive CG's
 // (AdhesiveSolver.hpp).

@@ -14,8 +14,10 @@ enum class SurfaceFormat { ChallengeHdf5, ChallengeAscii, Fourier, Hdf5, Ascii }
 enum class InteractionKind { HardWall, Exponential, Dugdale };
 // How an exponential law is put on a grid whose spacing does not resolve its range:
 // None samples it at the grid points; Range lengthens the range to the shortest that
-// leaves no grid point bistable, keeping w (contact/Interaction.hpp, coarse_grained_range).
-enum class CoarseGraining { None, Range };
+// leaves no grid point bistable, keeping w (contact/Interaction.hpp, coarse_grained_range);
+// Shape keeps w and the peak tension and gives the law the least curvature that leaves no
+// grid point bistable (shape_coarse_grained).
+enum class CoarseGraining { None, Range, Shape };
 // Auto: Polonsky-Keer for a hard wall; with exponential adhesion on a loading path
 // (increasing load, no unloading) the quasi-static loading-branch solver; the adhesive CG
 // otherwise. The parser resolves it, so a parsed Case never holds Auto.
@@ -45,9 +47,9 @@ constexpr std::array<KindName<InteractionKind>, 3> kind_names(InteractionKind) {
   using enum InteractionKind;
   return {{{HardWall, "hard_wall"}, {Exponential, "exponential"}, {Dugdale, "dugdale"}}};
 }
-constexpr std::array<KindName<CoarseGraining>, 2> kind_names(CoarseGraining) {
+constexpr std::array<KindName<CoarseGraining>, 3> kind_names(CoarseGraining) {
   using enum CoarseGraining;
-  return {{{None, "none"}, {Range, "range"}}};
+  return {{{None, "none"}, {Range, "range"}, {Shape, "shape"}}};
 }
 constexpr std::array<KindName<SolverKind>, 4> kind_names(SolverKind) {
   using enum SolverKind;

@@ -128,6 +128,11 @@ void build_interaction(const InteractionSpec& in, Scene& s) {
       const double rho_c = coarse_grained_range(w, rho, s.half_space->self_stiffness());
       if (rho_c > rho) s.surface_facts.specified_range = u.to_m(rho);
       s.interaction = ExponentialAdhesion(w, rho_c);
+    } else if (in.coarse_graining == CoarseGraining::Shape) {
+      const ExponentialAdhesion law = shape_coarse_grained(w, rho, s.half_space->self_stiffness());
+      if (law.range() > rho) s.surface_facts.specified_range = u.to_m(rho);  // the peak had to fall too
+      if (law.head() > 0.0) s.surface_facts.law_head = u.to_m(law.head());
+      s.interaction = law;
     } else {
       s.interaction = ExponentialAdhesion(w, rho);
     }
@@ -177,6 +182,7 @@ std::vector<std::pair<std::string, double>> surface_fact_entries(const SurfaceFa
       {"dx_over_cutoff_wavelength", &f.dx_over_cutoff_wavelength},
       {"interaction_range", &f.interaction_range},
       {"specified_range", &f.specified_range},
+      {"law_head", &f.law_head},
       {"dx_over_range", &f.dx_over_range},
       {"bistability_number", &f.bistability_number},
       {"tabor_parameter", &f.tabor_parameter}};

@@ -30,6 +30,7 @@ struct SurfaceFacts {
   // Adhesion: the range, the resolution of it, and single-point bistability.
   std::optional<double> interaction_range;   // m: the range the solver uses
   std::optional<double> specified_range;     // m: the case's range, where coarse-graining changed it
+  std::optional<double> law_head;            // m: the shape coarse-graining's linear head g1, where it has one
   std::optional<double> dx_over_range;
   std::optional<double> bistability_number;  // w dx / (E* range²)
   std::optional<double> tabor_parameter;     // with a sphere or R_c
