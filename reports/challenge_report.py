@@ -22,15 +22,15 @@ import re
 import numpy as np
 
 from common import (CHALLENGE, FAMILY_QUANTITIES, case_name, family_members, finite, fmt, get, h5_open, load_json,
-                    md_table, plt, read_reference_csv, rel, roundoff_note, run_strategy_error, s_extrapolation,
+                    md_table, plt, read_reference_csv, rel, roundoff_note, run_strategy, run_strategy_error, STRATEGIES, s_extrapolation,
                     s_extrapolation_verdict, savefig, step_groups, transfer_caveat, write_csv)
 
 P0 = CHALLENGE["p0"]
 
 
 def _band(run, short):
-    """The relative error for `short` (a_r, mean_gap) that the run's strategy (range coarse-
-    graining or plain) has on the scaled challenge family at this run's dx/rho
+    """The relative error for `short` (a_r, mean_gap) that the run's strategy (range or shape
+    coarse-graining, or plain) has on the scaled challenge family at this run's dx/rho
     (reports/common.py), or None (no exponential adhesion, or no family run near its dx/rho)."""
     got = run_strategy_error(run.s, short)
     return got[1] if got else None
@@ -273,7 +273,7 @@ def _family_grid_change(run, short):
     """For an adhesive run on a grid where the family store holds the challenge's own (s = 1) runs
     of the same strategy: the relative change of `short` (a_r, a_rep, mean_gap) from that grid to
     the next finer one there, with where it comes from; else None."""
-    strategy = "range" if get(run.s, "case", "interaction", "coarse_graining") == "range" else "plain"
+    strategy = run_strategy(run.s)
     for m in family_members():
         if m.get("s") != 1:
             continue
@@ -1069,8 +1069,10 @@ def _adhesion_resolution(reference_dir):
     ch = members.get(1)
     lines += ["No grid on one machine resolves ρ = 2.071 nm (the published solution used 65536² points, dx ≈ 0.75 ρ). "
               "The runs below are the challenge at 250 kPa on the loading branch on coarse grids, plain (the "
-              "exponential law at grid points) and with the resolution strategy (`[interaction] coarse_graining = "
-              "\"range\"`). The strategy's error bar is its deviation measured on the scaled challenge family "
+              "exponential law at grid points) and with the two resolution strategies (`[interaction] "
+              "coarse_graining = \"range\"`: ρ lengthened, w kept, the Tabor parameter lowered; `\"shape\"`: w "
+              "and the peak tension kept, the law's form changed to the least curvature that leaves no point "
+              "bistable). A strategy's error bar is its deviation measured on the scaled challenge family "
               "(λ_s and w multiplied by s, μ_T = 3: the same dx/ρ and dx/λ_s as the challenge's grid, on a grid "
               "that resolves ρ there) plus that reference's refinement error: "
               f"`{rel(os.path.join(reference_dir, 'challenge-scaled', 'README.md'), '.')}`. "
@@ -1090,9 +1092,10 @@ def _adhesion_resolution(reference_dir):
                          "; ".join(e["measured_on"]) if e and e["measured_on"] else "–"])
         lines += [md_table(["run", "grid", "dx/ρ", "a_r", "repulsive a_r", "mean gap (µm)", "iterations",
                             "wall (s)", "strategy error measured on"], rows), ""]
-        caveat = transfer_caveat(list(members.values()))
-        if caveat:
-            lines += ["**Caveat.** " + caveat, ""]
+        for strategy in STRATEGIES:
+            caveat = transfer_caveat(list(members.values()), strategy)
+            if caveat:
+                lines += ["**Caveat.** " + caveat, ""]
     else:
         lines += [f"The challenge's own runs: not computed yet ({cmd}).", ""]
     fam = [m for s, m in sorted(members.items(), reverse=True) if m.get("reference", {}).get("a_r")]
@@ -1132,9 +1135,9 @@ def _adhesion_resolution(reference_dir):
         verdict = s_extrapolation_verdict(x)
         if verdict:
             lines += [verdict, ""]
-        if ch:
+        for strategy in STRATEGIES if ch else ():
             est = sorted(ch.get("estimates", []), key=lambda e: -e["n"])
-            est = [e for e in est if e["role"].startswith("range")]
+            est = [e for e in est if e["role"].startswith(strategy + "_")]
             if est and est[0]["a_r"]["error"] is not None:
                 e = est[0]
                 rows = []
@@ -1147,10 +1150,10 @@ def _adhesion_resolution(reference_dir):
                                  f"{a['value'] * scale:.{digits}g} ± {a['error'] * scale:.2g}",
                                  f"{b['value'] * scale:.{digits}g} ± {b['error'] * scale:.2g}",
                                  f"{gap / both:.2f}" if both > 0 else "–"])
-                lines += [f"Both routes side by side (route 1: the strategy's run on {e['n']}² with the strategy's error "
-                          "measured on the family; route 2: the extrapolation in s). A difference beyond the sum of "
-                          "the two errors (last column above 1) is a finding, not noise.", "",
-                          md_table(["quantity", f"route 1 ({e['n']}², range)", "route 2 (in s)",
+                lines += [f"Both routes side by side (route 1: the `{strategy}` run on {e['n']}² with the strategy's "
+                          "error measured on the family; route 2: the extrapolation in s). A difference beyond the sum "
+                          "of the two errors (last column above 1) is a finding, not noise.", "",
+                          md_table(["quantity", f"route 1 ({e['n']}², {strategy})", "route 2 (in s)",
                                     "difference / sum of errors"], rows), ""]
     return lines
 
@@ -1226,8 +1229,8 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
 
     sweep_cols = ["run", "p (kPa)", "p/(E*ḡ)", "a_r", "a_r corrected", "mean gap (µm)", "patches", "converged"]
     band_note = ["Error bands (shaded, and ± in the tables): for adhesive runs, the error that the run's "
-                 "strategy (the range coarse-graining, `interaction.coarse_graining = \"range\"`, or the plain "
-                 "interaction) has on the scaled challenge family at the run's dx/ρ (deviation from the family's "
+                 "strategy (the range or shape coarse-graining, `interaction.coarse_graining = \"range\"` or "
+                 "`\"shape\"`, or the plain interaction) has on the scaled challenge family at the run's dx/ρ (deviation from the family's "
                  "converged reference plus that reference's refinement error; `reference/challenge-scaled/`). It was "
                  "measured at μ_T = 3 and 250 kPa; that it holds at other loads and μ_T is assumed, not measured. A "
                  "run whose dx/ρ the family has not measured carries no band. " + roundoff_note() + " "

@@ -260,15 +260,29 @@ def strategy_errors(members, strategy, dx_over_rho):
     return (err, used) if used else (None, [])
 
 
+# The coarse-grainings of the exponential law (cases/README.md, [interaction] coarse_graining),
+# each a resolution strategy whose error the family measures; "plain" is the law at grid points.
+STRATEGIES = ("range", "shape")
+STRATEGY_WORDS = {"plain": "the plain (unmodified) interaction", "range": "the range coarse-graining",
+                  "shape": "the shape coarse-graining"}
+
+
+def run_strategy(summary):
+    """The strategy of a run (its summary.json): its interaction.coarse_graining, or "plain"."""
+    cg = get(summary, "case", "interaction", "coarse_graining")
+    return cg if cg in STRATEGIES else "plain"
+
+
 def run_strategy_error(summary, short, members=None):
     """For an adhesive run with exponential adhesion (its summary.json): its dx over the case's
     range rho, and the relative error for `short` (a_r, a_rep, mean_gap) that its strategy
-    (interaction.coarse_graining "range", else "plain") has on the family at that dx/rho, with what
-    it was measured on; (dx/rho, None, []) where the family has no run near; None for other runs."""
+    (interaction.coarse_graining "range" or "shape", else "plain") has on the family at that dx/rho,
+    with what it was measured on; (dx/rho, None, []) where the family has no run near; None for
+    other runs."""
     inter = get(summary, "case", "interaction", default={}) or {}
     if inter.get("kind") != "exponential":
         return None
-    strategy = "range" if inter.get("coarse_graining") == "range" else "plain"
+    strategy = run_strategy(summary)
     facts = summary.get("surface_facts") or {}
     rho = facts.get("specified_range") or facts.get("interaction_range")
     g = summary.get("grid") or {}
@@ -280,12 +294,12 @@ def run_strategy_error(summary, short, members=None):
     return k, (err or {}).get(short), used
 
 
-def transfer_check(members=None):
+def transfer_check(members=None, strategy="range"):
     """Whether the family's member with a converged reference behaves like the challenge (s = 1)
-    on coarse grids: for each s = 1 grid with both a plain and a range run, the ratio range/plain
-    of a_r there and in the family at the same dx/rho (within a factor 1.3). Returns
-    [(n, dx/rho, ratio at s = 1, s, ratio in the family)]; [] when the store lacks the runs. The
-    strategy errors transfer to s = 1 only if the ratios agree."""
+    on coarse grids: for each s = 1 grid with both a plain run and one of the strategy, the ratio
+    strategy/plain of a_r there and in the family at the same dx/rho (within a factor 1.3).
+    Returns [(n, dx/rho, ratio at s = 1, s, ratio in the family)]; [] when the store lacks the
+    runs. The strategy errors transfer to s = 1 only if the ratios agree."""
     members = family_members() if members is None else members
     out = []
     for m1 in members:
@@ -293,18 +307,18 @@ def transfer_check(members=None):
             continue
         runs1 = {r["role"]: r for r in m1["runs"]}
         for role, p1 in runs1.items():
-            if not role.startswith("plain_") or "range_" + role[6:] not in runs1:
+            if not role.startswith("plain_") or strategy + "_" + role[6:] not in runs1:
                 continue
-            r1 = runs1["range_" + role[6:]]
+            r1 = runs1[strategy + "_" + role[6:]]
             k = p1["dx_over_rho"]
             for m in members:
                 if not m.get("reference", {}).get("a_r"):
                     continue
-                near = [r for r in m["runs"] if r["role"].endswith("rho") and r["role"].split("_")[0] in ("plain", "range")
+                near = [r for r in m["runs"] if r["role"].endswith("rho") and r["role"].split("_")[0] in ("plain", strategy)
                         and abs(math.log(r["dx_over_rho"] / k)) < math.log(1.3)]
                 by = {r["role"].split("_")[0]: r for r in near}
-                if "plain" in by and "range" in by:
-                    out.append((p1["n"], k, r1["a_r"] / p1["a_r"], m["s"], by["range"]["a_r"] / by["plain"]["a_r"]))
+                if "plain" in by and strategy in by:
+                    out.append((p1["n"], k, r1["a_r"] / p1["a_r"], m["s"], by[strategy]["a_r"] / by["plain"]["a_r"]))
     return out
 
 
@@ -368,11 +382,11 @@ def s_extrapolation_verdict(x):
     return text + ("A third member nearer s = 1 (s = 8, resolved on 8192²) would show the curve's shape." if text else "")
 
 
-def transfer_caveat(members=None):
+def transfer_caveat(members=None, strategy="range"):
     """One sentence on transfer_check for error statements, or "" when it cannot be made: per s = 1
     grid the ratio there and in each member (largest s first), and whether the members approach
     the challenge's ratio as s falls toward 1."""
-    rows = transfer_check(members)
+    rows = transfer_check(members, strategy)
     if not rows:
         return ""
     by_grid = {}
@@ -385,7 +399,7 @@ def transfer_caveat(members=None):
         dist = [abs(math.log(b / a)) for _, b in fam]
         approach = approach and len(dist) > 1 and all(d1 < d0 for d0, d1 in zip(dist, dist[1:]))
     agree = all(abs(math.log(a / b)) < math.log(1.05) for _, _, a, _, b in rows)
-    text = f"Transfer check, a_r of the range run over the plain run at the same dx/rho: {'; '.join(parts)}. "
+    text = f"Transfer check, a_r of the {strategy} run over the plain run at the same dx/rho: {'; '.join(parts)}. "
     if agree:
         return text + "They agree within 5 %, as the transfer assumes."
     if approach:

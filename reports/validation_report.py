@@ -171,7 +171,7 @@ def _westergaard_profiles(case, summary, folder, ref_dir, out_dir, notes):
 def _adhesive_refinement(ref_dir, out_dir):
     """Issue 13: the error of each adhesive quantity against dx/rho on the scaled challenge
     family (reference/challenge-scaled/scaled_family.json, scripts/scaled_family.py), plain
-    and with the resolution strategy, on log axes, with the observed order of the plain runs."""
+    and with the resolution strategies, on log axes, with the observed order of the plain runs."""
     path = os.path.join(ref_dir, "challenge-scaled", "scaled_family.json")
     data = load_json(path) if os.path.exists(path) else None
     members = [m for m in (data or {}).get("members", []) if m.get("reference", {}).get("a_r")]
@@ -185,7 +185,7 @@ def _adhesive_refinement(ref_dir, out_dir):
     for m in members:
         ref = m["reference"]
         for ax, (q, title) in zip(axes, quantities):
-            for kind, marker in (("plain", "o-"), ("range", "s--"), ("refinement", "^")):
+            for kind, marker in (("plain", "o-"), ("range", "s--"), ("shape", "d-."), ("refinement", "^")):
                 pts = sorted((r["dx_over_rho"], r[q] / ref[q]["value"] - 1) for r in m["runs"]
                              if r["role"].split("_")[0] == kind and r["role"].endswith(("rho", "refinement")))
                 if not pts:
@@ -199,7 +199,7 @@ def _adhesive_refinement(ref_dir, out_dir):
                     order = np.polyfit(np.log(x[sel]), np.log(np.abs(e[sel])), 1)[0] if sel.sum() >= 2 else None
                     rows.append([m["s"], title, kind, ", ".join(f"{v:.3g}" for v in x),
                                  ", ".join(f"{100 * v:+.2f} %" for v in e), fmt(order, 3)])
-                elif kind == "range":
+                elif kind in ("range", "shape"):
                     signs = "changes sign" if (e.min() < 0 < e.max()) else "one sign"
                     rows.append([m["s"], title, kind, ", ".join(f"{v:.3g}" for v in x),
                                  ", ".join(f"{100 * v:+.2f} %" for v in e), f"– ({signs})"])
@@ -209,8 +209,8 @@ def _adhesive_refinement(ref_dir, out_dir):
     fig_path = os.path.join(out_dir, "adhesive_refinement.png")
     savefig(fig, fig_path)
     lines += ["Each quantity's relative error against the member's resolved grid (dx ≤ 0.8 ρ), against dx/ρ: "
-              "plain runs (the exponential law at grid points), the resolution strategy (`coarse_graining = "
-              "\"range\"`) and the refinement grid; the dotted line is the reference's refinement error. Observed "
+              "plain runs (the exponential law at grid points), the two resolution strategies (`coarse_graining = "
+              "\"range\"` and `\"shape\"`) and the refinement grid; the dotted line is the reference's refinement error. Observed "
               "order: least-squares slope of log|error| against log(dx/ρ) over the plain runs with dx ≤ 6.5 ρ whose "
               "deviation exceeds the reference's refinement error (a smaller one is not measured). "
               f"Numbers: `{rel(path, out_dir)}`.", "", f"![adhesive refinement]({os.path.basename(fig_path)})", "",

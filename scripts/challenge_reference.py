@@ -45,8 +45,8 @@ sys.path.insert(0, os.path.join(ROOT, "reports"))
 from challenge_report import (Run, _centers, _find_runs, _merged_sweeps, _observables,  # noqa: E402
                               _reference_load_runs, band_floor, finer_sweep, grid_change, hardwall_sweep_band,
                               profile_band, refinement_band)  # (the report's extraction)
-from common import (CHALLENGE, FAMILY_STORE, load_json, roundoff_note, run_strategy_error,  # noqa: E402
-                    transfer_caveat)
+from common import (CHALLENGE, FAMILY_STORE, STRATEGY_WORDS, load_json, roundoff_note, run_strategy,  # noqa: E402
+                    run_strategy_error, transfer_caveat)
 
 RHO, LAMBDA_S, P0 = CHALLENGE["rho"], CHALLENGE["lambda_s"], CHALLENGE["p0"]
 GENERATOR = "scripts/challenge_reference.py (extraction: reports/challenge_report.py)"
@@ -247,7 +247,7 @@ def adhesive_error(run, hw, keys):
 # ------------------------------------------------------------------ the strategy's error band
 def strategy_band(run, short):
     """For an exponential-adhesion run: the relative error for quantity `short` (a_r, mean_gap)
-    that its strategy (range coarse-graining, or plain) has on the scaled challenge family at the
+    that its strategy (range or shape coarse-graining, or plain) has on the scaled challenge family at the
     same dx/rho (reports/common.py strategy_errors: the family run within a factor 1.3 of this
     dx/rho, its deviation from the family's converged reference plus that reference's refinement
     error), and a sentence saying what it rests on. None where the family has no run near."""
@@ -256,8 +256,7 @@ def strategy_band(run, short):
         return None, ""
     k, rel, used = got
     store = _rel(FAMILY_STORE)
-    what = ("the range coarse-graining" if (((run.s.get("case") or {}).get("interaction") or {})
-                                           .get("coarse_graining") == "range") else "the plain (unmodified) interaction")
+    what = STRATEGY_WORDS[run_strategy(run.s)]
     if rel is None:
         return None, (f"{what} at dx = {k:.3g} rho: the scaled family ({store}) has no run of it within a factor "
                       "1.3 of this dx/rho, so no error band")
