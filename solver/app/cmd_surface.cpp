@@ -39,7 +39,8 @@ int cmd_surface(int argc, char** argv) {
   const SurfaceFacts& f = s.surface_facts;
   for (const auto& [name, v] : {std::pair{"modes_dropped", f.modes_dropped},
                                 {"dx_over_cutoff_wavelength", f.dx_over_cutoff_wavelength},
-                                {"dx_over_range", f.dx_over_range}, {"tabor_parameter", f.tabor_parameter}})
+                                {"dx_over_range", f.dx_over_range}, {"tabor_parameter", f.tabor_parameter},
+                                {"specified_range", f.specified_range}, {"law_head", f.law_head}})
     if (v) std::printf("  %-16s %.6g\n", name, *v);
   for (const auto& w : s.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   const std::string out = a.option("--write");
