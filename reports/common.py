@@ -295,15 +295,16 @@ def run_strategy_error(summary, short, members=None):
 
 
 def transfer_check(members=None, strategy="range"):
-    """Whether the family's member with a converged reference behaves like the challenge (s = 1)
-    on coarse grids: for each s = 1 grid with both a plain run and one of the strategy, the ratio
-    strategy/plain of a_r there and in the family at the same dx/rho (within a factor 1.3).
-    Returns [(n, dx/rho, ratio at s = 1, s, ratio in the family)]; [] when the store lacks the
-    runs. The strategy errors transfer to s = 1 only if the ratios agree."""
+    """Whether the family's members behave like the challenge (s = 1) on coarse grids: for each
+    s = 1 grid with both a plain run and one of the strategy, the ratio strategy/plain of a_r
+    there and in each member s > 1 at the same dx/rho (within a factor 1.3). The ratio needs no
+    converged answer, so a member whose resolved run is still missing takes part too. Returns
+    [(n, dx/rho, ratio at s = 1, s, ratio in the family)]; [] when the store lacks the runs. The
+    strategy errors transfer to s = 1 only if the ratios agree."""
     members = family_members() if members is None else members
     out = []
     for m1 in members:
-        if m1.get("reference", {}).get("a_r"):
+        if m1["s"] != 1:
             continue
         runs1 = {r["role"]: r for r in m1["runs"]}
         for role, p1 in runs1.items():
@@ -312,7 +313,7 @@ def transfer_check(members=None, strategy="range"):
             r1 = runs1[strategy + "_" + role[6:]]
             k = p1["dx_over_rho"]
             for m in members:
-                if not m.get("reference", {}).get("a_r"):
+                if m["s"] == 1:
                     continue
                 near = [r for r in m["runs"] if r["role"].endswith("rho") and r["role"].split("_")[0] in ("plain", strategy)
                         and abs(math.log(r["dx_over_rho"] / k)) < math.log(1.3)]
@@ -402,10 +403,15 @@ def transfer_caveat(members=None, strategy="range"):
     text = f"Transfer check, a_r of the {strategy} run over the plain run at the same dx/rho: {'; '.join(parts)}. "
     if agree:
         return text + "They agree within 5 %, as the transfer assumes."
+    nearest = min(s for _, _, _, s, _ in rows)
+    with_ref = {m["s"] for m in (family_members() if members is None else members) if m.get("reference", {}).get("a_r")}
+    nearer = ("a member nearer s = 1 (s = 8, resolved on 8192²)" if nearest not in with_ref or nearest > 8 else
+              f"a member nearer s = 1 than s = {nearest}")
+    if nearest not in with_ref:
+        nearer = f"s = {nearest}'s resolved run (its ratio is measured, its errors are not yet)"
     if approach:
         return text + ("They do not agree, but they approach the challenge's as s falls toward 1, so the band (the "
-                       "largest error over the members, hence that of the member farthest from s = 1) is indicative "
-                       "and probably pessimistic, not a bound; a member nearer s = 1 (s = 8, resolved on 8192²) "
-                       "would test the trend.")
+                       "largest error over the members with a reference, hence that of the member farthest from "
+                       f"s = 1) is indicative and probably pessimistic, not a bound; {nearer} would test the trend.")
     return text + ("They do not agree, so the family does not reproduce the challenge's coarse-grid behaviour and the "
-                   "band is indicative, not a bound; a member nearer s = 1 (s = 8, resolved on 8192²) is needed.")
+                   f"band is indicative, not a bound; {nearer} is needed.")

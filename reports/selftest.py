@@ -226,6 +226,36 @@ def sweep_end_checks():
     return out
 
 
+def transfer_checks():
+    """common.transfer_check compares strategy/plain a_r at s = 1 with every member s > 1 at the
+    same dx/rho, a member without its resolved run included (the ratio needs no reference), for
+    each strategy; transfer_caveat names the strategy and says whether the members approach s = 1."""
+    sys.path.insert(0, HERE)
+    from common import transfer_caveat, transfer_check
+
+    def run(role, k, a_r):
+        return {"role": role, "n": 100, "dx_over_rho": k, "a_r": a_r}
+
+    members = [
+        {"s": 1, "runs": [run("plain_n4096", 12.0, 1.0), run("range_n4096", 12.0, 1.02), run("shape_n4096", 12.0, 1.08)]},
+        {"s": 8, "runs": [run("plain_12rho", 12.1, 1.0), run("range_12rho", 12.1, 1.06), run("shape_12rho", 12.1, 1.12)]},
+        {"s": 16, "reference": {"a_r": {"value": 1.0}},
+         "runs": [run("plain_12rho", 11.7, 1.0), run("range_12rho", 11.7, 1.11), run("shape_12rho", 11.7, 1.18)]},
+        {"s": 32, "runs": [run("plain_6rho", 6.0, 1.0), run("range_6rho", 6.0, 1.3)]},  # no dx/rho near 12
+    ]
+    out = []
+    for strategy, want in (("range", {8: 1.06, 16: 1.11}), ("shape", {8: 1.12, 16: 1.18})):
+        rows = transfer_check(members, strategy)
+        got = {s: round(b, 6) for _, _, _, s, b in rows}
+        if got != want or any(abs(a - members[0]["runs"][1 if strategy == "range" else 2]["a_r"]) > 1e-12
+                              for _, _, a, _, _ in rows):
+            out.append(f"transfer_check({strategy}): {rows}, expected the ratios {want} against s = 1's")
+        text = transfer_caveat(members, strategy)
+        if f"a_r of the {strategy} run" not in text or "at s = 8" not in text or "approach" not in text:
+            out.append(f"transfer_caveat({strategy}): {text!r} does not name the strategy, s = 8 and the approach")
+    return out
+
+
 def roundoff_checks(root):
     """scripts/roundoff_spread.py on hand-made runs: the largest relative difference per quantity
     over the steps, and a clear error (non-zero exit, nothing written) for runs of two cases;
@@ -321,6 +351,7 @@ def main(argv):
         failures += profile_band_checks(np)
         failures += sweep_end_checks()
         failures += roundoff_checks(root)
+        failures += transfer_checks()
         # Empty inputs: no crash, and lines saying what to run.
         empty = os.path.join(root, "empty")
         os.makedirs(empty, exist_ok=True)
