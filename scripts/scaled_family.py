@@ -258,7 +258,9 @@ def readme(data):
                          f"{r['mean_gap']:.7g} | {r['iterations']} | {r['fft_pairs']:.0f} | {r['wall_s']:.0f} | {r['status']} |")
         lines.append("")
         if m.get("estimates"):
-            lines += ["No grid here resolves this member; the strategy's runs with the strategy's error measured on the "
+            lines += [("No grid here resolves this member" if m["s"] == 1 else
+                       "This member's resolved run is not stored yet (it is computed on a grid with dx ≤ 0.8 ρ, "
+                       "like the others)") + "; the strategy's runs with the strategy's error measured on the "
                       "family at the same dx/ρ (largest |deviation| from a member's reference plus that reference's "
                       "refinement error; `—`: no member has a run at that dx/ρ):", "",
                       "| grid | dx/ρ | a_r | repulsive a_r | mean gap (m) | error measured on |", "|---|---|---|---|---|---|"]

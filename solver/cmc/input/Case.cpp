@@ -641,54 +641,65 @@ void set_memory_split(const MemorySplit& s) { split_now = s; }
 MemoryEstimate estimate_memory(const Case& c) {
   // Counted from the code, in doubles (8 bytes): n per field of the grid, m per field of
   // the transform grid (the grid itself when periodic, 2nx x 2ny zero-padded when free),
-  // sp per r2c spectrum of the transform grid ((mx/2 + 1) my complex numbers).
+  // sp per r2c spectrum of the transform grid ((mx/2 + 1) my complex numbers). By phase:
+  // what the whole run holds, plus the larger of what a solve holds while it runs and what
+  // measuring and writing a solved step holds after it (a solve's own fields are freed
+  // when it returns; glibc hands their blocks to the next allocations, or to the system).
   const double nx = c.grid.nx, ny = c.grid.ny, n = nx * ny;
   const bool periodic = c.grid.periodic;
   const double mx = periodic ? nx : 2.0 * nx, my = periodic ? ny : 2.0 * ny, m = mx * my;
   const double sp = 2.0 * (std::floor(mx / 2.0) + 1.0) * my;
   const bool adhesive = c.solver.kind == SolverKind::AdhesiveCg;
   const bool load_control = c.loading.control == LoadControl::Force || c.loading.control == LoadControl::MeanPressure;
-  double grid_fields = 0.0, transform = 0.0;  // in units of n and m doubles
-  // Every run: the heights, the state the driver carries (pressure, displacement, gap),
-  // the writer's scaled copy of a field.
-  grid_fields += 5.0;
+  // In units of n and m doubles: the whole run's fields, a solve's, and a solved step's.
+  double run_grid = 0.0, run_transform = 0.0, solve_grid = 0.0, solve_transform = 0.0, step_grid = 0.0;
+  // Every run: the heights, the state the driver carries (pressure, displacement, gap).
+  run_grid += 4.0;
   // The half-space (elastic/HalfSpace.cpp): its FFT's spectrum and the compliance (half a
   // spectrum), FFTW's work array (one transform field; measured: its 2-D r2c/c2r plans
   // buffer); free: the padded work array and the stiffness made with the compliance.
-  transform += (sp + sp / 2.0) / m + 1.0;
-  if (!periodic) transform += 1.0 + sp / 2.0 / m;
+  run_transform += (sp + sp / 2.0) / m + 1.0;
+  if (!periodic) run_transform += 1.0 + sp / 2.0 / m;
   // Set-up arrays that are freed before the solve but stay with the process (glibc keeps
   // freed blocks of this size in its heap once one was unmapped): the planning scratch,
   // the two fields of the timed FFT pair, and on a free boundary the influence kernel.
-  transform += 3.0 + (periodic ? 0.0 : 1.0);
+  run_transform += 3.0 + (periodic ? 0.0 : 1.0);
   if (adhesive) {
-    // AdhesiveSolver::Work: heights, x, Ku, d, Kd, r, c, trial, Ktrial on the transform
-    // grid, K h when periodic, the bound flags (bytes); the stiffness when periodic.
-    transform += 9.0 + (periodic ? 1.0 : 0.0) + 1.0 / 8.0;
-    if (periodic) transform += sp / 2.0 / m;
-    // The load path's trial copy of the state; the pull-off search's best state and its copy.
-    grid_fields += 3.0;
-    if (c.loading.refine_pulloff > 0) grid_fields += 6.0;
-    // Load control: the three points of the bracketing search, each a state (massif).
-    if (load_control) grid_fields += 9.0;
+    // AdhesiveSolver::Work (a member of the solver, kept for the whole run): heights, x,
+    // Ku, d, Kd, r, c, trial, Ktrial on the transform grid, K h when periodic, the bound
+    // flags (bytes); the stiffness when periodic.
+    run_transform += 9.0 + (periodic ? 1.0 : 0.0) + 1.0 / 8.0;
+    if (periodic) run_transform += sp / 2.0 / m;
+    // The load path's trial copy of the state; the pull-off search's best state and its
+    // copy; load control: the three points of the bracketing search, each a state. The
+    // walk holds them while a step is measured and written (its callbacks run inside it).
+    run_grid += 3.0;
+    if (c.loading.refine_pulloff > 0) run_grid += 6.0;
+    if (load_control) run_grid += 9.0;
   } else {
-    // Polonsky-Keer: the search direction, and the spectra of the pressure, the
-    // direction and the heights.
-    grid_fields += 1.0;
-    transform += 3.0 * sp / m;
+    // Polonsky-Keer, within a solve: the search direction (and the preconditioned gap, on
+    // a periodic grid), and the spectra of the pressure, the direction and the heights.
+    solve_grid += 1.0 + (periodic && c.solver.precondition ? 1.0 : 0.0);
+    solve_transform += 3.0 * sp / m;
   }
   if (c.solver.kind == SolverKind::QuasiStatic) {
-    // QuasiStaticAdhesion around its Polonsky-Keer (counted above): the shifted heights,
-    // tension, G t, next and predicted gaps, the inner state, the cascade's pull,
-    // applied and exp(-g/rho) fields and flags; K's unit response and its set-up impulse
-    // on the transform grid; the stiffness when periodic.
-    grid_fields += 5.0 + 3.0 + 3.0 + 1.0 / 8.0;
-    transform += 2.0 + (periodic ? sp / 2.0 / m : 0.0);
+    // QuasiStaticAdhesion: K's unit response and its set-up impulse on the transform grid,
+    // the stiffness when periodic, for the whole run; within a solve, around its
+    // Polonsky-Keer (counted above): the shifted heights, tension, G t, next and predicted
+    // gaps, the inner state, the cascade's pull, applied and decay fields and flags, and
+    // the scaled copy a checkpoint inside the step writes from.
+    run_transform += 2.0 + (periodic ? sp / 2.0 / m : 0.0);
+    solve_grid += 5.0 + 3.0 + 3.0 + 1.0 / 8.0 + 1.0;
   }
-  // Observables: the contact mask (bytes), patch labels (ints) and their union-find
-  // parents, a Fourier transform of the pressure (its spectrum and scratch), the
-  // distributions' per-thread counts.
-  if (c.observables.enabled) grid_fields += 1.0 / 8.0 + 1.0 + 2.0 + 1.0;
+  // A solved step: the writer's scaled copy of a field; the observables (the contact mask
+  // (bytes), patch labels (ints) and their union-find parents, a Fourier transform of the
+  // pressure (its spectrum and scratch), the distributions' per-thread counts) before it.
+  step_grid = 1.0;
+  if (c.observables.enabled) step_grid = std::max(step_grid, 1.0 / 8.0 + 1.0 + 2.0 + 1.0);
+  // The adhesive CG measures and writes inside its load path, beside its work arrays.
+  if (adhesive) run_grid += step_grid, step_grid = 0.0;
+  const double phase_grid = std::max(solve_grid * n + solve_transform * m, step_grid * n);
+  const double grid_fields = run_grid + phase_grid / n, transform = run_transform;
   // The allocator: glibc's heap keeps freed copies of states (the load path's and the
   // load control's) and fragments; measured peak memory was up to 1.2x the fields
   // counted above (tests/test_limits.cpp, Limits.MemoryEstimateBoundsMeasuredPeak).
