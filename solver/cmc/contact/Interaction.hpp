@@ -114,7 +114,7 @@ struct ExponentialAdhesion {
 // refinement converges to the specified law. What it changes is the Tabor parameter,
 // μ_T ρ/ρ_c: the price of the coarse grid, measured on the scaled challenge family
 // (scripts/scaled_family.py, reference/challenge-scaled/) and on the sphere
-// (tests/test_adhesion.cpp, JKR.PullOffRangeCoarseGrainingAtFourRho).
+// (tests/test_adhesion.cpp, JKR.PullOffCoarseGrainingAtFourRho).
 inline constexpr double kCoarseGrainingMargin = 0.5;  // θ above
 inline double coarse_grained_range(double w, double rho, double k_self) {
   return std::max(rho, std::sqrt(w / (kCoarseGrainingMargin * k_self)));
