@@ -48,6 +48,16 @@ struct RoughPatch {
   }
 };
 
+// The plain iteration (tangent tension only, no jump prediction or cascade) run to a tight
+// outer tolerance: what the accelerated solve must reproduce.
+QuasiStaticAdhesion::Options plain_iteration(QuasiStaticAdhesion::Options o) {
+  o.predict_jumps = false;
+  o.cascade = false;
+  o.tension_tolerance = 1e-7;
+  o.max_outer = 20000;
+  return o;
+}
+
 long count_contact(const Field& gap) {
   long c = 0;
   for (double g : gap) c += g <= 0.0 ? 1 : 0;
@@ -133,11 +143,7 @@ TEST(QuasiStatic, AccelerationKeepsTheState) {
   const ExponentialAdhesion adh(s.w, s.rho);
   QuasiStaticAdhesion::Options fast;
   fast.tolerance = 1e-10;
-  QuasiStaticAdhesion::Options plain = fast;
-  plain.predict_jumps = false;
-  plain.cascade = false;
-  plain.tension_tolerance = 1e-7;
-  plain.max_outer = 20000;
+  const QuasiStaticAdhesion::Options plain = plain_iteration(fast);
   ContactState a, b;
   const SolveResult ra = QuasiStaticAdhesion(hs, s.map.heights, adh, fast).solve({Control::MeanPressure, s.load}, a);
   const SolveResult rb = QuasiStaticAdhesion(hs, s.map.heights, adh, plain).solve({Control::MeanPressure, s.load}, b);
@@ -182,11 +188,7 @@ TEST(QuasiStatic, ShapeLawsEquilibriumAndAcceleration) {
     QuasiStaticAdhesion::Options fast;
     fast.tolerance = 1e-10;
     fast.tension_tolerance = 1e-5;
-    QuasiStaticAdhesion::Options plain = fast;
-    plain.predict_jumps = false;
-    plain.cascade = false;
-    plain.tension_tolerance = 1e-7;
-    plain.max_outer = 20000;
+    const QuasiStaticAdhesion::Options plain = plain_iteration(fast);
     ContactState a, b;
     const SolveResult ra = QuasiStaticAdhesion(hs, s.map.heights, law, fast).solve({Control::MeanPressure, s.load}, a);
     const SolveResult rb = QuasiStaticAdhesion(hs, s.map.heights, law, plain).solve({Control::MeanPressure, s.load}, b);

@@ -120,32 +120,36 @@ bool read_text(hid_t where, const char* name, std::string& text) {
   return true;
 }
 // Reduced fields of a checkpoint, exactly as the solver holds them: (name, field, unit).
+// F is Field for reading into, const Field for writing from; one list of names serves both.
+template <class F>
 struct NamedField {
   const char* name;
-  Field* field;
+  F* field;
   const char* unit;
 };
-std::vector<NamedField> state_fields(ContactState& st) {
+template <class State, class F = std::conditional_t<std::is_const_v<State>, const Field, Field>>
+std::vector<NamedField<F>> state_fields(State& st) {
   return {{"pressure", &st.pressure, "E*"}, {"displacement", &st.displacement, "L"}, {"gap", &st.gap, "L"}};
 }
 // Where a quasi-static solve stood inside a step: Polonsky-Keer's warm-start pressure and
 // the tension (QuasiStaticAdhesion.hpp, OuterPoint).
-std::vector<NamedField> inside_fields(OuterPoint& at) {
+template <class Point, class F = std::conditional_t<std::is_const_v<Point>, const Field, Field>>
+std::vector<NamedField<F>> inside_fields(Point& at) {
   return {{"pressure", &at.inner.pressure, "E*"}, {"tension", &at.tension, "E*"}};
 }
 // The (ny, nx) datasets of `group`, one per field.
-void write_fields(hid_t where, const char* group, const Grid& g, const std::vector<NamedField>& fields) {
+void write_fields(hid_t where, const char* group, const Grid& g, const std::vector<NamedField<const Field>>& fields) {
   H5Handle grp;
   if (is_root()) {
     grp = H5Handle(H5Gcreate2(where, group, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
     check(grp, std::string("group ") + group);
   }
-  for (const NamedField& f : fields) dataset(grp, f.name, g, *f.field, 1.0, f.unit, "reduced value (checkpoint)");
+  for (const auto& f : fields) dataset(grp, f.name, g, *f.field, 1.0, f.unit, "reduced value (checkpoint)");
 }
 // The (ny, nx) datasets of `group` into the fields, each rank its slab of grid g (rank 0
 // reads blocks of rows and sends each rank its own). False (on every rank) if rank 0 finds
 // one missing or of another shape.
-bool read_fields(hid_t where, const char* group, const Grid& g, const std::vector<NamedField>& fields) {
+bool read_fields(hid_t where, const char* group, const Grid& g, const std::vector<NamedField<Field>>& fields) {
   const std::size_t k = fields.size();
   H5Handle grp;
   std::vector<H5Handle> d(k), space(k);
@@ -476,15 +480,14 @@ void Writer::add_step(const StepRecord& rec, const ContactState& st) {
 void Writer::checkpoint(const ContactState& st, const PathState* path, const OuterPoint* inside) {
   // Everything in one file, renamed over the last checkpoint: a run interrupted at any
   // moment is continued from the last complete one. Inside a step, the step's solve
-  // (`inside`) replaces the state it started from. The writers read the fields only; the
-  // casts let one list of names serve reading and writing.
+  // (`inside`) replaces the state it started from.
   const fs::path tmp = partial_ / "checkpoint.h5.tmp";
   const bool with_state = !inside && !st.empty();
   auto fields = [&](hid_t f) {
-    if (with_state) write_fields(f, "state", scene_.grid, state_fields(const_cast<ContactState&>(st)));
-    if (inside) write_fields(f, "inside", scene_.grid, inside_fields(const_cast<OuterPoint&>(*inside)));
+    if (with_state) write_fields(f, "state", scene_.grid, state_fields(st));
+    if (inside) write_fields(f, "inside", scene_.grid, inside_fields(*inside));
     if (path && !path->pulloff_state.empty())
-      write_fields(f, "pulloff", scene_.grid, state_fields(const_cast<ContactState&>(path->pulloff_state)));
+      write_fields(f, "pulloff", scene_.grid, state_fields(path->pulloff_state));
   };
   if (!is_root()) {  // the fields' slabs go to rank 0
     fields(-1);
