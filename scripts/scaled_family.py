@@ -3,7 +3,7 @@
 affordable, and plain coarse runs beside them.
 
     /usr/bin/python3 scripts/scaled_family.py [--s 32 16] [--coarse 2 4] [--grids N ...] [--no-resolved]
-                                              [--strategies range shape]
+                                              [--start-resolved] [--strategies range shape]
                                               [--results results/scaled-family] [--store reference/challenge-scaled]
                                               [--cmc build/cmc] [--set KEY=VALUE ...] [--dry-run]
 
@@ -21,6 +21,11 @@ branch at 250 kPa:
                (the two resolution strategies; --strategies picks)
   plain_n<N>, range_n<N>, shape_n<N>   explicit grids of --grids (the challenge itself, s = 1, which no
                grid here resolves: use --s 1 --no-resolved --grids 2048 4096)
+--start-resolved starts the resolved run from the refinement run's answer (cmc run
+--start-from, solver/cmc/output/CoarseStart.hpp; the refinement run then writes its fields
+into n<N>-fields/): about 0.6 of a cold start's FFT pairs, with the same a_r where measured
+(s = 32 at 2048²; s = 16 at 4096²); its record says so ("start_from"). The s = 8 member's
+8192² run needs it to fit in one session here.
 rho(s) is read from `cmc surface` (dx_over_range), never assumed. Runs go to
 RESULTS/s<S>/n<N>/ with --resume: a finished run is kept, an interrupted one resumes.
 
@@ -126,11 +131,11 @@ def summary_ok(path):
         return False
 
 
-def run(cmc, s, n, out, extra, dry, case=CASE):
+def run(cmc, s, n, out, extra, dry, case=CASE, options=()):
     # The case files name the s = 32 member; each run is named for its own s.
     name = f"challenge-scaled-s{s}" if case == CASE else f"challenge-scaled-hardwall-s{s}"
     sets = [f"case.name={name}"] + member_sets(s, adhesion=case == CASE) + [f"grid.n={n}"] + extra
-    cmd = [cmc, "run", case, "--out", out, "--resume"] + sum((["--set", x] for x in sets), [])
+    cmd = [cmc, "run", case, "--out", out, "--resume"] + sum((["--set", x] for x in sets), []) + list(options)
     shown = " ".join(["cmc"] + cmd[1:])
     if summary_ok(os.path.join(ROOT, out, "summary.json")):
         print(f"scaled_family: s = {s}, {n}²: done ({out})", file=sys.stderr)
@@ -155,6 +160,8 @@ def record(out, role, n, rho, command):
          "iterations": st["iterations"], "fft_pairs": st.get("fft_pairs"), "wall_s": d["timing"]["wall_s"],
          "residual": st["residual"], "mean_pressure_Pa": st["mean_pressure"],
          "bistability_number": facts.get("bistability_number")}
+    if "start_from" in d:  # started from a coarser run's answer (cmc run --start-from)
+        r["start_from"] = {k: d["start_from"][k] for k in ("folder", "grid", "factor", "gap_lift")}
     obs = st.get("observables", {})
     for key, short, _ in QUANTITIES:
         r[short] = obs.get(key, st.get(key))
@@ -312,6 +319,10 @@ def main():
     ap.add_argument("--strategies", nargs="*", default=list(STRATEGY), choices=list(STRATEGY),
                     help="the coarse-grainings to run beside the plain runs (default: all)")
     ap.add_argument("--no-resolved", action="store_true", help="skip the resolved and refinement grids")
+    ap.add_argument("--start-resolved", action="store_true",
+                    help="start the resolved grid's run from the refinement grid's answer (cmc run --start-from; "
+                         "the refinement run then writes its fields, into nN-fields): the resolved run takes about "
+                         "0.6 of a cold start's FFT pairs")
     ap.add_argument("--no-hardwall", action="store_true",
                     help="skip the hard-wall runs (the resolved and refinement grids, or the two finest --grids)")
     ap.add_argument("--results", default="results/scaled-family")
@@ -328,10 +339,16 @@ def main():
         print(f"scaled_family: s = {s}: rho = {rho * 1e9:.4g} nm, grids "
               + ", ".join(f"{k} {v}² (dx = {L / v / rho:.2f} rho)" for k, v in g.items()), file=sys.stderr)
         runs = []
+        start = None  # the refinement run's folder, when the resolved run starts from it
         for role in g:
             strategy = role.split("_")[0] if role.split("_")[0] in STRATEGY else None
             out = os.path.join(a.results, f"s{s}", f"n{g[role]}" + (f"-{strategy}" if strategy else ""))
-            cmd = run(a.cmc, s, g[role], out, a.set + (STRATEGY[strategy] if strategy else []), a.dry_run)
+            extra, options = a.set + (STRATEGY[strategy] if strategy else []), []
+            if a.start_resolved and role == "refinement":
+                out, extra, start = out + "-fields", extra + ["output.fields=true"], out + "-fields"
+            if a.start_resolved and role == "resolved":
+                options = ["--start-from", start]
+            cmd = run(a.cmc, s, g[role], out, extra, a.dry_run, options=options)
             if not a.dry_run:
                 runs.append(record(out, role, g[role], rho, cmd))
         # The same surface under the hard wall on the two finest grids (the second route's

@@ -12,7 +12,7 @@ namespace cmc::app {
 
 namespace {
 const char* kRunHelp = R"(usage: cmc run CASE.toml --out DIR [--set section.key=value ...] [--resume] [--quiet]
-               [--checkpoint-every SECONDS]
+               [--checkpoint-every SECONDS] [--start-from COARSE_DIR]
 
 Solves every load step of CASE.toml and writes, atomically:
   DIR/summary.json  the resolved case, units, grid, status, timing and one record per step
@@ -29,6 +29,12 @@ solver between two of its outer steps, at most every SECONDS (--checkpoint-every
 --resume continues an interrupted run of the same case (same file and --set values) from
 its last checkpoint, with the same results, bit for bit, as a run that was not
 interrupted (on the same machine and thread count).
+--start-from COARSE_DIR starts the solve from the last state of a finished run of the
+same case on a coarser grid (its points dividing this grid's by a whole factor, written
+with --set output.fields=true), prolonged onto this grid: the quasi-static solver's
+resolved runs then need fewer outer steps. One load step, quasi-static or Polonsky-Keer
+solver, periodic boundary. Close to, not guaranteed to be, the loading-branch state of a
+cold start (solver/cmc/output/CoarseStart.hpp); summary.json records it ("start_from").
 One cmc process at a time writes into DIR: a second one stops at once (exit code 4)
 naming the process that holds DIR/.cmc.lock.
 Exit codes: 0 converged, 2 bad input, 3 not converged (results are still written,
@@ -38,7 +44,7 @@ with "status": "not_converged"), 4 failed (I/O, memory, DIR in use).
 }  // namespace
 
 int cmd_run(int argc, char** argv) {
-  const Args a = parse_args(argc, argv, 2, {"--checkpoint-every"});
+  const Args a = parse_args(argc, argv, 2, {"--checkpoint-every", "--start-from"});
   if (a.help) return std::fputs(kRunHelp, stdout), kOk;
   if (a.positional.size() != 1) throw CaseError("cmc run takes exactly one case file (see cmc run --help)");
   if (a.out.empty()) throw CaseError("cmc run needs --out DIR (see cmc run --help)");
@@ -54,7 +60,7 @@ int cmd_run(int argc, char** argv) {
   const OutputLock lock = is_root() ? OutputLock(a.out) : OutputLock();
   print_memory_plan(c, a.quiet);
   Scene scene = build_scene(c);
-  const RunSummary run = run_case_to(c, scene, a.out, a.resume, a.quiet, every);
+  const RunSummary run = run_case_to(c, scene, a.out, a.resume, a.quiet, every, a.option("--start-from"));
   if (run.status != RunStatus::Converged) {
     if (is_root()) std::fprintf(stderr, "cmc run: %s\n", run.message.c_str());
     return kNotConverged;

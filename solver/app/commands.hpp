@@ -47,8 +47,10 @@ Progress make_progress(bool quiet, int* step, std::chrono::steady_clock::time_po
 // checkpoint_every_s: the least time between two checkpoints inside a load step (the
 // quasi-static solver's outer steps; cmc run --checkpoint-every). Steps always end in one.
 constexpr double kCheckpointEverySeconds = 600.0;
+// start_from: a finished run of the same case on a coarser grid whose last state starts
+// the first solve (cmc run --start-from; output/CoarseStart.hpp); empty: from scratch.
 RunSummary run_case_to(const Case& c, Scene& scene, const std::string& out, bool resume, bool quiet,
-                       double checkpoint_every_s = kCheckpointEverySeconds);
+                       double checkpoint_every_s = kCheckpointEverySeconds, const std::string& start_from = "");
 
 int cmd_run(int argc, char** argv);
 int cmd_refine(int argc, char** argv);     // cmd_refine.cpp

@@ -2,16 +2,23 @@
 #include "commands.hpp"
 
 #include "cmc/grid/Ranks.hpp"
+#include "cmc/output/CoarseStart.hpp"
 #include "cmc/output/Writer.hpp"
 
 #include <unistd.h>
 
 #include <cstdio>
+#include <optional>
 
 namespace cmc::app {
 
 RunSummary run_case_to(const Case& c, Scene& scene, const std::string& out, bool resume, bool quiet,
-                       double checkpoint_every_s) {
+                       double checkpoint_every_s, const std::string& start_from) {
+  // A start from a coarser run, read and checked before the output folder is touched (a
+  // wrong folder there leaves an earlier run's results in `out` as they were). Raised by
+  // the interaction's range (0 for the hard wall): CoarseStart.hpp.
+  std::optional<CoarseStart> start;
+  if (!start_from.empty()) start = read_coarse_start(start_from, c, scene, interaction_range(scene.interaction));
   Writer writer(out, c, scene, resume);
   RunPoint& rp = writer.resume_point();
   if (!writer.notice().empty()) std::fprintf(stderr, "cmc: warning: %s\n", writer.notice().c_str());
@@ -23,7 +30,27 @@ RunSummary run_case_to(const Case& c, Scene& scene, const std::string& out, bool
       std::fprintf(stderr, ", step %zu inside: %d outer steps, %d iterations, %.0f FFT pairs, %.0f s done",
                    rp.done.size(), rp.inside->outer, rp.inside->so_far.iterations, rp.inside->so_far.fft_pairs,
                    rp.inside->so_far.wall_s);
+    if (!writer.start().empty())
+      std::fprintf(stderr, " (started from %s)", writer.start()["folder"].value_or(std::string("?")).c_str());
     std::fputc('\n', stderr);
+  }
+  // A resumed run goes on from its checkpoint instead (which records how it started).
+  bool started = false;
+  if (start && writer.resuming()) {
+    if (writer.start().empty())
+      std::fprintf(stderr, "cmc: warning: --start-from %s ignored: the run resumed in %s started from scratch\n",
+                   start_from.c_str(), out.c_str());
+    start.reset();
+  } else if (start) {
+    rp.state = std::move(start->state);
+    writer.set_start(start->record);
+    started = true;
+    if (!quiet)
+      std::fprintf(stderr, "starting %s from %s (%lld x %lld points, prolonged by %lld, gaps raised by %.4g m)\n",
+                   c.name.c_str(), start_from.c_str(), start->record["grid"][0].value_or(0LL),
+                   start->record["grid"][1].value_or(0LL), start->record["factor"].value_or(0LL),
+                   start->record["gap_lift"].value_or(0.0));
+    start.reset();
   }
   // The step being solved, numbered as in summary.json (a resumed run goes on from its
   // first unfinished step).
@@ -47,7 +74,7 @@ RunSummary run_case_to(const Case& c, Scene& scene, const std::string& out, bool
                          r.result.residual, r.result.wall_s, r.mean_pressure, r.contact_fraction);
           step = r.index + 1;
         },
-        make_progress(quiet, &step, t0, int(scene.targets.size()), step), writer.resuming() ? &rp : nullptr,
+        make_progress(quiet, &step, t0, int(scene.targets.size()), step), writer.resuming() || started ? &rp : nullptr,
         [&](const ContactState& st, const PathState* path, const OuterPoint* inside) {
           const auto now = std::chrono::steady_clock::now();
           // The same choice on every rank of a distributed run (each writes its slab).

@@ -388,6 +388,7 @@ void Writer::load_partial() {
     resume_.state.penetration = pen->get();
     resume_.state.mean_pressure = mp->get();
   }
+  if (const auto* sf = t["start_from"].as_table()) start_ = *sf;
   if (const auto* in = t["inside"].as_table()) {
     OuterPoint at;
     const auto* outer = (*in)["outer"].as_integer();
@@ -503,6 +504,7 @@ void Writer::checkpoint(const ContactState& st, const PathState* path, const Out
                                         {"mean_pressure", st.mean_pressure},
                                         {"fields", with_state}}}};
     if (path) t.insert("path", path_table(*path));
+    if (!start_.empty()) t.insert("start_from", start_);
     if (inside)
       t.insert("inside", toml::table{{"outer", inside->outer},
                                      {"penetration", inside->inner.penetration},
@@ -571,6 +573,7 @@ toml::table Writer::summary_base() const {
   toml::array warnings;
   for (const auto& w : scene_.warnings) warnings.push_back(w);
   base.insert("warnings", warnings);
+  if (!start_.empty()) base.insert("start_from", start_);
   return base;
 }
 

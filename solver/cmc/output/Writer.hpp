@@ -55,6 +55,14 @@ class Writer {
   // A run that failed: summary.json with status "failed" and the message, no fields.
   void fail(const std::string& message);
 
+  // Where the run's first solve started when not from scratch (a coarser run's state,
+  // CoarseStart.hpp): written into summary.json as "start_from" and kept in checkpoints,
+  // so a resumed run records it too. A resumed run keeps the record it was started with.
+  void set_start(const toml::table& record) {
+    if (start_.empty()) start_ = record;
+  }
+  const toml::table& start() const { return start_; }
+
   static toml::table step_json(const StepRecord& r);
   const std::filesystem::path& dir() const { return dir_; }
 
@@ -68,6 +76,7 @@ class Writer {
   bool resuming_ = false;
   std::string notice_;
   toml::array records_;
+  toml::table start_;
   const Case& case_;
   const Scene& scene_;
 };
