@@ -3,7 +3,8 @@
 affordable, and plain coarse runs beside them.
 
     /usr/bin/python3 scripts/scaled_family.py [--s 32 16] [--coarse 2 4] [--grids N ...] [--no-resolved]
-                                              [--start-resolved] [--strategies range shape]
+                                              [--start-resolved] [--refinement-only]
+                                              [--strategies range shape]
                                               [--results results/scaled-family] [--store reference/challenge-scaled]
                                               [--cmc build/cmc] [--set KEY=VALUE ...] [--dry-run]
 
@@ -319,6 +320,9 @@ def main():
     ap.add_argument("--strategies", nargs="*", default=list(STRATEGY), choices=list(STRATEGY),
                     help="the coarse-grainings to run beside the plain runs (default: all)")
     ap.add_argument("--no-resolved", action="store_true", help="skip the resolved and refinement grids")
+    ap.add_argument("--refinement-only", action="store_true",
+                    help="of the resolved and refinement grids, run only the refinement grid (and the hard wall on it "
+                         "and on half of it): a member whose resolved run does not fit the session (s = 8)")
     ap.add_argument("--start-resolved", action="store_true",
                     help="start the resolved grid's run from the refinement grid's answer (cmc run --start-from; "
                          "the refinement run then writes its fields, into nN-fields): the resolved run takes about "
@@ -336,6 +340,8 @@ def main():
     for s in a.s:
         rho = rho_of(a.cmc, s, a.set)
         g = grids(rho, a.coarse, a.grids, not a.no_resolved, a.strategies)
+        if a.refinement_only:
+            g.pop("resolved", None)
         print(f"scaled_family: s = {s}: rho = {rho * 1e9:.4g} nm, grids "
               + ", ".join(f"{k} {v}² (dx = {L / v / rho:.2f} rho)" for k, v in g.items()), file=sys.stderr)
         runs = []
@@ -355,7 +361,9 @@ def main():
         # denominator; a hard-wall solve costs little beside the adhesive one).
         if not a.no_hardwall:
             hw_grids = ({"hardwall_refinement": g["refinement"], "hardwall_resolved": g["resolved"]}
-                        if "resolved" in g else {f"hardwall_n{n}": n for n in sorted(a.grids)[-2:]})
+                        if "resolved" in g else
+                        {f"hardwall_n{g['refinement'] // 2}": g["refinement"] // 2, "hardwall_refinement": g["refinement"]}
+                        if "refinement" in g else {f"hardwall_n{n}": n for n in sorted(a.grids)[-2:]})
             for role, n in hw_grids.items():
                 out = os.path.join(a.results, f"s{s}", f"n{n}-hardwall")
                 cmd = run(a.cmc, s, n, out, [], a.dry_run, case=CASE_HW)
