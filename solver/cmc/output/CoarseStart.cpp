@@ -29,7 +29,7 @@ double attribute(hid_t obj, const char* name) {
   return v;
 }
 
-bool close(double a, double b, double rel) { return std::abs(a - b) <= rel * std::max(std::abs(a), std::abs(b)); }
+bool nearly_equal(double a, double b, double rel) { return std::abs(a - b) <= rel * std::max(std::abs(a), std::abs(b)); }
 
 }  // namespace
 
@@ -83,7 +83,7 @@ CoarseStart read_coarse_start(const fs::path& dir, const Case& c, const Scene& s
     H5Handle f(H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
     if (!f.ok()) fail(file.string() + " is not a readable HDF5 file");
     const double sx = attribute(f, "size_x"), sy = attribute(f, "size_y");
-    if (!close(sx, lx_m, 1e-9) || !close(sy, ly_m, 1e-9)) {
+    if (!nearly_equal(sx, lx_m, 1e-9) || !nearly_equal(sy, ly_m, 1e-9)) {
       std::ostringstream m;
       m << file.string() << " covers " << sx << " x " << sy << " m, this case " << lx_m << " x " << ly_m
         << " m: a start needs the same box";
