@@ -31,6 +31,13 @@
 //    loading-branch state. Raised by ρ (a prototype that wrote the start into a checkpoint;
 //    its warm-start pressure differs slightly from this code's): 141 outer steps, 3076
 //    pairs, a_r identical to the last bit, mean gap 3e-7 relative.
+//  * Where the finer grid is itself bistable the raise is not enough. The challenge (s = 1)
+//    with the shape coarse-graining at 4096² (dx = 11.8 ρ) from 2048² (23.6 ρ; a 189 s run),
+//    raised by the law's range (6.4 nm): 871 iterations, 2399 pairs, 1073 s against the cold
+//    run's 1022, 2802, 1279 s (whose a_r, 0.0320969, is the stored one to the last bit); a_r
+//    150 points of 16.8 million higher (3e-4 relative), repulsive a_r 63 points, mean gap
+//    1e-5 relative lower: a neighbouring equilibrium, and no time saved counting the 2048²
+//    run. Use it for resolved grids (dx ≲ 1.5 ρ), where it was measured to hold.
 //  * s = 128 at 256² from 128² (tests/start_from_test.py, same_state): the same contact
 //    and repulsive fractions, 31 outer steps and 488 pairs against 37 and 658. Starting
 //    from below instead (every gap lowered by 3 ρ) ends 12 % higher in a_r: the test fails.
