@@ -66,6 +66,17 @@ TEST(Case, GoodCaseParsesWithDefaults) {
   // Defaults are written into the resolved case.
   EXPECT_EQ(c.resolved["solver"]["tolerance"].value<double>(), 1e-10);
   EXPECT_EQ(c.resolved["grid"]["boundary"].value<std::string>(), "periodic");
+  EXPECT_EQ(c.resolved["grid"]["backend"].value<std::string>(), "cpu");
+}
+
+// Issue 16: "cuda" is a known backend that this version refuses by name (no CUDA backend
+// yet), and an unknown word lists the choices; "cpu" is accepted explicitly.
+TEST(Case, BackendCudaIsRefusedByName) {
+  EXPECT_EQ(load_case(write(replace(kGood, "n = 16", "n = 16\nbackend = \"cpu\""))).grid.backend, "cpu");
+  auto m = error_of(replace(kGood, "n = 16", "n = 16\nbackend = \"cuda\""));
+  EXPECT_NE(m.find("[grid] backend: expected \"cpu\": this version of cmc has no CUDA backend yet"), std::string::npos) << m;
+  m = error_of(replace(kGood, "n = 16", "n = 16\nbackend = \"tpu\""));
+  EXPECT_NE(m.find("[grid] backend: expected one of"), std::string::npos) << m;
 }
 
 TEST(Case, MalformedToml) {

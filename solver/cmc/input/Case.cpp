@@ -258,6 +258,9 @@ void parse_grid(Section s, GridSpec& g) {
   g.size_y = s.number("size_y", g.size_x, "the side length along y in m", true);
   g.periodic = s.string("boundary", std::string(g.periodic ? "periodic" : "free"), {"periodic", "free"}) == "periodic";
   if (!g.periodic && g.ny < 2) s.fail("ny", "at least 2 points: a free boundary needs a 2-D grid");
+  g.backend = s.string("backend", g.backend, {"cpu", "cuda"});
+  if (g.backend != "cpu")
+    s.fail("backend", "\"cpu\": this version of cmc has no CUDA backend yet (issue 16; README, \"GPU\"), in any build");
   s.finish();
 }
 
@@ -576,6 +579,7 @@ std::vector<DocumentedDefault> case_defaults() {
       {"grid", "size", req},
       {"grid", "size_y", "size"},
       {"grid", "boundary", quoted_word(g.periodic ? "periodic" : "free")},
+      {"grid", "backend", quoted_word(g.backend)},
       {"material", "contact_modulus", req},
       {"surface", "kind", req},
       {"surface", "radius", "required for sphere"},

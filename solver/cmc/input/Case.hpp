@@ -30,6 +30,10 @@ struct GridSpec {
   int nx = 0, ny = 0;
   double size_x = 0.0, size_y = 0.0;  // m
   bool periodic = true;
+  // Where fields live and passes run: "cpu" (FFTW and OpenMP), the only backend of this
+  // version. "cuda" is a known word that every build refuses with a message until a CUDA
+  // backend exists (issue 16; README, "GPU"), so a case file written for it fails clearly.
+  std::string backend = "cpu";
 };
 
 struct SurfaceSpec {
