@@ -26,7 +26,8 @@ branch at 250 kPa:
 --start-from, solver/cmc/output/CoarseStart.hpp; the refinement run then writes its fields
 into n<N>-fields/): about 0.6 of a cold start's FFT pairs, with the same a_r where measured
 (s = 32 at 2048²; s = 16 at 4096²); its record says so ("start_from"). The s = 8 member's
-8192² run needs it to fit in one session here.
+8192² run needs it, and still outlasts a session here (1503 iterations in 73 outer steps and
+2.4 h, unconverged: README, "s = 8, provisionally"); it resumes from its checkpoint.
 rho(s) is read from `cmc surface` (dx_over_range), never assumed. Runs go to
 RESULTS/s<S>/n<N>/ with --resume: a finished run is kept, an interrupted one resumes.
 
