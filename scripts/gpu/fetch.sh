@@ -30,9 +30,9 @@ done
 dev=(libfftw3-dev libgsl-dev libhdf5-dev libtomlplusplus-dev libgtest-dev libbenchmark-dev)
 runtime=()
 while read -r lib; do
-  pkg=$(dpkg -S "$(readlink -f "$lib")" 2>/dev/null | head -1 | cut -d: -f1) ||
-    true
-  [ -n "$pkg" ] || pkg=$(dpkg -S "$lib" 2>/dev/null | head -1 | cut -d: -f1) || true
+  # dpkg knows a library by the path its package installed: the resolved file, or the link.
+  pkg=$(dpkg -S "$(readlink -f "$lib")" 2>/dev/null | head -1 | cut -d: -f1 || true)
+  [ -n "$pkg" ] || pkg=$(dpkg -S "$lib" 2>/dev/null | head -1 | cut -d: -f1 || true)
   [ -n "$pkg" ] || die "no Debian package holds $lib (ldd of build/cmc): is it a library built by hand?"
   case "$pkg" in libc6|libgcc-s1|libstdc++6|libgomp1) ;; *) runtime+=("$pkg") ;; esac
 done < <(ldd build/cmc build/cmc_bench | awk '$2 == "=>" && $3 ~ /^\// {print $3}' | sort -u)
