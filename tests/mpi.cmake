@@ -10,5 +10,5 @@ foreach(test hertz_periodic hertz_free westergaard_2d challenge_hardwall adhesiv
            COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/tests/mpi_test.py ${CMC_SERIAL_CMC} $<TARGET_FILE:cmc>
                    ${CMAKE_BINARY_DIR}/mpi-tests ${test})
   # Two ranks each: one test at a time on the 2-core CI machine (RUN_SERIAL).
-  set_tests_properties(mpi.${test} PROPERTIES LABELS mpi TIMEOUT 600 RUN_SERIAL TRUE)
+  set_tests_properties(mpi.${test} PROPERTIES LABELS "mpi;python" TIMEOUT 600 RUN_SERIAL TRUE)
 endforeach()

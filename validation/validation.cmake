@@ -21,7 +21,7 @@ set_tests_properties(validate.can_fail PROPERTIES LABELS validation)
 
 # The report scripts on synthetic inputs (Debian's python3 with matplotlib/h5py).
 add_test(NAME reports.selftest COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/reports/selftest.py)
-set_tests_properties(reports.selftest PROPERTIES LABELS quick)
+set_tests_properties(reports.selftest PROPERTIES LABELS "quick;python")
 
 # cmc surface prints R_c = 1/(rms line-scan curvature) (SurfaceStats.hpp). Two checks
 # against values derived from the surface's definition, not from an earlier run:
@@ -91,6 +91,7 @@ cmc_cli_test(cli.reference_run_curve_bad_spec "printf 'name = \"x\"\\n' > ${CMAK
 set(CMC_RERUN ${CMAKE_BINARY_DIR}/rerun)
 set(CMC_RERUN_ONE "rm -f ${CMC_RERUN}/wisdom && CMC_THREADS=2 CMC_FFTW_WISDOM=${CMC_RERUN}/wisdom $<TARGET_FILE:cmc> run ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load.toml --set grid.n=256 --quiet --out")
 cmc_cli_test(rerun.same_bits "rm -rf ${CMC_RERUN} && mkdir -p ${CMC_RERUN} && ${CMC_RERUN_ONE} ${CMC_RERUN}/a && ${CMC_RERUN_ONE} ${CMC_RERUN}/b && /usr/bin/python3 ${CMAKE_SOURCE_DIR}/scripts/compare_runs.py ${CMC_RERUN}/a ${CMC_RERUN}/b")
+set_tests_properties(rerun.same_bits PROPERTIES LABELS "quick;python")
 # A planner name cmc does not know is an error that names the variable, before any output.
 cmc_cli_test(cli.bad_fft_planner "rm -rf ${CMAKE_BINARY_DIR}/bad-planner; CMC_FFTW_PLANNER=bogus $<TARGET_FILE:cmc> run ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load-hardwall.toml --set grid.n=64 --out ${CMAKE_BINARY_DIR}/bad-planner 2>&1 | grep -q 'CMC_FFTW_PLANNER: expected builtin' && test ! -e ${CMAKE_BINARY_DIR}/bad-planner")
 
