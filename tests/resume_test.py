@@ -29,6 +29,10 @@ TEST is one of
                     middle of a load sweep); with the default interval (600 s) the same kill
                     resumes from the step's start, also bit for bit; a malformed
                     --checkpoint-every is refused (exit 2) before anything is written
+  older_checkpoint  a checkpoint written before a key existed (grid.backend removed from its
+                    case text): resumed with a warning naming the key, bit for bit; a
+                    checkpoint of another case is refused (exit 2) naming the first
+                    differing key and both values, and left as it was
   D7_lock           a second cmc run / validate / refine on a folder in use stops at once
                     with exit code 4, naming the folder and the first run's process id,
                     and the first run's results are intact
@@ -320,6 +324,49 @@ def test_inside_step(cmc, work):
         check(p.returncode == 2 and "--checkpoint-every" in p.stderr and not os.path.exists(out),
               f"--checkpoint-every {bad}: exit {p.returncode} (expected 2, a message naming the option, no "
               f"folder):\n{p.stderr}")
+
+
+def edit_checkpoint_case(folder, edit):
+    """Rewrite the case text kept in FOLDER's checkpoint with edit(text)."""
+    import h5py
+    import numpy
+    with h5py.File(os.path.join(folder, ".partial", "checkpoint.h5"), "r+") as f:
+        text = f["progress"][()].decode()
+        new = edit(text)
+        assert new != text, "edit_checkpoint_case: the edit changed nothing"
+        del f["progress"]
+        b = new.encode()
+        f.create_dataset("progress", data=numpy.array(b, dtype=f"S{len(b) + 1}"))
+
+
+def test_older_checkpoint(cmc, work):
+    args = ["--set", "grid.n=128", "--checkpoint-every", "0"]
+    ref, _ = reference(cmc, work, FAMILY_CASE, *args)
+    out = os.path.join(work, "older")
+    shutil.rmtree(out, ignore_errors=True)
+    if not interrupted(cmc, FAMILY_CASE, out, "outer:4", *args):
+        return
+    # As a version of cmc before grid.backend wrote it.
+    edit_checkpoint_case(out, lambda t: re.sub(r'\n\s*"backend" : "cpu",', "", t))
+    p = subprocess.run([cmc, "run", FAMILY_CASE, "--out", out, "--resume", *args], env=env(), capture_output=True,
+                       text=True)
+    if check(p.returncode == 0, f"older checkpoint: the resumed run exited {p.returncode}:\n{p.stderr}"):
+        check(re.search(r"warning: .*predates the key grid\.backend = \"cpu\"", p.stderr) is not None
+              and re.search(r"^resuming .*inside", p.stderr, re.M) is not None,
+              f"older checkpoint: expected a warning naming grid.backend and a resume inside the step:\n{p.stderr}")
+        compare(ref, out, "older checkpoint, resumed")
+    # Another case's checkpoint (its grid edited to 64): refused, the key named, nothing touched.
+    out = os.path.join(work, "other")
+    shutil.rmtree(out, ignore_errors=True)
+    if not interrupted(cmc, FAMILY_CASE, out, "outer:4", *args):
+        return
+    edit_checkpoint_case(out, lambda t: t.replace('"n" : 128', '"n" : 64'))
+    before = os.path.getmtime(os.path.join(out, ".partial", "checkpoint.h5"))
+    p = cmc_run(cmc, FAMILY_CASE, out, *args, resume=True)
+    check(p.returncode == 2 and "key grid.n: 64 in the checkpoint, 128 here" in p.stderr,
+          f"another case's checkpoint: exit {p.returncode} (expected 2, naming grid.n and both values):\n{p.stderr}")
+    check(os.path.getmtime(os.path.join(out, ".partial", "checkpoint.h5")) == before,
+          "another case's checkpoint: the refused resume touched it")
 
 
 def test_D7_lock(cmc, work):

@@ -1,5 +1,7 @@
 #include "cmc/output/Writer.hpp"
 
+#include "cmc/output/CaseDiff.hpp"
+
 #include "cmc/grid/Ranks.hpp"
 #include "cmc/surface/H5Handle.hpp"
 
@@ -340,9 +342,13 @@ void Writer::load_partial() {
     throw damaged("dataset 'progress' is not TOML (" + std::string(e.description()) + ")");
   }
   if (t["format"].value_or(0) != 1) throw damaged("key 'format': expected 1 (written by another version of cmc?)");
-  if (t["case"].value_or(std::string()) != to_json(case_.resolved))
-    throw CaseError(dir_.string() + " holds a partial run of a different case (or other --set values): run without "
-                    "--resume to start afresh, or use another --out");
+  const CaseDiff diff = compare_cases(t["case"].value_or(std::string()), to_json(case_.resolved));
+  if (!diff.same())
+    throw CaseError(dir_.string() + " holds a partial run of a different case (or other --set values; first difference: " +
+                    diff.mismatch + "): run without --resume to start afresh, or use another --out");
+  for (const auto& key : diff.defaulted)
+    notice_ += (notice_.empty() ? "" : "\n") + std::string("the checkpoint in ") + dir_.string() +
+               " predates the key " + key + ", which holds its default here: the run it continues used that";
   if (auto* steps = t["steps"].as_array())
     for (auto& node : *steps) {
       const toml::table* rt = node.as_table();

@@ -1,0 +1,24 @@
+// Whether a checkpoint was written by the case being run: the resolved case a checkpoint
+// keeps (to_json text) against the one a resumed run resolves now.
+//
+// A long run outlives versions of cmc: a key added after the checkpoint was written (e.g.
+// grid.backend) appears in today's resolved case and not in the checkpoint's. Such a key
+// is accepted when it holds its documented default (case_defaults(), Case.hpp), which is
+// by construction what the older version ran; any other difference refuses the resume,
+// and the first difference is named so that the user can see which --set went astray.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace cmc {
+
+struct CaseDiff {
+  std::string mismatch;                // empty: the same case; else "key a.b: ... " (first difference)
+  std::vector<std::string> defaulted;  // "a.b = v": keys absent from the checkpoint, at their default here
+  bool same() const { return mismatch.empty(); }
+};
+
+CaseDiff compare_cases(const std::string& checkpoint_json, const std::string& current_json);
+
+}  // namespace cmc
