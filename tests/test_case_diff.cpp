@@ -64,3 +64,17 @@ TEST(CaseDiff, ChangedValueIsNamed) {
   EXPECT_NE(compare_cases(to_json(resolved_case()), to_json(now)).mismatch.find("loading.max_halvings"),
             std::string::npos);
 }
+
+// The description is free text: reported, not refused; the name is not.
+TEST(CaseDiff, AnotherDescriptionIsReportedNotRefused) {
+  toml::table was = resolved_case();
+  was["case"].as_table()->insert_or_assign("description", "old words");
+  toml::table now = resolved_case();
+  now["case"].as_table()->insert_or_assign("description", "new words");
+  const CaseDiff d = compare_cases(to_json(was), to_json(now));
+  EXPECT_TRUE(d.same()) << d.mismatch;
+  ASSERT_EQ(d.text_changed.size(), 1u);
+  EXPECT_EQ(d.text_changed[0], "case.description");
+  now["case"].as_table()->insert_or_assign("name", "y");
+  EXPECT_EQ(compare_cases(to_json(was), to_json(now)).mismatch.rfind("key case.name", 0), 0u);
+}

@@ -93,7 +93,9 @@ CaseDiff compare_cases(const std::string& checkpoint_json, const std::string& cu
       diff.mismatch = "key " + key + ": " + value + " in the checkpoint, absent here";
       return diff;
     }
-    if (it->second != value) {
+    if (it->second != value && key == "case.description") {
+      diff.text_changed.push_back(key);
+    } else if (it->second != value) {
       diff.mismatch = "key " + key + ": " + value + " in the checkpoint, " + it->second + " here";
       return diff;
     }

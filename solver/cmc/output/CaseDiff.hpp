@@ -6,6 +6,8 @@
 // is accepted when it holds its documented default (case_defaults(), Case.hpp), which is
 // by construction what the older version ran; any other difference refuses the resume,
 // and the first difference is named so that the user can see which --set went astray.
+// case.description is free text that no solver reads: a changed description is reported,
+// not refused (the family's script names each member in it).
 #pragma once
 
 #include <string>
@@ -16,6 +18,7 @@ namespace cmc {
 struct CaseDiff {
   std::string mismatch;                // empty: the same case; else "key a.b: ... " (first difference)
   std::vector<std::string> defaulted;  // "a.b = v": keys absent from the checkpoint, at their default here
+  std::vector<std::string> text_changed;  // free-text keys that differ (the run goes on with today's)
   bool same() const { return mismatch.empty(); }
 };
 
