@@ -100,7 +100,13 @@ cmc_cli_test(cli.bad_fft_planner "rm -rf ${CMAKE_BINARY_DIR}/bad-planner; CMC_FF
 # a malformed value is refused (exit 2, naming the variable) before any output is made.
 add_test(NAME cli.progress_in_log
          COMMAND sh -c "rm -rf ${CMAKE_BINARY_DIR}/cli_progress && CMC_PROGRESS_EVERY=0 $<TARGET_FILE:cmc> run ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load.toml --set grid.n=128 --out ${CMAKE_BINARY_DIR}/cli_progress 2>&1 | cat")
+# The quasi-static solver (this case) reports its outer steps and tension change, the
+# hard-wall solver its residual.
 set_tests_properties(cli.progress_in_log PROPERTIES LABELS quick
+                     PASS_REGULAR_EXPRESSION "\n  step 0/1  iteration +[0-9]+  outer step +[0-9]+  tension change [0-9.e+-]+  elapsed +[0-9.]+ s\n")
+add_test(NAME cli.progress_in_log_hardwall
+         COMMAND sh -c "rm -rf ${CMAKE_BINARY_DIR}/cli_progress_hw && CMC_PROGRESS_EVERY=0 $<TARGET_FILE:cmc> run ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load-hardwall.toml --set grid.n=128 --out ${CMAKE_BINARY_DIR}/cli_progress_hw 2>&1 | cat")
+set_tests_properties(cli.progress_in_log_hardwall PROPERTIES LABELS quick
                      PASS_REGULAR_EXPRESSION "\n  step 0/1  iteration +[0-9]+  residual [0-9.e+-]+  elapsed +[0-9.]+ s\n")
 add_test(NAME cli.progress_every_malformed
          COMMAND sh -c "rm -rf ${CMAKE_BINARY_DIR}/cli_progress_bad; CMC_PROGRESS_EVERY=-1 $<TARGET_FILE:cmc> run ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load.toml --set grid.n=128 --out ${CMAKE_BINARY_DIR}/cli_progress_bad 2>${CMAKE_BINARY_DIR}/cli_progress_bad.err; rc=$?; grep -q CMC_PROGRESS_EVERY ${CMAKE_BINARY_DIR}/cli_progress_bad.err && test $rc -eq 2 && test ! -e ${CMAKE_BINARY_DIR}/cli_progress_bad")

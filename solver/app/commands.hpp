@@ -30,7 +30,9 @@ struct Args {
 Args parse_args(int argc, char** argv, int first, const std::vector<std::string>& valued = {});
 
 // Progress on stderr without --quiet: step (*step, numbered as in summary.json),
-// iteration, residual, elapsed time and, once a step has finished, the estimated time left
+// iteration, residual (for the quasi-static solver: outer steps done and the last one's
+// tension change, over w/ρ, which the tension tolerance bounds), elapsed time and, once a
+// step has finished, the estimated time left
 // (elapsed per step finished since `first_step` x steps left; a resumed run starts at its
 // first unfinished step). On a terminal one line rewritten in place; into a file or pipe
 // (a batch job's log) a line of its own at most every 30 s (CMC_PROGRESS_EVERY = seconds,

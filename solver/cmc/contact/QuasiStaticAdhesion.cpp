@@ -340,7 +340,7 @@ SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st, O
                  }
                  acc.v = std::max(acc.v, m);
                }).v / adh_.peak_tension();
-    if (opt_.progress) opt_.progress(res.iterations, residual);
+    if (opt_.progress) opt_.progress(res.iterations, residual, outer + 1);
     if (!std::isfinite(residual)) {
       pk_ok = false;
       pk_message = "the adhesive tension became non-finite at outer step " + std::to_string(outer);

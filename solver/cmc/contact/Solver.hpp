@@ -84,8 +84,10 @@ struct Target {
   double value;
 };
 
-// Progress report hook (iteration, residual); the solver never prints.
-using Progress = std::function<void(int iteration, double residual)>;
+// Progress report hook; the solver never prints. `outer`: outer steps done, for a solver
+// that has them (the quasi-static solver, whose residual is then its tension change);
+// 0 for the others.
+using Progress = std::function<void(int iteration, double residual, int outer)>;
 
 struct SolverOptions {
   double tolerance = 1e-10;  // on the solver's residual (see each solver)
