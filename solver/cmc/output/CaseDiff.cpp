@@ -47,6 +47,7 @@ std::map<std::string, std::string> flatten(const std::string& json) {
     if (close == std::string::npos || colon == std::string::npos) continue;
     const std::string key = t.substr(1, close - 1);
     std::string value = trim(t.substr(colon + 1));
+    if (value.empty()) continue;
     std::string full;
     for (const auto& p : path) full += p + ".";
     full += key;

@@ -7,7 +7,7 @@
 // by construction what the older version ran; any other difference refuses the resume,
 // and the first difference is named so that the user can see which --set went astray.
 // case.description is free text that no solver reads: a changed description is reported,
-// not refused (the family's script names each member in it).
+// not refused.
 #pragma once
 
 #include <string>

@@ -346,12 +346,12 @@ void Writer::load_partial() {
   if (!diff.same())
     throw CaseError(dir_.string() + " holds a partial run of a different case (or other --set values; first difference: " +
                     diff.mismatch + "): run without --resume to start afresh, or use another --out");
-  for (const auto& key : diff.text_changed)
-    notice_ += (notice_.empty() ? "" : "\n") + std::string("the checkpoint in ") + dir_.string() + " has another " + key +
-               " (free text; the run goes on with this one)";
+  auto notice = [&](const std::string& what) {
+    notice_ += (notice_.empty() ? "" : "\n") + ("the checkpoint in " + dir_.string() + " ") + what;
+  };
+  for (const auto& key : diff.text_changed) notice("has another " + key + " (free text; the run goes on with this one)");
   for (const auto& key : diff.defaulted)
-    notice_ += (notice_.empty() ? "" : "\n") + std::string("the checkpoint in ") + dir_.string() +
-               " predates the key " + key + ", which holds its default here: the run it continues used that";
+    notice("predates the key " + key + ", which holds its default here: the run it continues used that");
   if (auto* steps = t["steps"].as_array())
     for (auto& node : *steps) {
       const toml::table* rt = node.as_table();
