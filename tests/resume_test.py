@@ -33,6 +33,12 @@ TEST is one of
                     case text): resumed with a warning naming the key, bit for bit; a
                     checkpoint of another case is refused (exit 2) naming the first
                     differing key and both values, and left as it was
+  stopping_limit    solver.max_outer_steps changed on resume: a family run killed after
+                    outer step 4 and resumed with the limit 6 stops there (exit 3,
+                    not_converged, a notice naming the limit) and equals a fresh run with
+                    limit 6 bit for bit, also from a checkpoint written before the key
+                    existed; a limit the checkpoint has reached (4) is refused (exit 2),
+                    the checkpoint untouched
   D7_lock           a second cmc run / validate / refine on a folder in use stops at once
                     with exit code 4, naming the folder and the first run's process id,
                     and the first run's results are intact
@@ -367,6 +373,49 @@ def test_older_checkpoint(cmc, work):
           f"another case's checkpoint: exit {p.returncode} (expected 2, naming grid.n and both values):\n{p.stderr}")
     check(os.path.getmtime(os.path.join(out, ".partial", "checkpoint.h5")) == before,
           "another case's checkpoint: the refused resume touched it")
+
+
+def test_stopping_limit(cmc, work):
+    args = ["--set", "grid.n=128", "--checkpoint-every", "0"]
+    limit = ["--set", "solver.max_outer_steps=6"]
+    # The run a fresh process makes with the limit: it stops unconverged after 6 of its 7 outer steps.
+    ref = os.path.join(work, "reference-limit-6")
+    shutil.rmtree(ref, ignore_errors=True)
+    p = cmc_run(cmc, FAMILY_CASE, ref, *args, *limit)
+    if not check(p.returncode == 3, f"fresh run with limit 6: exit {p.returncode}, expected 3:\n{p.stderr}"):
+        return
+    step = summary(ref)["steps"][0]
+    if not check(not step["converged"] and "after 6 outer steps" in step["message"],
+                 f"fresh run with limit 6: expected an unconverged step stopped after 6 outer steps: {step}"):
+        return
+    for label, edit in (("the key in the checkpoint", None),
+                        ("a checkpoint from before the key",
+                         lambda t: re.sub(r'\n\s*"max_outer_steps" : 1000,?', "", t))):
+        out = os.path.join(work, "limit-" + ("old" if edit else "now"))
+        shutil.rmtree(out, ignore_errors=True)
+        if not interrupted(cmc, FAMILY_CASE, out, "outer:4", *args):
+            return
+        if edit:
+            edit_checkpoint_case(out, edit)
+        p = subprocess.run([cmc, "run", FAMILY_CASE, "--out", out, "--resume", *args, *limit], env=env(),
+                           capture_output=True, text=True)
+        if check(p.returncode == 3, f"{label}, resumed with limit 6: exit {p.returncode}, expected 3:\n{p.stderr}"):
+            check(re.search(r"warning: .*stopping limit, solver\.max_outer_steps: 1000 .*in the checkpoint, 6 here",
+                            p.stderr) is not None,
+                  f"{label}, resumed with limit 6: expected a notice naming the limit and both values:\n{p.stderr}")
+            compare(ref, out, f"{label}, resumed with limit 6")
+    # A limit the step under way has reached (4 outer steps made): refused, nothing touched.
+    out = os.path.join(work, "limit-reached")
+    shutil.rmtree(out, ignore_errors=True)
+    if not interrupted(cmc, FAMILY_CASE, out, "outer:4", *args):
+        return
+    before = os.path.getmtime(os.path.join(out, ".partial", "checkpoint.h5"))
+    p = cmc_run(cmc, FAMILY_CASE, out, *args, "--set", "solver.max_outer_steps=4", resume=True)
+    check(p.returncode == 2 and "solver.max_outer_steps = 4 cannot continue" in p.stderr
+          and "has made 4 outer steps" in p.stderr,
+          f"a limit already reached: exit {p.returncode} (expected 2, naming the limit and the steps made):\n{p.stderr}")
+    check(os.path.getmtime(os.path.join(out, ".partial", "checkpoint.h5")) == before,
+          "a limit already reached: the refused resume touched the checkpoint")
 
 
 def test_D7_lock(cmc, work):

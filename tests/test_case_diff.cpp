@@ -78,3 +78,27 @@ TEST(CaseDiff, AnotherDescriptionIsReportedNotRefused) {
   now["case"].as_table()->insert_or_assign("name", "y");
   EXPECT_EQ(compare_cases(to_json(was), to_json(now)).mismatch.rfind("key case.name", 0), 0u);
 }
+
+// A stopping limit may change (the caller checks that the checkpoint has not reached it):
+// listed with both values, not refused; also when the checkpoint predates the key.
+TEST(CaseDiff, StoppingLimitIsListedNotRefused) {
+  toml::table was = resolved_case();
+  was.insert_or_assign("solver", toml::table{{"max_outer_steps", 1000}, {"tension_tolerance", 1e-3}});
+  toml::table now = was;
+  now["solver"].as_table()->insert_or_assign("max_outer_steps", 400);
+  CaseDiff d = compare_cases(to_json(was), to_json(now));
+  EXPECT_TRUE(d.same()) << d.mismatch;
+  ASSERT_EQ(d.limits_changed.size(), 1u);
+  EXPECT_EQ(d.limits_changed[0], "solver.max_outer_steps: 1000 in the checkpoint, 400 here");
+  // Written before the key: the older version stopped at the default.
+  was["solver"].as_table()->erase("max_outer_steps");
+  d = compare_cases(to_json(was), to_json(now));
+  EXPECT_TRUE(d.same()) << d.mismatch;
+  ASSERT_EQ(d.limits_changed.size(), 1u);
+  EXPECT_EQ(d.limits_changed[0], "solver.max_outer_steps: 1000 (its default) in the checkpoint, 400 here");
+  EXPECT_TRUE(d.defaulted.empty());
+  // A tolerance is not a limit: the path to it depends on it.
+  now = was;
+  now["solver"].as_table()->insert_or_assign("tension_tolerance", 1e-4);
+  EXPECT_EQ(compare_cases(to_json(was), to_json(now)).mismatch.rfind("key solver.tension_tolerance", 0), 0u);
+}

@@ -411,6 +411,8 @@ void parse_solver(Section s, const InteractionSpec& in, const LoadingSpec& l, So
       s.integer("recompute_every", sv.recompute_every, "a positive number of iterations", 1, CaseLimits::kMaxIterations));
   sv.tension_tolerance = s.number("tension_tolerance", sv.tension_tolerance,
                                   "a relative change of the adhesive tension (quasi_static)", true);
+  sv.max_outer_steps = int(s.integer("max_outer_steps", sv.max_outer_steps,
+                                     "a positive number of outer steps (quasi_static)", 1, CaseLimits::kMaxIterations));
   sv.precondition = s.boolean("precondition", sv.precondition);
   s.finish();
 }
@@ -615,6 +617,7 @@ std::vector<DocumentedDefault> case_defaults() {
       {"solver", "max_iterations", n(sv.max_iterations)},
       {"solver", "recompute_every", n(sv.recompute_every)},
       {"solver", "tension_tolerance", n(sv.tension_tolerance)},
+      {"solver", "max_outer_steps", n(sv.max_outer_steps)},
       {"solver", "precondition", b(sv.precondition)},
       {"output", "fields", b(c.write_fields)},
       {"observables", "enabled", b(o.enabled)},

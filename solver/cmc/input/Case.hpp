@@ -97,6 +97,9 @@ struct SolverSpec {
   int recompute_every = 32;
   // quasi_static only: outer convergence on the adhesive tension (QuasiStaticAdhesion.hpp).
   double tension_tolerance = 1e-3;
+  // quasi_static only: the most outer steps a load step may take; one that reaches it stops
+  // with status not_converged. A stopping limit: a resumed run may change it (CaseDiff.hpp).
+  int max_outer_steps = 1000;
   // Polonsky-Keer (also inside quasi_static): precondition its conjugate gradients with the
   // half-space's stiffness on a periodic boundary (PolonskyKeer.hpp).
   bool precondition = true;

@@ -80,6 +80,9 @@ bool is_default(const std::string& value, const std::string& text) {
   return end1 != value.c_str() && *end1 == '\0' && end2 != text.c_str() && *end2 == '\0' && a == b;
 }
 
+// Keys that only say when a solve gives up (see CaseDiff.hpp).
+bool is_stopping_limit(const std::string& key) { return key == "solver.max_outer_steps"; }
+
 }  // namespace
 
 CaseDiff compare_cases(const std::string& checkpoint_json, const std::string& current_json) {
@@ -96,6 +99,8 @@ CaseDiff compare_cases(const std::string& checkpoint_json, const std::string& cu
     }
     if (it->second != value && key == "case.description") {
       diff.text_changed.push_back(key);
+    } else if (it->second != value && is_stopping_limit(key)) {
+      diff.limits_changed.push_back(key + ": " + value + " in the checkpoint, " + it->second + " here");
     } else if (it->second != value) {
       diff.mismatch = "key " + key + ": " + value + " in the checkpoint, " + it->second + " here";
       return diff;
@@ -104,6 +109,11 @@ CaseDiff compare_cases(const std::string& checkpoint_json, const std::string& cu
   for (const auto& [key, value] : now) {
     if (was.count(key)) continue;
     const auto d = defaults.find(key);
+    if (d != defaults.end() && is_stopping_limit(key) && !is_default(value, d->second)) {
+      // The older version stopped at the default: that is the checkpoint's limit.
+      diff.limits_changed.push_back(key + ": " + d->second + " (its default) in the checkpoint, " + value + " here");
+      continue;
+    }
     if (d == defaults.end() || !is_default(value, d->second)) {
       diff.mismatch = "key " + key + ": absent from the checkpoint, " + value + " here" +
                       (d == defaults.end() ? std::string() : " (its default is " + d->second + ")");

@@ -415,6 +415,27 @@ void Writer::load_partial() {
       throw damaged("group 'inside': expected the fields on this grid");
     resume_.inside = std::move(at);
   }
+  if (!diff.limits_changed.empty()) {
+    // A changed stopping limit continues the path a fresh run with it takes only if no
+    // solve has reached it yet (CaseDiff.hpp): every finished step converged within it,
+    // and the step under way has made fewer outer steps than it.
+    const int limit = case_.solver.max_outer_steps;
+    auto refuse = [&](const std::string& why) {
+      return CaseError(dir_.string() + ": solver.max_outer_steps = " + std::to_string(limit) + " cannot continue this run (" +
+                       why + "): a fresh run with that limit would have stopped elsewhere; resume with a larger value");
+    };
+    for (const auto& rec : resume_.done) {
+      if (!rec.result.converged)
+        throw refuse("step " + std::to_string(rec.index) + " stopped unconverged under the checkpoint's limit");
+      if (rec.result.diagnostics.outer_iterations > limit)
+        throw refuse("step " + std::to_string(rec.index) + " took " +
+                     std::to_string(rec.result.diagnostics.outer_iterations) + " outer steps");
+    }
+    if (resume_.inside && resume_.inside->outer >= limit)
+      throw refuse("the step under way has made " + std::to_string(resume_.inside->outer) + " outer steps");
+    for (const auto& what : diff.limits_changed)
+      notice("has another stopping limit, " + what + " (the run continues its path and stops at the new limit)");
+  }
   if (const auto* path = t["path"].as_table()) {
     resume_.path = path_from(*path, file);
     const double pp = resume_.path.pulloff_state.penetration, pm = resume_.path.pulloff_state.mean_pressure;

@@ -108,6 +108,7 @@ void run_quasi_static(const Case& c, const Scene& s, Run& run, std::size_t first
                       std::optional<OuterPoint>& inside, const Progress& progress) {
   auto o = solver_options<QuasiStaticAdhesion::Options>(c.solver, progress);
   o.tension_tolerance = c.solver.tension_tolerance;
+  o.max_outer = c.solver.max_outer_steps;
   o.precondition = c.solver.precondition;
   o.on_outer = [&](const OuterPoint& at) { run.checkpoint(state, nullptr, "outer", &at); };
   QuasiStaticAdhesion solver(*s.half_space, s.topography.heights, std::get<ExponentialAdhesion>(s.interaction), o);
