@@ -3,7 +3,7 @@
 affordable, and plain coarse runs beside them.
 
     /usr/bin/python3 scripts/scaled_family.py [--s 32 16] [--coarse 2 4] [--grids N ...] [--no-resolved]
-                                              [--start-resolved] [--refinement-only]
+                                              [--start-resolved] [--refinement-only] [--max-outer-resolved N]
                                               [--strategies range shape]
                                               [--results results/scaled-family] [--store reference/challenge-scaled]
                                               [--cmc build/cmc] [--set KEY=VALUE ...] [--dry-run]
@@ -28,6 +28,11 @@ into n<N>-fields/): about 0.6 of a cold start's FFT pairs, with the same a_r whe
 (s = 32 at 2048²; s = 16 at 4096²); its record says so ("start_from"). The s = 8 member's
 8192² run needs it, and still outlasts a session here (1503 iterations in 73 outer steps and
 2.4 h, unconverged: README, "s = 8, provisionally"); it resumes from its checkpoint.
+--max-outer-resolved N caps the resolved run's outer steps (solver.max_outer_steps; cmc's
+default 1000). A resumed run may lower the cap to just above the outer steps it has made
+(README, "Resuming"): it then stops there, status not_converged, and the stored reference
+says so (its status and last tension change), for a run that creeps for hours towards its
+tension tolerance (s = 8).
 rho(s) is read from `cmc surface` (dx_over_range), never assumed. Runs go to
 RESULTS/s<S>/n<N>/ with --resume: a finished run is kept, an interrupted one resumes.
 
@@ -126,9 +131,11 @@ def grids(rho, coarse, explicit, resolved, strategies=tuple(STRATEGY)):
 
 
 def summary_ok(path):
+    """A finished run (converged, or stopped at a cap: not_converged, which a rerun of the same case
+    repeats bit for bit) is kept; a failed or missing one is (re)run."""
     try:
         with open(path, encoding="utf-8") as f:
-            return json.load(f).get("status") == "converged"
+            return json.load(f).get("status") in ("converged", "not_converged")
     except (OSError, ValueError):
         return False
 
@@ -140,7 +147,10 @@ def run(cmc, s, n, out, extra, dry, case=CASE, options=()):
     cmd = [cmc, "run", case, "--out", out, "--resume"] + sum((["--set", x] for x in sets), []) + list(options)
     shown = " ".join(["cmc"] + cmd[1:])
     if summary_ok(os.path.join(ROOT, out, "summary.json")):
-        print(f"scaled_family: s = {s}, {n}²: done ({out})", file=sys.stderr)
+        with open(os.path.join(ROOT, out, "summary.json"), encoding="utf-8") as f:
+            status = json.load(f)["status"]
+        print(f"scaled_family: s = {s}, {n}²: done ({out}" + ("" if status == "converged" else f", {status}") + ")",
+              file=sys.stderr)
         return shown
     print(f"scaled_family: s = {s}, {n}²: {shown}", file=sys.stderr, flush=True)
     if not dry:
@@ -160,7 +170,7 @@ def record(out, role, n, rho, command):
          "solver": d["case"]["solver"], "range_used_m": facts.get("interaction_range"),
          "tabor_used": facts.get("tabor_parameter"),
          "iterations": st["iterations"], "fft_pairs": st.get("fft_pairs"), "wall_s": d["timing"]["wall_s"],
-         "residual": st["residual"], "mean_pressure_Pa": st["mean_pressure"],
+         "residual": st["residual"], "message": st.get("message", ""), "mean_pressure_Pa": st["mean_pressure"],
          "bistability_number": facts.get("bistability_number")}
     if "start_from" in d:  # started from a coarser run's answer (cmc run --start-from)
         r["start_from"] = {k: d["start_from"][k] for k in ("folder", "grid", "factor", "gap_lift")}
@@ -251,6 +261,13 @@ def readme(data):
             if q:
                 rel = q["refinement_error"] / abs(q["value"]) if q["value"] else float("nan")
                 lines.append(f"| {short} ({unit}) | {q['value']:.6g} | {q['refinement_error']:.3g} | {100 * rel:.2f} % |")
+        res = next((r for r in m["runs"] if r["role"] == "resolved"), None)
+        if ref and res and res["status"] != "converged":
+            lines += ["", f"**The resolved run did not reach its tolerance**: {res['status']}, "
+                          f"\"{res.get('message') or 'no message'}\". The loading-branch iteration is monotone (gaps "
+                          "only fall, points only join the contact), so the converged a_r is at least the stored one and "
+                          "the converged mean gap at most; how far the creep would still move them is not known from "
+                          "the run (README, \"s = 8\", gives what its checkpoints showed)."]
         lines += ["", "| run | grid | dx/ρ | a_r | repulsive a_r | mean gap (m) | iterations | FFT pairs | wall (s) | status |",
                   "|---|---|---|---|---|---|---|---|---|---|"]
         for r in m["runs"]:
@@ -328,6 +345,9 @@ def main():
                     help="start the resolved grid's run from the refinement grid's answer (cmc run --start-from; "
                          "the refinement run then writes its fields, into nN-fields): the resolved run takes about "
                          "0.6 of a cold start's FFT pairs")
+    ap.add_argument("--max-outer-resolved", type=int, default=None, metavar="N",
+                    help="the resolved run's cap on outer steps (solver.max_outer_steps): a resumed run may lower it "
+                         "to just above where it stands, and stops there unconverged (README, 'Resuming')")
     ap.add_argument("--no-hardwall", action="store_true",
                     help="skip the hard-wall runs (the resolved and refinement grids, or the two finest --grids)")
     ap.add_argument("--results", default="results/scaled-family")
@@ -355,6 +375,8 @@ def main():
                 out, extra, start = out + "-fields", extra + ["output.fields=true"], out + "-fields"
             if a.start_resolved and role == "resolved":
                 options = ["--start-from", start]
+            if a.max_outer_resolved is not None and role == "resolved":
+                extra = extra + [f"solver.max_outer_steps={a.max_outer_resolved}"]
             cmd = run(a.cmc, s, g[role], out, extra, a.dry_run, options=options)
             if not a.dry_run:
                 runs.append(record(out, role, g[role], rho, cmd))
@@ -377,7 +399,8 @@ def main():
             for _, short, unit in QUANTITIES:
                 m["reference"][short] = {"value": by["resolved"][short], "unit": unit,
                                          "refinement_error": abs(by["resolved"][short] - by["refinement"][short]),
-                                         "grid": by["resolved"]["n"], "coarser_grid": by["refinement"]["n"]}
+                                         "grid": by["resolved"]["n"], "coarser_grid": by["refinement"]["n"],
+                                         "status": by["resolved"]["status"]}
         members.append(m)
     if a.store and not a.dry_run:
         path = os.path.join(ROOT, a.store, "scaled_family.json")
