@@ -1115,12 +1115,13 @@ def _adhesion_resolution(reference_dir):
                       "pending (`scripts/scaled_family.py --s 16 8`).", ""]
     x = s_extrapolation(list(members.values()))
     if x:
-        sa, sb = x["members"]
+        sa, sb = x["members"][:2]
         lines += [f"Extrapolated in s (`reference/challenge-scaled/README.md`, \"Second route\"): each member's "
-                  f"converged value over the same surface's hard-wall value, R(s), on a line through s = {sb} and {sa} "
-                  "in log s to s = 1, times the challenge's own hard-wall value. The error carries the refinement "
-                  "errors through the line and adds the distance to the line in s: two members cannot tell the models "
-                  "apart.", ""]
+                  f"converged value over the same surface's hard-wall value, R(s), on two lines through s = {sb} and "
+                  f"{sa} to s = 1, one in log s and one in s, times the challenge's own hard-wall value: their "
+                  "midpoint, with their half-distance as the model error where a third member's held-out check finds "
+                  "the lines bracketing the curve (else their whole distance), plus the refinement errors carried "
+                  "through the lines.", ""]
         rows = []
         for _, short, _ in FAMILY_QUANTITIES:
             q = x[short]

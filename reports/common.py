@@ -331,11 +331,18 @@ def s_extrapolation(members=None):
     slope and p/(E* rms slope) stay fixed and only the bandwidth lambda_r/lambda_s = 200/s
     changes, which moves the adhesionless values themselves a lot (the mean gap follows the rms
     height, 3.06 um at s = 32 against 1.01 um at s = 1); the ratio carries what adhesion adds.
-    The extrapolation is a straight line through the two members nearest s = 1, in log s (the
-    bandwidth's octaves) and, as the other model, in s; the value is the log-s line's, its error
-    the two refinement errors carried through the line's weights, plus the adhesionless value's
-    refinement error, plus the distance between the two models (two points cannot tell them
-    apart). Returns {"members": [s, ...], short: {...}} or None without two members and the
+
+    Two models of the curve, each a straight line through the two members nearest s = 1: one in
+    log s (the bandwidth's octaves), one in s. Two points cannot tell them apart; a third member
+    can test them. The held-out check predicts the nearest member's R from the next two, with
+    both lines: where the two predictions bracket the measured R (within its error) for a
+    quantity, the lines are taken to bracket the curve at s = 1 too (an assumption one octave of
+    evidence supports, not a bound), and the value is their midpoint with half their distance as
+    the model error. Without a third member, or where the check does not bracket, the value is
+    the midpoint and the model error the whole distance between the lines (either could be
+    wrong by that much). Error = model error + the members' refinement errors carried through
+    the lines' weights (the larger of the two lines') + the adhesionless value's refinement
+    error. Returns {"members": [s, ...], short: {...}} or None without two members and the
     challenge's adhesionless value."""
     members = family_members() if members is None else members
     by_s = {m["s"]: m for m in members}
@@ -344,43 +351,81 @@ def s_extrapolation(members=None):
     if len(fam) < 2 or not ch.get("a_r"):
         return None
     sa, sb = fam[0], fam[1]  # nearest s = 1 first
-    out = {"members": [sa, sb]}
+    sc = fam[2] if len(fam) > 2 else None
+    out = {"members": [sa, sb] + ([sc] if sc else [])}
+
+    def line(pa, pb, x1, log):
+        """A line through (s_a, R_a), (s_b, R_b) (each (s, (R, error))) at s = x1, in log s or in s:
+        its value and the members' errors carried through its weights."""
+        (xa, (Ra, ea)), (xb, (Rb, eb)) = pa, pb
+        f = math.log if log else float
+        t = (f(x1) - f(xa)) / (f(xb) - f(xa))
+        return Ra + t * (Rb - Ra), abs(1 - t) * ea + abs(t) * eb
+
     for _, short, unit in FAMILY_QUANTITIES:
         ratios = {}
-        for s in (sa, sb):
+        for s in out["members"]:
             ref, hw = by_s[s]["reference"][short], by_s[s]["adhesionless"][short]
             R = ref["value"] / hw["value"]
             ratios[s] = (R, R * (ref["refinement_error"] / abs(ref["value"]) + hw["refinement_error"] / abs(hw["value"])))
-        (Ra, ea), (Rb, eb) = ratios[sa], ratios[sb]
-        # A line through (x_a, R_a), (x_b, R_b) at x = x_1: R_a + (x_1 - x_a)/(x_b - x_a) (R_b - R_a).
-        def at_one(xa, xb, x1):
-            t = (x1 - xa) / (xb - xa)
-            return Ra + t * (Rb - Ra), abs(1 - t) * ea + abs(t) * eb
-        R_log, e_log = at_one(math.log(sa), math.log(sb), 0.0)
-        R_lin, _ = at_one(float(sa), float(sb), 1.0)
+        pa, pb = (sa, ratios[sa]), (sb, ratios[sb])
+        R_log, e_log = line(pa, pb, 1, True)
+        R_lin, e_lin = line(pa, pb, 1, False)
+        held_out = None
+        if sc:
+            pc = (sc, ratios[sc])
+            p_log, pe_log = line(pb, pc, sa, True)
+            p_lin, pe_lin = line(pb, pc, sa, False)
+            Ra, ea = ratios[sa]
+            lo, hi = min(p_log, p_lin), max(p_log, p_lin)
+            held_out = {"member": sa, "from": [sb, sc], "measured": Ra, "measured_error": ea,
+                        "log_s": p_log, "linear_s": p_lin,
+                        "bracketed": lo - max(pe_log, pe_lin) - ea <= Ra <= hi + max(pe_log, pe_lin) + ea}
+        half = bool(held_out and held_out["bracketed"])
+        R_mid = 0.5 * (R_log + R_lin)
+        model = abs(R_log - R_lin) * (0.5 if half else 1.0)
         hw1 = ch[short]
-        value = R_log * hw1["value"]
-        err = (e_log + abs(R_log - R_lin)) * abs(hw1["value"]) + abs(R_log) * hw1["refinement_error"]
-        out[short] = {"value": value, "error": err, "unit": unit, "ratio_at_1_log_s": R_log, "ratio_at_1_linear_s": R_lin,
-                      "ratio_error_propagated": e_log, "ratios": {str(s): {"value": r, "error": e} for s, (r, e) in ratios.items()},
+        value = R_mid * hw1["value"]
+        err = (model + max(e_log, e_lin)) * abs(hw1["value"]) + abs(R_mid) * hw1["refinement_error"]
+        out[short] = {"value": value, "error": err, "unit": unit, "ratio_at_1": R_mid, "ratio_at_1_log_s": R_log,
+                      "ratio_at_1_linear_s": R_lin, "ratio_error_propagated": max(e_log, e_lin), "ratio_error_model": model,
+                      "held_out": held_out,
+                      "ratios": {str(s): {"value": r, "error": e} for s, (r, e) in ratios.items()},
                       "adhesionless_at_1": hw1}
     return out
 
 
 def s_extrapolation_verdict(x):
-    """A sentence on how far the second route (s_extrapolation's result x) can be used."""
-    loose = [short for _, short, _ in FAMILY_QUANTITIES if x[short]["error"] > 0.5 * abs(x[short]["value"])]
+    """Sentences on how far the second route (s_extrapolation's result x) can be used: the held-out
+    check, if there is one, and the quantities whose error is more than half their value."""
+    sa, sb = x["members"][0], x["members"][1]
     text = ""
+    checks = [(short, x[short]["held_out"]) for _, short, _ in FAMILY_QUANTITIES if x[short].get("held_out")]
+    if checks:
+        h0 = checks[0][1]
+        parts = [f"{short} {h['measured']:.4f} measured, {h['log_s']:.4f} (log s) and {h['linear_s']:.4f} (s) predicted"
+                 for short, h in checks]
+        inside = [short for short, h in checks if h["bracketed"]]
+        outside = [short for short, h in checks if not h["bracketed"]]
+        text += (f"Held-out check: R at s = {h0['member']} predicted from s = {h0['from'][0]} and {h0['from'][1]}: "
+                 + "; ".join(parts) + ". ")
+        if inside:
+            miss = min(abs(h[m] - h["measured"]) / h["measured_error"] for short, h in checks if h["bracketed"]
+                       for m in ("log_s", "linear_s") if h["measured_error"] > 0)
+            text += ("The two lines bracket the measured ratio for " + ", ".join(inside) + f", each line off by at "
+                     f"least {miss:.3g} times the measured ratio's error one octave out: so at s = 1, "
+                     f"{math.log2(sa):.3g} octaves further, the value is their midpoint and half their distance its "
+                     "model error (assumed to bracket there too; not a bound). ")
+        if outside:
+            text += ("They do not bracket it for " + ", ".join(outside) + ": the whole distance between the lines is "
+                     "its model error. ")
+    loose = [short for _, short, _ in FAMILY_QUANTITIES if x[short]["error"] > 0.5 * abs(x[short]["value"])]
     if loose:
-        text = (f"With the members s = {x['members'][1]} and {x['members'][0]} this route is not informative for "
-                + ", ".join(loose) + ": the error is more than half the value, mostly the distance between the "
-                "two models of the line, which four octaves of extrapolation from one octave of data cannot "
-                "settle. ")
-    if x["a_r"]["ratio_at_1_log_s"] < 1.0:
-        text += (f"The line in log s even puts a_r's ratio at s = 1 below 1 ({x['a_r']['ratio_at_1_log_s']:.3f}): "
-                 "adhesion would shrink the contact area at fixed load, which it cannot, so that model is wrong "
-                 "this far out. ")
-    return text + ("A third member nearer s = 1 (s = 8, resolved on 8192²) would show the curve's shape." if text else "")
+        text += (f"With the members s = {sb} and {sa} this route is not informative for " + ", ".join(loose) + ": the "
+                 "error is more than half the value, mostly the distance between the two lines.")
+    elif not checks:
+        text += "A third member would test the two lines (the held-out check)."
+    return text.strip()
 
 
 def transfer_caveat(members=None, strategy="range"):

@@ -169,7 +169,9 @@ def record(out, role, n, rho, command):
          "command": command, "output": out, "cmc_version": d.get("cmc_version"),
          "solver": d["case"]["solver"], "range_used_m": facts.get("interaction_range"),
          "tabor_used": facts.get("tabor_parameter"),
-         "iterations": st["iterations"], "fft_pairs": st.get("fft_pairs"), "wall_s": d["timing"]["wall_s"],
+         "iterations": st["iterations"], "fft_pairs": st.get("fft_pairs"),
+         # A resumed run's timing is its last process's; its steps' wall_s count every process's solve.
+         "wall_s": max(d["timing"]["wall_s"], sum(x.get("wall_s", 0.0) for x in d["steps"])),
          "residual": st["residual"], "message": st.get("message", ""), "mean_pressure_Pa": st["mean_pressure"],
          "bistability_number": facts.get("bistability_number")}
     if "start_from" in d:  # started from a coarser run's answer (cmc run --start-from)
@@ -308,21 +310,24 @@ def s_route_lines(x):
     if not x:
         return lines + ["Not computed: it needs two members with a reference and a hard-wall value "
                         "(`--s 32 16`) and the challenge's hard-wall runs (`--s 1 --no-resolved --grids 2048 4096`).", ""]
-    sa, sb = x["members"]
+    sa, sb = x["members"][:2]
+    members = sorted(x["members"], reverse=True)
     lines += [f"Each member's adhesive reference over its adhesionless value (the same surface under the hard wall, "
-              f"`{CASE_HW}`: a_r perimeter-corrected, on the two finest grids), R(s), extrapolated to s = 1 on a line "
-              f"through s = {sa} and {sb} in log s, times the challenge's hard-wall value. Along the family only the "
-              "bandwidth λ_r/λ_s changes; the ratio carries what adhesion adds. Error: the two refinement errors "
-              "through the line, the hard-wall value's refinement error, and the distance to the same line in s "
-              "(two points cannot tell the models apart: a third member, s = 8 on 8192², would).", "",
-              f"| quantity | R(s = {sb}) | R(s = {sa}) | R(1), line in log s | R(1), line in s | hard wall at s = 1 | "
-              "value at s = 1 |", "|---|---|---|---|---|---|---|"]
+              f"`{CASE_HW}`: a_r perimeter-corrected, on the two finest grids), R(s), extrapolated to s = 1 on two "
+              f"lines through s = {sa} and {sb}, one in log s and one in s, times the challenge's hard-wall value. "
+              "Along the family only the bandwidth λ_r/λ_s changes; the ratio carries what adhesion adds. Value: the "
+              "midpoint of the two lines; error: the model error (half their distance where a third member's held-out "
+              "check finds them bracketing the curve, else their whole distance), the members' refinement errors "
+              "through the lines, and the hard-wall value's refinement error (`reports/common.py`, `s_extrapolation`).",
+              "", "| quantity | " + " | ".join(f"R(s = {m})" for m in members)
+              + " | R(1), line in log s | R(1), line in s | hard wall at s = 1 | value at s = 1 |",
+              "|---|" + "---|" * (len(members) + 4)]
     for _, short, unit in QUANTITIES:
         q = x[short]
-        ra, rb = q["ratios"][str(sa)], q["ratios"][str(sb)]
         hw = q["adhesionless_at_1"]
-        lines.append(f"| {short} ({unit}) | {rb['value']:.4f} ± {rb['error']:.2g} | {ra['value']:.4f} ± {ra['error']:.2g} | "
-                     f"{q['ratio_at_1_log_s']:.4f} ± {q['ratio_error_propagated']:.2g} | {q['ratio_at_1_linear_s']:.4f} | "
+        cells = [f"{q['ratios'][str(m)]['value']:.4f} ± {q['ratios'][str(m)]['error']:.2g}" for m in members]
+        lines.append(f"| {short} ({unit}) | " + " | ".join(cells) + " | "
+                     f"{q['ratio_at_1_log_s']:.4f} | {q['ratio_at_1_linear_s']:.4f} | "
                      f"{hw['value']:.5g} ± {hw['refinement_error']:.2g} ({hw['grid']}²) | "
                      f"**{q['value']:.4g} ± {q['error']:.2g}** |")
     verdict = s_extrapolation_verdict(x)
