@@ -104,6 +104,12 @@ add_test(NAME cli.progress_in_log
 # hard-wall solver its residual.
 set_tests_properties(cli.progress_in_log PROPERTIES LABELS quick
                      PASS_REGULAR_EXPRESSION "\n  step 0/1  iteration +[0-9]+  outer step +[0-9]+  tension change [0-9.e+-]+  elapsed +[0-9.]+ s\n")
+# ... and inside each outer step its Polonsky-Keer solve's residual (the first, hard-wall
+# solve takes minutes on 8192²: the log shows the run is alive).
+add_test(NAME cli.progress_inner_solve
+         COMMAND sh -c "rm -rf ${CMAKE_BINARY_DIR}/cli_progress_inner && CMC_PROGRESS_EVERY=0 $<TARGET_FILE:cmc> run ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load.toml --set grid.n=128 --out ${CMAKE_BINARY_DIR}/cli_progress_inner 2>&1 | cat")
+set_tests_properties(cli.progress_inner_solve PROPERTIES LABELS quick
+                     PASS_REGULAR_EXPRESSION "\n  step 0/1  iteration +0  outer step +1  Polonsky-Keer residual [0-9.e+-]+  elapsed +[0-9.]+ s\n")
 add_test(NAME cli.progress_in_log_hardwall
          COMMAND sh -c "rm -rf ${CMAKE_BINARY_DIR}/cli_progress_hw && CMC_PROGRESS_EVERY=0 $<TARGET_FILE:cmc> run ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load-hardwall.toml --set grid.n=128 --out ${CMAKE_BINARY_DIR}/cli_progress_hw 2>&1 | cat")
 set_tests_properties(cli.progress_in_log_hardwall PROPERTIES LABELS quick

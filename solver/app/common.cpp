@@ -77,16 +77,17 @@ Progress make_progress(bool quiet, int* step, std::chrono::steady_clock::time_po
   const double every = progress_every();
   const bool tty = isatty(STDERR_FILENO);
   auto last = std::make_shared<double>(0.0);
-  return [step, t0, total_steps, first_step, tty, every, last](int it, double residual, int outer) {
+  return [step, t0, total_steps, first_step, tty, every, last](const ProgressPoint& p) {
     const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (!tty) {
       if (el - *last < every) return;
       *last = el;
     }
     std::fprintf(stderr, "%s  step %d%s%s  iteration %5d", tty ? "\r" : "", *step, total_steps ? "/" : "",
-                 total_steps ? std::to_string(total_steps).c_str() : "", it);
-    if (outer > 0) std::fprintf(stderr, "  outer step %4d  tension change %.3e", outer, residual);
-    else std::fprintf(stderr, "  residual %.3e", residual);
+                 total_steps ? std::to_string(total_steps).c_str() : "", p.iteration);
+    if (p.inner) std::fprintf(stderr, "  outer step %4d  Polonsky-Keer residual %.3e", p.outer, p.residual);
+    else if (p.outer > 0) std::fprintf(stderr, "  outer step %4d  tension change %.3e", p.outer, p.residual);
+    else std::fprintf(stderr, "  residual %.3e", p.residual);
     std::fprintf(stderr, "  elapsed %7.1f s", el);
     const int solved = *step - first_step;  // steps finished by this process, in el
     if (total_steps && solved > 0) std::fprintf(stderr, "  left ~%7.0f s", el / solved * (total_steps - *step));

@@ -329,7 +329,7 @@ void PkRun::run(SolveResult& res) {
     // Overlap term measured with the previous δ; it is zero at convergence either way.
     res.residual = std::sqrt((G + S.ol) / (S.nc + S.nol)) / h_scale_;
     res.iterations = it;
-    if (opt_.progress && it % std::max(1, opt_.progress_every) == 0) opt_.progress(it, res.residual, 0);
+    if (opt_.progress && it % std::max(1, opt_.progress_every) == 0) opt_.progress({it, res.residual});
     if (res.residual <= opt_.tolerance) {
       if (since_exact_ == 0 || !opt_.confirm) return;
       exact();  // confirm on u recomputed from the real-space p (removes spectral drift)

@@ -277,6 +277,11 @@ SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st, O
   po.max_iterations = opt_.max_iterations;
   po.recompute_every = opt_.recompute_every;
   po.precondition = opt_.precondition;
+  int outer = from ? at.outer : 0;
+  if (opt_.progress) {
+    po.progress = [&](const ProgressPoint& p) { opt_.progress({res.iterations + p.iteration, p.residual, outer + 1, true}); };
+    po.progress_every = opt_.progress_every;
+  }
   // Each outer solve starts from the exact u of its pressure (Polonsky-Keer's first step),
   // so only the last one needs Polonsky-Keer's confirmation on an exact u: the others skip
   // it, and the converged tension is confirmed by one more solve at the same t (a "confirm"
@@ -302,7 +307,6 @@ SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st, O
   double residual = 1.0;
   bool pk_ok = true;
   std::string pk_message;
-  int outer = from ? at.outer : 0;
   bool confirming = false;  // this solve repeats the last one (same t) on the exact u
   for (;; ++outer) {
     if (!confirming && (outer > 0 || warm)) {
@@ -340,7 +344,7 @@ SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st, O
                  }
                  acc.v = std::max(acc.v, m);
                }).v / adh_.peak_tension();
-    if (opt_.progress) opt_.progress(res.iterations, residual, outer + 1);
+    if (opt_.progress) opt_.progress({res.iterations, residual, outer + 1});
     if (!std::isfinite(residual)) {
       pk_ok = false;
       pk_message = "the adhesive tension became non-finite at outer step " + std::to_string(outer);

@@ -84,10 +84,19 @@ struct Target {
   double value;
 };
 
-// Progress report hook; the solver never prints. `outer`: outer steps done, for a solver
-// that has them (the quasi-static solver, whose residual is then its tension change);
-// 0 for the others.
-using Progress = std::function<void(int iteration, double residual, int outer)>;
+// Progress report hook; the solver never prints. A point: the iterations so far and the
+// residual. For a solver with outer steps (the quasi-static solver) `outer` counts them:
+// after outer step `outer` the residual is its tension change; with `inner` set the solve
+// of outer step `outer` is under way and the residual is that inner (Polonsky-Keer) solve's,
+// so that a long first solve (minutes on 8192²) shows it is alive. `outer` is 0 for the
+// other solvers.
+struct ProgressPoint {
+  int iteration = 0;
+  double residual = 0.0;
+  int outer = 0;
+  bool inner = false;
+};
+using Progress = std::function<void(const ProgressPoint&)>;
 
 struct SolverOptions {
   double tolerance = 1e-10;  // on the solver's residual (see each solver)
