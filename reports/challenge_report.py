@@ -1103,7 +1103,9 @@ def _adhesion_resolution(reference_dir):
         rows = []
         for m in fam:
             ref = m["reference"]
-            rows.append([m["s"], fmt(m["lambda_s_m"] * 1e6, 3), fmt(m["rho_m"] * 1e9, 4), f"{ref['a_r']['grid']}²",
+            stopped = ref["a_r"].get("status", "converged") != "converged"  # stopped at a cap: a bound, see the store
+            rows.append([m["s"], fmt(m["lambda_s_m"] * 1e6, 3), fmt(m["rho_m"] * 1e9, 4),
+                         f"{ref['a_r']['grid']}²" + (" (stopped before its tolerance)" if stopped else ""),
                          f"{ref['a_r']['value']:.4g} ± {ref['a_r']['refinement_error']:.2g}",
                          f"{ref['a_rep']['value']:.4g} ± {ref['a_rep']['refinement_error']:.2g}",
                          f"{ref['mean_gap']['value'] * 1e6:.5g} ± {ref['mean_gap']['refinement_error'] * 1e6:.2g}"])
