@@ -415,10 +415,11 @@ void Writer::load_partial() {
       throw damaged("group 'inside': expected the fields on this grid");
     resume_.inside = std::move(at);
   }
-  if (!diff.limits_changed.empty()) {
+  if (!diff.limits_changed.empty() && case_.solver.kind == SolverKind::QuasiStatic) {
     // A changed stopping limit continues the path a fresh run with it takes only if no
     // solve has reached it yet (CaseDiff.hpp): every finished step converged within it,
-    // and the step under way has made fewer outer steps than it.
+    // and the step under way has made fewer outer steps than it. (The other solvers do
+    // not read solver.max_outer_steps: for them a change changes nothing.)
     const int limit = case_.solver.max_outer_steps;
     auto refuse = [&](const std::string& why) {
       return CaseError(dir_.string() + ": solver.max_outer_steps = " + std::to_string(limit) + " cannot continue this run (" +
@@ -433,9 +434,9 @@ void Writer::load_partial() {
     }
     if (resume_.inside && resume_.inside->outer >= limit)
       throw refuse("the step under way has made " + std::to_string(resume_.inside->outer) + " outer steps");
-    for (const auto& what : diff.limits_changed)
-      notice("has another stopping limit, " + what + " (the run continues its path and stops at the new limit)");
   }
+  for (const auto& what : diff.limits_changed)
+    notice("has another stopping limit, " + what + " (the run continues its path and stops at the new limit)");
   if (const auto* path = t["path"].as_table()) {
     resume_.path = path_from(*path, file);
     const double pp = resume_.path.pulloff_state.penetration, pm = resume_.path.pulloff_state.mean_pressure;
