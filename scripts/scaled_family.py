@@ -4,6 +4,7 @@ affordable, and plain coarse runs beside them.
 
     /usr/bin/python3 scripts/scaled_family.py [--s 32 16] [--coarse 2 4] [--grids N ...] [--no-resolved]
                                               [--start-resolved] [--refinement-only] [--max-outer-resolved N]
+                                              [--no-plain] [--no-hardwall]
                                               [--strategies range shape]
                                               [--results results/scaled-family] [--store reference/challenge-scaled]
                                               [--cmc build/cmc] [--set KEY=VALUE ...] [--dry-run]
@@ -353,6 +354,9 @@ def main():
     ap.add_argument("--max-outer-resolved", type=int, default=None, metavar="N",
                     help="the resolved run's cap on outer steps (solver.max_outer_steps): a resumed run may lower it "
                          "to just above where it stands, and stops there unconverged (README, 'Resuming')")
+    ap.add_argument("--no-plain", action="store_true",
+                    help="skip the plain runs of --coarse and --grids (e.g. to store a strategy's run on a grid whose "
+                         "plain run is not made yet; --store keeps the stored plain runs)")
     ap.add_argument("--no-hardwall", action="store_true",
                     help="skip the hard-wall runs (the resolved and refinement grids, or the two finest --grids)")
     ap.add_argument("--results", default="results/scaled-family")
@@ -366,6 +370,8 @@ def main():
     for s in a.s:
         rho = rho_of(a.cmc, s, a.set)
         g = grids(rho, a.coarse, a.grids, not a.no_resolved, a.strategies)
+        if a.no_plain:
+            g = {role: n for role, n in g.items() if not role.startswith("plain_")}
         if a.refinement_only:
             g.pop("resolved", None)
         print(f"scaled_family: s = {s}: rho = {rho * 1e9:.4g} nm, grids "
