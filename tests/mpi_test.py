@@ -91,7 +91,7 @@ def numbers(summary):
         for k, v in s.items():
             # The residual at the last iteration is round-off-sized: both runs converged
             # (checked), its digits are not an answer.
-            if k in ("wall_s", "residual") or isinstance(v, (str, bool, dict)):
+            if k in ("wall_s", "fft_s", "residual") or isinstance(v, (str, bool, dict)):
                 continue
             out[f"step {s['index']} {k}"] = v
         for k, v in s.get("observables", {}).items():
@@ -353,7 +353,7 @@ elif TEST == "resume":
         a = json.load(open(os.path.join(d("whole-" + tag), "summary.json")))
         b = json.load(open(os.path.join(d("resumed-" + tag), "summary.json")))
         na, nb = numbers(a), numbers(b)
-        bad = [k for k in na if not k.endswith("wall_s") and na[k] != nb.get(k)]
+        bad = [k for k in na if not k.endswith(("wall_s", "fft_s")) and na[k] != nb.get(k)]
         failures += [f"resume ({label}): {k}: {na[k]!r} (uninterrupted) != {nb.get(k)!r} (resumed)" for k in bad]
         if not bad:
             print(f"resume: {len(na)} numbers identical after a kill at {label} and --resume")

@@ -113,6 +113,14 @@ TEST(Scene, RunReportsCostInFftPairs) {
   EXPECT_GE(run.fft_pairs, double(iterations));
   EXPECT_DOUBLE_EQ(run.time_per_fft_pair, solve_s / (run.fft_pairs * run.fft_pair_s));
   EXPECT_DOUBLE_EQ(run.time_per_iteration, solve_s / (iterations * run.fft_pair_s));
+  // The time inside the transforms is part of each step's time, and the share is their ratio.
+  double fft_s = 0.0;
+  for (const StepRecord& r : run.steps) {
+    EXPECT_GT(r.result.fft_s, 0.0);
+    EXPECT_LE(r.result.fft_s, r.result.wall_s);
+    fft_s += r.result.fft_s;
+  }
+  EXPECT_DOUBLE_EQ(run.fft_share, fft_s / solve_s);
 }
 
 // One contact rule: the step record's contact_fraction and the observables' are the same

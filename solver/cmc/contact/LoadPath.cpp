@@ -119,6 +119,7 @@ LoadStep PathWalk::step(const Target& t, bool& failed) {
     rec.iterations += r.iterations;
     rec.fft_pairs += r.fft_pairs;
     rec.wall_s += r.wall_s;
+    rec.fft_s += r.fft_s;
     rec.diagnostics += r.diagnostics;
     const double a_new = contact_fraction(trial.gap, opt_.contact_rule);
     const bool jumped = r.converged && is_jump(a_new, trial.mean_pressure);

@@ -77,6 +77,7 @@ struct LoadStep {
   int iterations = 0;  // their iterations, summed
   double fft_pairs = 0.0;  // their FFT pairs, summed
   double wall_s = 0.0;
+  double fft_s = 0.0;      // their seconds inside the FFTs, summed
   SolveDiagnostics diagnostics;  // their diagnostics, summed
 };
 

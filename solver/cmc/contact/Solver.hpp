@@ -39,30 +39,35 @@ struct SolveResult {
   double energy = 0.0;  // elastic energy (+ interaction energy, where there is one), reduced
   double wall_s = 0.0;
   double fft_pairs = 0.0;  // (forward + inverse transforms) / 2
+  double fft_s = 0.0;      // seconds of wall_s spent inside those transforms
   std::string message;  // why it stopped, when it did not converge
   SolveDiagnostics diagnostics;
 };
 
 // The cost of one solve, measured from construction: wall time, and the FFT pairs of an
-// operator (anything with fft_pairs(), e.g. the HalfSpace). finish() stamps a result.
+// operator (anything with fft_pairs() and fft_seconds(), e.g. the HalfSpace) and the
+// seconds spent in them. finish() stamps a result.
 template <class Operator>
 class SolveClock {
  public:
-  explicit SolveClock(const Operator& op) : op_(op), pairs0_(op.fft_pairs()), t0_(std::chrono::steady_clock::now()) {}
+  explicit SolveClock(const Operator& op)
+      : op_(op), pairs0_(op.fft_pairs()), fft_s0_(op.fft_seconds()), t0_(std::chrono::steady_clock::now()) {}
   SolveResult finish(SolveResult& r, bool converged, std::string message) const {
     r.converged = converged;
     r.message = std::move(message);
     r.fft_pairs = op_.fft_pairs() - pairs0_;
+    r.fft_s = op_.fft_seconds() - fft_s0_;
     r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
     return r;
   }
-  // The FFT pairs and seconds since construction.
+  // The FFT pairs, the seconds inside them and the seconds since construction.
   double pairs() const { return op_.fft_pairs() - pairs0_; }
+  double fft_seconds() const { return op_.fft_seconds() - fft_s0_; }
   double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count(); }
 
  private:
   const Operator& op_;
-  double pairs0_;
+  double pairs0_, fft_s0_;
   std::chrono::steady_clock::time_point t0_;
 };
 

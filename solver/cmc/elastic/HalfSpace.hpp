@@ -103,6 +103,8 @@ class HalfSpace {
 
   // FFT pairs done so far by this operator ((forward + inverse transforms) / 2).
   double fft_pairs() const { return 0.5 * double(fourier_.forward_count() + fourier_.inverse_count()); }
+  // Seconds spent inside those transforms (wall clock).
+  double fft_seconds() const { return fourier_.seconds(); }
   // Seconds of one FFT pair (forward + inverse on the transform grid), timed here and now:
   // the fastest of at least `min_repeats` pairs taking `min_seconds`, after one untimed
   // pair. The unit a run's cost is reported in, measured in the same run. Counts in

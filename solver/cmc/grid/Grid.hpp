@@ -175,6 +175,9 @@ class Fourier {
   // Number of forward and inverse transforms done so far (an FFT pair = one each).
   long forward_count() const { return n_forward_; }
   long inverse_count() const { return n_inverse_; }
+  // Seconds spent inside the transforms so far (wall clock): with the counts, what a
+  // solve's time owes to the FFTs and what to everything else.
+  double seconds() const { return seconds_; }
   // Where the plans came from: "built-in wisdom", "estimate", "measure" or "patient".
   const char* plan_source() const { return plan_source_; }
 
@@ -192,6 +195,7 @@ class Fourier {
   bool distributed_ = false;
   const char* plan_source_ = "";
   long n_forward_ = 0, n_inverse_ = 0;
+  double seconds_ = 0.0;
 };
 
 // Threads used by FFTW (and by elementwise loops, where parallel): $CMC_THREADS, or

@@ -372,6 +372,7 @@ void Writer::load_partial() {
       rec.result.residual = r["residual"].value_or(0.0);
       rec.result.wall_s = r["wall_s"].value_or(0.0);
       rec.result.fft_pairs = r["fft_pairs"].value_or(0.0);
+      rec.result.fft_s = r["fft_s"].value_or(0.0);
       rec.result.message = r["message"].value_or(std::string());
       rec.result.diagnostics = diagnostics_from(r["diagnostics"]);
       rec.jump = r["jump"].value_or(false);
@@ -410,6 +411,7 @@ void Writer::load_partial() {
     at.so_far.iterations = int((*in)["iterations"].value_or(0));
     at.so_far.fft_pairs = (*in)["fft_pairs"].value_or(0.0);
     at.so_far.wall_s = (*in)["wall_s"].value_or(0.0);
+    at.so_far.fft_s = (*in)["fft_s"].value_or(0.0);
     at.so_far.diagnostics = diagnostics_from((*in)["diagnostics"]);
     if (!read_fields(f, "inside", n, inside_fields(at)))
       throw damaged("group 'inside': expected the fields on this grid");
@@ -542,6 +544,7 @@ void Writer::checkpoint(const ContactState& st, const PathState* path, const Out
                                      {"iterations", inside->so_far.iterations},
                                      {"fft_pairs", inside->so_far.fft_pairs},
                                      {"wall_s", inside->so_far.wall_s},
+                                     {"fft_s", inside->so_far.fft_s},
                                      {"diagnostics", diagnostics_table(inside->so_far.diagnostics)}});
     std::ostringstream p;
     p << t << "\n";
@@ -566,6 +569,7 @@ toml::table Writer::step_json(const StepRecord& r) {
                      {"residual", r.result.residual},
                      {"wall_s", r.result.wall_s},
                      {"fft_pairs", r.result.fft_pairs},
+                     {"fft_s", r.result.fft_s},
                      {"jump", r.jump},
                      {"halvings", r.halvings},
                      {"message", r.result.message}};
@@ -617,7 +621,8 @@ void Writer::finish(const RunSummary& run, const toml::table& extra) {
                                  {"iterations", run.iterations},
                                  {"fft_pair_s", run.fft_pair_s},
                                  {"time_per_fft_pair", run.time_per_fft_pair},
-                                 {"time_per_iteration", run.time_per_iteration}});
+                                 {"time_per_iteration", run.time_per_iteration},
+                                 {"fft_share", run.fft_share}});
   toml::array steps;
   for (const auto& r : run.steps) steps.push_back(step_json(r));
   s.insert("steps", steps);

@@ -143,7 +143,7 @@ void run_adhesive_cg(const Case& c, const Scene& s, Run& run, PathState& path, C
       s.targets, state, path, lo,
       [&](const LoadStep& ls, const ContactState& st) {
         SolveResult r = ls.result;
-        r.iterations = ls.iterations, r.fft_pairs = ls.fft_pairs, r.wall_s = ls.wall_s;  // all solves of the step
+        r.iterations = ls.iterations, r.fft_pairs = ls.fft_pairs, r.wall_s = ls.wall_s, r.fft_s = ls.fft_s;  // all solves of the step
         r.diagnostics = ls.diagnostics;
         StepRecord rec = run.record(k++, r, st);
         rec.jump = ls.jump;
@@ -193,8 +193,10 @@ RunSummary run_scene(const Case& c, Scene& s, const StepCallback& on_step, const
   RunSummary& sum = run.summary;
   sum.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   sum.fft_pair_s = pair_s;
-  double solve_s = 0.0;
-  for (const StepRecord& r : sum.steps) solve_s += r.result.wall_s, sum.iterations += r.result.iterations;
+  double solve_s = 0.0, fft_s = 0.0;
+  for (const StepRecord& r : sum.steps)
+    solve_s += r.result.wall_s, fft_s += r.result.fft_s, sum.iterations += r.result.iterations;
+  if (solve_s > 0.0) sum.fft_share = fft_s / solve_s;
   if (sum.fft_pairs > 0.0) sum.time_per_fft_pair = solve_s / (sum.fft_pairs * pair_s);
   if (sum.iterations > 0) sum.time_per_iteration = solve_s / (sum.iterations * pair_s);
   return sum;

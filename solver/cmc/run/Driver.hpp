@@ -50,6 +50,9 @@ struct RunSummary {
   double fft_pair_s = 0.0;
   double time_per_fft_pair = 0.0;   // in units of fft_pair_s
   double time_per_iteration = 0.0;  // in units of fft_pair_s
+  // The steps' seconds inside the FFTs over their solver time: 1 - fft_share of the time
+  // went to everything else (the solver's passes over the fields).
+  double fft_share = 0.0;
   // Load path (adhesive runs): pull-off = the most negative load of every converged
   // solve, sub-steps included; steps that needed halving; steps after a jump.
   bool load_path = false;

@@ -35,6 +35,7 @@ class Search {
     out.state = warm;
     last_ = solve_(delta, out.state);
     pairs_ += last_.fft_pairs;
+    fft_s_ += last_.fft_s;
     iters_ += last_.iterations;
     diag_ += last_.diagnostics;
     ++diag_.outer_iterations;
@@ -47,6 +48,7 @@ class Search {
     res.converged = ok;
     res.message = std::move(msg);
     res.fft_pairs = pairs_;
+    res.fft_s = fft_s_;
     res.iterations = iters_;
     res.diagnostics = diag_;
     res.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
@@ -64,7 +66,7 @@ class Search {
   const LoadControlOptions& opt_;
   std::chrono::steady_clock::time_point t0_;
   SolveResult last_;
-  double pairs_ = 0.0;
+  double pairs_ = 0.0, fft_s_ = 0.0;
   int iters_ = 0;
   SolveDiagnostics diag_;
 };
