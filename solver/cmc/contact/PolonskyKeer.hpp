@@ -23,6 +23,8 @@
 #include "cmc/contact/Solver.hpp"
 #include "cmc/elastic/HalfSpace.hpp"
 
+#include <memory>
+
 namespace cmc {
 
 class PolonskyKeer {
@@ -43,18 +45,29 @@ class PolonskyKeer {
     // solves again from the returned state before using it (an outer iteration) may turn
     // this off and confirm only its last solve: the next solve starts from the exact u.
     bool confirm = true;
+    // Keep the work arrays (the spectra of the pressure, the direction and the heights; the
+    // direction, the preconditioned gap and the contact set) from one solve to the next
+    // instead of making them anew: for a caller that solves many times in a row (the
+    // quasi-static solver's outer steps), it saves touching fresh pages in every solve.
+    // Off: they live within a solve only (what the memory estimate of a hard-wall run counts).
+    bool keep_work = false;
   };
 
   PolonskyKeer(HalfSpace& half_space, const Field& heights, Options options);
+  ~PolonskyKeer();
+  PolonskyKeer(const PolonskyKeer&) = delete;
+  PolonskyKeer& operator=(const PolonskyKeer&) = delete;
   // Solve for `target`, starting from `state` when it holds a pressure field.
   SolveResult solve(const Target& target, ContactState& state);
   void set_confirm(bool on) { opt_.confirm = on; }
+  struct Work;  // a solve's work arrays (PolonskyKeer.cpp)
 
  private:
   HalfSpace& hs_;
   const Field& h_;
   Options opt_;
   double h_scale_;
+  std::unique_ptr<Work> work_;
 };
 
 }  // namespace cmc

@@ -241,10 +241,10 @@ SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st, O
   const SolveClock clock(hs_);
   SolveResult res;
   // A continued solve counts the outer steps of the process before it.
-  double pairs_before = 0.0, seconds_before = 0.0;
+  double pairs_before = 0.0, seconds_before = 0.0, fft_s_before = 0.0;
   auto finish = [&](bool converged, std::string msg) {
     clock.finish(res, converged, std::move(msg));
-    res.fft_pairs += pairs_before, res.wall_s += seconds_before;
+    res.fft_pairs += pairs_before, res.wall_s += seconds_before, res.fft_s += fft_s_before;
     return res;
   };
   const std::size_t n = h_.size();
@@ -264,7 +264,7 @@ SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st, O
     at = std::move(*from);
     res.iterations = at.so_far.iterations;
     res.diagnostics = at.so_far.diagnostics;
-    pairs_before = at.so_far.fft_pairs, seconds_before = at.so_far.wall_s;
+    pairs_before = at.so_far.fft_pairs, seconds_before = at.so_far.wall_s, fft_s_before = at.so_far.fft_s;
   } else {
     at.tension.assign(n, 0.0);
   }
@@ -277,6 +277,7 @@ SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st, O
   po.max_iterations = opt_.max_iterations;
   po.recompute_every = opt_.recompute_every;
   po.precondition = opt_.precondition;
+  po.keep_work = true;  // one solve an outer step: the same arrays each time
   int outer = from ? at.outer : 0;
   if (opt_.progress) {
     po.progress = [&](const ProgressPoint& p) { opt_.progress({res.iterations + p.iteration, p.residual, outer + 1, true}); };
@@ -381,6 +382,7 @@ SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st, O
       at.so_far.diagnostics = res.diagnostics;
       at.so_far.fft_pairs = pairs_before + clock.pairs();
       at.so_far.wall_s = seconds_before + clock.seconds();
+      at.so_far.fft_s = fft_s_before + clock.fft_seconds();
       opt_.on_outer(at);
     }
   }

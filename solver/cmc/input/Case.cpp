@@ -685,8 +685,9 @@ MemoryEstimate estimate_memory(const Case& c) {
     if (load_control) run_grid += 9.0;
   } else {
     // Polonsky-Keer, within a solve: the search direction (and the preconditioned gap, on
-    // a periodic grid), and the spectra of the pressure, the direction and the heights.
-    solve_grid += 1.0 + (periodic && c.solver.precondition ? 1.0 : 0.0);
+    // a periodic grid), the contact set (bytes), and the spectra of the pressure, the
+    // direction and the heights.
+    solve_grid += 1.0 + (periodic && c.solver.precondition ? 1.0 : 0.0) + 1.0 / 8.0;
     solve_transform += 3.0 * sp / m;
   }
   if (c.solver.kind == SolverKind::QuasiStatic) {
