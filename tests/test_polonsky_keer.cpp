@@ -11,6 +11,20 @@
 
 using namespace cmc;
 
+namespace {
+// A periodic self-affine surface on n² points: H = 0.8, roll-off L/4, short cutoff four
+// grid spacings, rms gradient 1.
+auto rough_surface(int n, unsigned seed) {
+  SelfAffineSpec spec;
+  spec.hurst = 0.8;
+  spec.rolloff_wavelength = 0.25;
+  spec.cutoff_wavelength = 4.0 / n;
+  spec.rms_gradient = 1.0;
+  spec.seed = seed;
+  return generate_self_affine(spec, n);
+}
+}  // namespace
+
 // Hertz on a free boundary, a/dx = 16: δ(F) within 1e-3 of Hertz (the bound of
 // cases/validation/hertz-free.toml, set there by its convergence run: 6.8e-4 at a/dx <= 16
 // on 64², 9.7e-5 at a/dx <= 32; the error measured here is ~1e-4), every gap non-negative, pressure
@@ -111,13 +125,7 @@ TEST(PolonskyKeer, NearFullContactWestergaard) {
 // the plain method's count grows with the grid). The bound below, 5x, sits under the
 // measured ratios at this grid. On the challenge at 512²: 1212 / 38 at 17.5 MPa.
 TEST(PolonskyKeer, StiffnessPreconditionerSameAnswerFewerIterations) {
-  SelfAffineSpec spec;
-  spec.hurst = 0.8;
-  spec.rolloff_wavelength = 0.25;
-  spec.cutoff_wavelength = 4.0 / 256;
-  spec.rms_gradient = 1.0;
-  spec.seed = 3;
-  const auto surf = generate_self_affine(spec, 256);
+  const auto surf = rough_surface(256, 3);
   const Grid& g = surf.map.grid;
   PeriodicHalfSpace hs(g, 1.0);
   for (double p : {0.0005, 0.05, 0.5, 0.9}) {
@@ -155,13 +163,7 @@ TEST(PolonskyKeer, StiffnessPreconditionerSameAnswerFewerIterations) {
 // next solve starts out of contact), under force and displacement control, with and
 // without the preconditioner.
 TEST(PolonskyKeer, KeptWorkArraysGiveTheSameBits) {
-  SelfAffineSpec spec;
-  spec.hurst = 0.8;
-  spec.rolloff_wavelength = 0.25;
-  spec.cutoff_wavelength = 4.0 / 128;
-  spec.rms_gradient = 1.0;
-  spec.seed = 5;
-  const auto surf = generate_self_affine(spec, 128);
+  const auto surf = rough_surface(128, 5);
   PeriodicHalfSpace hs(surf.map.grid, 1.0);
   for (bool precondition : {true, false}) {
     SCOPED_TRACE(precondition ? "preconditioned" : "plain");
