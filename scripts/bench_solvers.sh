@@ -5,8 +5,8 @@
 # several grids. Prints, per run,
 # what cmc measured in that run: iterations, FFT pairs, wall time of the solves, the time
 # of one FFT pair of the run's operator (timed at its start), the solve time per FFT pair
-# and per iteration in units of that pair time (target: 1.3 per iteration), and the
-# share of the solve time spent inside the transforms (the rest is the solver's passes), and the
+# and per iteration in units of that pair time (target: 1.3 per iteration), the share of
+# the solve time spent inside the transforms (the rest is the solver's passes), and the
 # answer: contact fraction a_r, repulsive a_r and mean gap.
 #
 # usage: scripts/bench_solvers.sh [--quick] [--cmc BIN] [--label NAME] [--out DIR]

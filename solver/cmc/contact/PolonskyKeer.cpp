@@ -142,7 +142,7 @@ class PkRun {
         delta_(force_ ? st.penetration : target.value), spectral_(hs, h, work.p_hat, work.t_hat, work.h_hat),
         precondition_(o.precondition && hs.periodic()), z_(work.z), ic_(work.ic) {
     t_.assign(n_, 0.0);
-    ic_.assign(n_, 0);
+    ic_.resize(n_);  // filled by set_contact_set() before any pass reads it
     if (precondition_) z_.assign(n_, 0.0);
   }
 
