@@ -1,5 +1,6 @@
 #include "commands.hpp"
 
+#include "cmc/grid/Backend.hpp"
 #include "cmc/grid/Ranks.hpp"
 
 #include <unistd.h>
@@ -67,6 +68,13 @@ void print_memory_plan(const Case& c, bool quiet) {
   std::fprintf(stderr, "%s: %d x %d points%s, about %s of memory at the peak (%s)%s%s%s\n", c.name.c_str(), c.grid.nx,
                c.grid.ny, on.c_str(), memory_text(e.bytes).c_str(), e.what.c_str(), avail ? "; available: " : "",
                avail ? memory_text(*avail).c_str() : "", avail && ranks() > 1 ? " per rank" : "");
+  if (c.grid.backend == "cuda") {
+    const bool pre = c.solver.precondition;
+    std::string why;
+    const std::string dev = cuda::available(&why) ? cuda::device_description() : "none: " + why;
+    std::fprintf(stderr, "%s: Polonsky-Keer's fields on the GPU: about %s of device memory (GPU: %s)\n", c.name.c_str(),
+                 memory_text(double(cuda::polonsky_keer_bytes(c.grid.nx, c.grid.ny, pre))).c_str(), dev.c_str());
+  }
 }
 
 Progress make_progress(bool quiet, int* step, std::chrono::steady_clock::time_point t0, int total_steps,

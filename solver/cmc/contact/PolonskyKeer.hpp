@@ -22,6 +22,7 @@
 
 #include "cmc/contact/Solver.hpp"
 #include "cmc/elastic/HalfSpace.hpp"
+#include "cmc/grid/Backend.hpp"
 
 #include <memory>
 
@@ -51,6 +52,11 @@ class PolonskyKeer {
     // quasi-static solver's outer steps), it saves touching fresh pages in every solve.
     // Off: they live within a solve only (what the memory estimate of a hard-wall run counts).
     bool keep_work = false;
+    // Where the iteration runs (grid/Backend.hpp). Cuda: the fields live on the GPU for
+    // the whole solve (contact/PolonskyKeerDevice.cu; periodic boundary, one process); the
+    // heights and a warm start go up at its start, p and u come down at its end, and the
+    // solved state is made from them on the host as on the CPU.
+    Backend backend = Backend::Cpu;
   };
 
   PolonskyKeer(HalfSpace& half_space, const Field& heights, Options options);
@@ -60,7 +66,11 @@ class PolonskyKeer {
   // Solve for `target`, starting from `state` when it holds a pressure field.
   SolveResult solve(const Target& target, ContactState& state);
   void set_confirm(bool on) { opt_.confirm = on; }
-  struct Work;  // a solve's work arrays (PolonskyKeer.cpp)
+  struct Work;    // a solve's work arrays (PolonskyKeer.cpp)
+  struct Device;  // the same on the GPU (contact/PolonskyKeerDevice.cu)
+  struct DeviceDelete {
+    void operator()(Device* d) const noexcept;
+  };
 
  private:
   HalfSpace& hs_;
@@ -68,6 +78,7 @@ class PolonskyKeer {
   Options opt_;
   double h_scale_;
   std::unique_ptr<Work> work_;
+  std::unique_ptr<Device, DeviceDelete> device_;
 };
 
 }  // namespace cmc

@@ -277,6 +277,7 @@ SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st, O
   po.max_iterations = opt_.max_iterations;
   po.recompute_every = opt_.recompute_every;
   po.precondition = opt_.precondition;
+  po.backend = opt_.backend;
   po.keep_work = true;  // one solve an outer step: the same arrays each time
   int outer = from ? at.outer : 0;
   if (opt_.progress) {

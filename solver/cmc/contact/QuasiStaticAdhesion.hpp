@@ -98,6 +98,9 @@ class QuasiStaticAdhesion {
     bool precondition = true;  // passed to Polonsky-Keer (its stiffness preconditioner)
     bool predict_jumps = true;  // the nonlinear Jacobi prediction (off: the plain iteration)
     bool cascade = true;        // jumps that trigger jumps within an outer step (needs predict_jumps)
+    // Where the Polonsky-Keer solves run (its Options::backend). The outer step's own
+    // passes, its transforms and the cascade stay on the CPU.
+    Backend backend = Backend::Cpu;
     // Called after every outer step that leaves the solve unfinished, with where it stands
     // (the solver's own fields, not copies): a caller may save it and hand it back to
     // solve() in another process to continue.

@@ -102,9 +102,17 @@ class HalfSpace {
   double quadratic_form(std::span<const Complex> s, const Field& multiplier) const;
 
   // FFT pairs done so far by this operator ((forward + inverse transforms) / 2).
-  double fft_pairs() const { return 0.5 * double(fourier_.forward_count() + fourier_.inverse_count()); }
+  // Transforms done on a GPU for this operator (a solver's device backend reports them
+  // here) count too.
+  double fft_pairs() const {
+    return 0.5 * double(fourier_.forward_count() + fourier_.inverse_count() + device_forward_ + device_inverse_);
+  }
   // Seconds spent inside those transforms (wall clock).
-  double fft_seconds() const { return fourier_.seconds(); }
+  double fft_seconds() const { return fourier_.seconds() + device_seconds_; }
+  // Add transforms a device backend did on this operator's grid, and their seconds.
+  void count_device_transforms(long forward, long inverse, double seconds) {
+    device_forward_ += forward, device_inverse_ += inverse, device_seconds_ += seconds;
+  }
   // Seconds of one FFT pair (forward + inverse on the transform grid), timed here and now:
   // the fastest of at least `min_repeats` pairs taking `min_seconds`, after one untimed
   // pair. The unit a run's cost is reported in, measured in the same run. Counts in
@@ -137,6 +145,8 @@ class HalfSpace {
   Field abs_q_;   // periodic: |q| / N², made by the first energy_from_displacement
   Field padded_;  // free only: transform-grid work array
   std::unique_ptr<RowExchange> exchange_;  // free and distributed: contact rows <-> padded slab
+  long device_forward_ = 0, device_inverse_ = 0;
+  double device_seconds_ = 0.0;
 };
 
 // The two boundaries by name (constructors only; the operator is the same class).

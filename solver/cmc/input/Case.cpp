@@ -243,6 +243,13 @@ void apply_override(toml::table& t, const std::string& a) {
 
 namespace {
 
+// Whether this build has the CUDA backend (grid/Backend.hpp; CMakeLists.txt defines CMC_CUDA).
+#ifdef CMC_CUDA
+constexpr bool kCudaBuilt = true;
+#else
+constexpr bool kCudaBuilt = false;
+#endif
+
 void parse_grid(Section s, GridSpec& g) {
   // Sizes are bounded before they are narrowed to int (a larger one would wrap); whether
   // the grid fits in memory is checked once the whole case is known (check_memory).
@@ -259,8 +266,11 @@ void parse_grid(Section s, GridSpec& g) {
   g.periodic = s.string("boundary", std::string(g.periodic ? "periodic" : "free"), {"periodic", "free"}) == "periodic";
   if (!g.periodic && g.ny < 2) s.fail("ny", "at least 2 points: a free boundary needs a 2-D grid");
   g.backend = s.string("backend", g.backend, {"cpu", "cuda"});
-  if (g.backend != "cpu")
-    s.fail("backend", "\"cpu\": this version of cmc has no CUDA backend yet (issue 16; README, \"GPU\"), in any build");
+  if (g.backend == "cuda" && !kCudaBuilt)
+    s.fail("backend", "\"cpu\": this build of cmc has no CUDA backend (configure a build folder with -DCMC_CUDA=ON; "
+                      "README, \"GPU\")");
+  if (g.backend == "cuda" && !g.periodic)
+    s.fail("backend", "\"cpu\" with boundary = \"free\": the CUDA backend has the periodic boundary only");
   s.finish();
 }
 
@@ -542,6 +552,10 @@ Case parse_case(const toml::table& input, const std::string& file) {
   const bool adhesive = c.interaction.kind != InteractionKind::HardWall;
   parse_loading(Section(t, "loading", file, true), adhesive, c.grid.periodic, c.loading);
   parse_solver(Section(t, "solver", file, false), c.interaction, c.loading, c.solver);
+  if (c.grid.backend == "cuda" && c.solver.kind == SolverKind::AdhesiveCg)
+    Section(t, "grid", file, true)
+        .fail("backend", "\"cpu\" with [solver] kind = \"adhesive_cg\": the CUDA backend runs the polonsky_keer and "
+                         "quasi_static solvers (hard wall; exponential adhesion on a loading path)");
   {
     Section s(t, "output", file, false);
     c.write_fields = s.boolean("fields", c.write_fields);

@@ -30,9 +30,9 @@ struct GridSpec {
   int nx = 0, ny = 0;
   double size_x = 0.0, size_y = 0.0;  // m
   bool periodic = true;
-  // Where fields live and passes run: "cpu" (FFTW and OpenMP), the only backend of this
-  // version. "cuda" is a known word that every build refuses with a message until a CUDA
-  // backend exists (issue 16; README, "GPU"), so a case file written for it fails clearly.
+  // Where fields live and passes run (grid/Backend.hpp): "cpu" (FFTW and OpenMP) or
+  // "cuda" (cuFFT and kernels on one GPU: builds with -DCMC_CUDA=ON, periodic boundary,
+  // the polonsky_keer and quasi_static solvers; others refuse it naming the key).
   std::string backend = "cpu";
 };
 

@@ -1,5 +1,7 @@
 #include "cmc/output/Writer.hpp"
 
+#include "cmc/grid/Backend.hpp"
+
 #include "cmc/output/CaseDiff.hpp"
 
 #include "cmc/grid/Ranks.hpp"
@@ -598,7 +600,8 @@ toml::table Writer::summary_base() const {
                            {"fft_size", (long long)scene_.half_space->transform_points()},
                            {"mpi_ranks", ranks()},
                            {"threads", thread_count()},
-                           {"fft_plans", std::string(scene_.half_space->plan_source())},
+                           {"backend", case_.grid.backend},
+                           {"fft_plans", case_.grid.backend == "cuda" ? std::string("cuFFT") : std::string(scene_.half_space->plan_source())},
                            {"fft_wisdom_fingerprint", builtin_wisdom_fingerprint()}}},
       {"surface", scene_.topography.description},
   };

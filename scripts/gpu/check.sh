@@ -1,0 +1,107 @@
+#!/usr/bin/env bash
+# On a GPU machine, from a build packed by scripts/gpu/pack.sh (issue 16; README, "GPU"):
+#   scripts/gpu/check.sh [--pack DIR] [--out DIR] [--cap SECONDS] STAGE...
+# Stages:
+#   tests         the 'gpu' tests (tests/gpu: the CUDA backend against the CPU backend)
+#   rerun         the 2048² adhesive challenge twice on the GPU: summary.json numbers compared
+#                 bit for bit (timings aside)
+#   hardwall:N    the hard-wall challenge at 250 kPa on an N² grid, on the GPU
+#   adhesive:N    the adhesive challenge at 250 kPa (quasi-static solver), on the GPU
+#   shape:N       the same with the shape coarse-graining (issue 13), at most 170 outer steps
+#   cpu-hardwall:N, cpu-adhesive:N   the same on the CPU backend of the same build
+# Each run prints one line: iterations, FFT pairs, solve time, the FFT pair time measured in
+# the same run (cuFFT on the GPU, FFTW on the CPU), time per iteration and per pair in units
+# of it, the share inside the transforms, a_r, repulsive a_r, mean gap, the GPU memory
+# peak (nvidia-smi --loop-ms=200) and the status. Runs stop after --cap seconds
+# (default 300): a stopped run says so.
+set -uo pipefail
+cd "$(dirname "$0")/../.."
+pack=.gpucarry out=gpu-check cap=300
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --pack) pack=$2; shift 2 ;;
+    --out) out=$2; shift 2 ;;
+    --cap) cap=$2; shift 2 ;;
+    *) break ;;
+  esac
+done
+[ -f "$pack/env.sh" ] || { echo "scripts/gpu/check.sh: no $pack/env.sh: run scripts/gpu/pack.sh on the build machine" >&2; exit 1; }
+. "$pack/env.sh"
+mkdir -p "$out"
+# The tests read the case files through the source path compiled into them.
+export CMC_THREADS=${CMC_THREADS:-$(nproc)}
+export CMC_SOURCE_DIR=$PWD  # where the tests find the case files
+
+summary_line() {  # folder, label, peak MiB
+  /usr/bin/python3 - "$1" "$2" "$3" <<'PY'
+import json, sys
+d, label, peak = sys.argv[1:4]
+try:
+    s = json.load(open(d + "/summary.json"))
+except Exception as e:
+    print(f"{label:26s} no summary ({e})"); sys.exit()
+if not s.get("steps") or "timing" not in s:
+    print(f"{label:26s} {s.get('status', '?')}: {s.get('message', '')}"); sys.exit()
+t, st = s["timing"], s["steps"][-1]
+o = st.get("observables", {})
+print(f"{label:26s} {t['iterations']:6d} {t['fft_pairs']:8.1f} {t['wall_s']:9.2f} {1e3*t['fft_pair_s']:9.3f} "
+      f"{t['time_per_iteration']:7.2f} {t['time_per_fft_pair']:7.2f} {t['fft_share']:6.2f} "
+      f"{st['contact_fraction']:.7f} {o.get('repulsive_fraction', float('nan')):.7f} "
+      f"{1e6*st['mean_gap']:.7f} {peak:>7s} {s['status']}")
+PY
+}
+
+run_case() {  # kind (hardwall|adhesive|shape), n, backend
+  local file=reference-load-hardwall extra=()
+  [ "$1" = adhesive ] && file=reference-load
+  # The challenge (s = 1 of the scaled family) with the shape coarse-graining, stopped at
+  # 170 outer steps as its stored 8192² CPU run was (reference/challenge-scaled).
+  [ "$1" = shape ] && file=scaled-family extra=(--set case.name=challenge-scaled-s1 --set surface.cutoff_wavelength=1e-07
+    --set interaction.work_of_adhesion=0.05 --set solver.max_outer_steps=170 --set 'interaction.coarse_graining="shape"')
+  local tag="$3-$1-$2" dir="$out/runs/$3-$1-$2"
+  rm -rf "$dir"
+  local samples="$out/$tag.gpu-memory"
+  : >"$samples"
+  nvidia-smi --query-gpu=memory.used --format=csv,noheader,nounits --loop-ms=200 >"$samples" 2>/dev/null &
+  local mon=$!
+  timeout "$cap" "$pack/bin/cmc" run "cases/challenge/$file.toml" --set "grid.n=$2" --set "grid.backend=$3" \
+    --set output.fields=false "${extra[@]}" --out "$dir" >"$out/$tag.log" 2>&1
+  local rc=$?
+  kill "$mon" 2>/dev/null; wait "$mon" 2>/dev/null
+  local peak
+  peak=$(sort -n "$samples" 2>/dev/null | tail -1)
+  [ $rc -eq 124 ] && echo "$tag: stopped after $cap s (--cap)" >>"$out/$tag.log"
+  summary_line "$dir" "$tag" "${peak:-?}MiB"
+  [ $rc -eq 0 ] || { echo "  $tag: exit $rc; last lines of its log:"; tail -3 "$out/$tag.log" | sed 's/^/    /'; echo; }
+}
+
+header() {
+  echo "run                        iters    pairs   solve_s  pair_ms  t/iter  t/pair  infft a_r       rep_a_r   gap_um   gpu_peak status"
+}
+
+nvidia-smi --query-gpu=name,memory.total,driver_version --format=csv,noheader 2>&1 | sed 's/^/GPU: /'
+"$pack/bin/cmc" --version 2>/dev/null | head -1
+for stage in "$@"; do
+  case "$stage" in
+    tests)
+      "$pack/bin/cmc_gpu_tests" 2>&1 | tee "$out/gpu_tests.log" | grep -E '^\[ +(OK|FAILED|SKIPPED|PASSED) |Failure|expected|cpu |Which is' ;;
+    rerun)
+      header
+      run_case adhesive 2048 cuda; mv "$out/runs/cuda-adhesive-2048" "$out/runs/rerun-a"
+      run_case adhesive 2048 cuda; mv "$out/runs/cuda-adhesive-2048" "$out/runs/rerun-b"
+      /usr/bin/python3 - "$out/runs/rerun-a/summary.json" "$out/runs/rerun-b/summary.json" <<'PY'
+import json, sys
+skip = {"wall_s", "fft_s", "fft_share", "fft_pair_s", "time_per_fft_pair", "time_per_iteration"}
+def strip(x):
+    if isinstance(x, dict): return {k: strip(v) for k, v in x.items() if k not in skip}
+    if isinstance(x, list): return [strip(v) for v in x]
+    return x
+a, b = (strip(json.load(open(p))) for p in sys.argv[1:3])
+print("rerun: summary.json numbers " + ("identical" if a == b else "DIFFER"))
+PY
+      ;;
+    hardwall:*|adhesive:*|shape:*) header; run_case "${stage%%:*}" "${stage#*:}" cuda ;;
+    cpu-hardwall:*|cpu-adhesive:*|cpu-shape:*) k=${stage#cpu-}; header; run_case "${k%%:*}" "${k#*:}" cpu ;;
+    *) echo "scripts/gpu/check.sh: unknown stage $stage" >&2; exit 2 ;;
+  esac
+done

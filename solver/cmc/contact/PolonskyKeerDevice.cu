@@ -1,0 +1,148 @@
+// Polonsky-Keer on one GPU (issue 16): the device backend of PolonskyKeerRun.hpp. The
+// iteration is PolonskyKeerRun.hpp's, body for body; here are only where its fields live
+// (device buffers for the whole solve) and how its passes and transforms run (kernels
+// with fixed-order reductions and cuFFT, grid/CudaDevice.cuh). Periodic boundary, one
+// process: the case parser refuses other combinations with backend = "cuda".
+//
+// Device memory, per point of an n-point grid (nspec = ny (nx/2 + 1) ≈ n/2 modes):
+// p, w = h + u, t, h (4 doubles), z (1, with the preconditioner), the contact mask (1
+// byte), the spectra p̂, t̂, ĥ/N and the transform's scratch (4 nspec complex ≈ 4
+// doubles), the compliance and the stiffness (nspec doubles each ≈ ½ each), and cuFFT's
+// work area (measured for the shape: cufftMakePlan2d reports it). About 11 doubles a
+// point with the preconditioner: 24 GiB at 16384², 95 GiB at 32768².
+#include "cmc/contact/PolonskyKeerRun.hpp"
+#include "cmc/grid/CudaDevice.cuh"
+
+#include <cstdio>
+#include <sstream>
+
+namespace cmc {
+
+struct PolonskyKeer::Device {
+  // ---- the backend interface of pk::Run (PolonskyKeerRun.hpp)
+  std::size_t n, nspec;
+  double points, transform_points;
+  double *p = nullptr, *w = nullptr, *t = nullptr, *z = nullptr;
+  std::uint8_t* m = nullptr;
+  const double* h = nullptr;
+  double *p_hat = nullptr, *t_hat = nullptr, *h_hat = nullptr, *out = nullptr;
+  const double* ker = nullptr;
+
+  template <class F>
+  void all(std::size_t k, F f) {
+    cuda::all(k, f);
+  }
+  template <class Acc, class F>
+  Acc reduce_in(const std::uint8_t* mask, std::size_t k, F f) {
+    return reducer.run<Acc>(k, cuda::InMask{mask}, f);
+  }
+  template <class Acc, class F>
+  Acc reduce_in_or_below(const std::uint8_t* mask, const double* v, double level, std::size_t k, F f) {
+    return reducer.run<Acc>(k, cuda::InMaskOrBelow{mask, v, level}, f);
+  }
+  double sum(const double* v) {
+    return reducer.run<pk::Sum>(n, cuda::Everywhere{}, [=] __device__(std::size_t i, pk::Sum& a) { a.v += v[i]; }).v;
+  }
+  void forward_p() { fft.forward(p, p_hat); }
+  void forward_h() { fft.forward(h, h_hat); }
+  double curvature_t() {
+    fft.forward(t, t_hat);
+    return quadratic_form(t_hat, ker);
+  }
+  void inverse_w() { fft.inverse(out, w); }
+  void stiffness_z() {
+    fft.forward(z, out);
+    double* o = out;
+    const double* k = STIFF.data();
+    cuda::all(nspec, [=] __device__(std::size_t j) { o[2 * j] *= k[j], o[2 * j + 1] *= k[j]; });
+    fft.inverse(out, z);
+  }
+  // Σ_q weight(q) mult(q) |s_q|² over the r2c half-spectrum (HalfSpace::quadratic_form).
+  double quadratic_form(const double* s, const double* mult) {
+    const int cols = nx / 2 + 1, nxx = nx;
+    return reducer
+        .run<pk::Sum>(nspec, cuda::Everywhere{},
+                      [=] __device__(std::size_t j, pk::Sum& a) {
+                        const int c = int(j % std::size_t(cols));
+                        const double wgt = (c == 0 || 2 * c == nxx) ? 1.0 : 2.0;
+                        a.v += wgt * mult[j] * (s[2 * j] * s[2 * j] + s[2 * j + 1] * s[2 * j + 1]);
+                      })
+        .v;
+  }
+
+  // ---- the buffers
+  int nx, ny;
+  bool precondition;
+  cuda::Buffer<double> P, W, T, Z, H, PH, TH, HH, OUT, KER, STIFF;
+  cuda::Buffer<std::uint8_t> M;
+  cuda::Reducer reducer;
+  cuda::Fft fft;
+
+  Device(HalfSpace& hs, bool pre)
+      : n(hs.grid().size()), nspec(hs.spectrum_size()), points(double(hs.grid().points())),
+        transform_points(double(hs.transform_points())), nx(hs.grid().nx), ny(hs.grid().ny), precondition(pre),
+        P(n, "the pressure"), W(n, "the displacement"), T(n, "the direction"), Z(pre ? n : 0, "the preconditioned gap"),
+        H(n, "the heights"), PH(2 * nspec, "a spectrum"), TH(2 * nspec, "a spectrum"), HH(2 * nspec, "a spectrum"),
+        OUT(2 * nspec, "a spectrum"), KER(nspec, "the compliance"), STIFF(pre ? nspec : 0, "the stiffness"),
+        M(n, "the contact set"), fft(nx, ny) {
+    p = P.data(), w = W.data(), t = T.data(), z = Z.data(), m = M.data(), h = H.data();
+    p_hat = PH.data(), t_hat = TH.data(), h_hat = HH.data(), out = OUT.data(), ker = KER.data();
+    KER.upload(hs.compliance().data(), nspec);
+    if (pre) STIFF.upload(hs.stiffness().data(), nspec);
+  }
+};
+
+void PolonskyKeer::DeviceDelete::operator()(Device* d) const noexcept { delete d; }
+
+pk::End pk::solve_on_device(std::unique_ptr<PolonskyKeer::Device, PolonskyKeer::DeviceDelete>& dev, HalfSpace& hs,
+                            const Field& heights, const PolonskyKeer::Options& o, double h_scale, const Target& target,
+                            ContactState& st, const Start& start, SolveResult& res) {
+  if (!hs.periodic() || hs.grid().split())
+    throw std::invalid_argument("Polonsky-Keer on CUDA: periodic boundary and one process only (grid.periodic = true, no MPI)");
+  std::string why;
+  if (!cuda::available(&why)) throw std::runtime_error("Polonsky-Keer on CUDA: " + why);
+  if (!dev || dev->precondition != start.precondition) {
+    dev.reset();
+    const int nx = hs.grid().nx, ny = hs.grid().ny;
+    const std::size_t need = cuda::polonsky_keer_bytes(nx, ny, start.precondition);
+    std::size_t free_b = 0, total_b = 0;
+    cuda::check(cudaMemGetInfo(&free_b, &total_b), "reading the device's free memory");
+    if (need > free_b) {
+      std::ostringstream s;
+      s << "Polonsky-Keer on CUDA: the grid " << nx << " x " << ny << " needs " << double(need) / double(1u << 30)
+        << " GiB of device memory, and " << double(free_b) / double(1u << 30) << " GiB of "
+        << double(total_b) / double(1u << 30) << " GiB are free: use a smaller grid or the CPU backend";
+      throw std::runtime_error(s.str());
+    }
+    cuda::ProfileScope ps(&cuda::Profile::setup_s);
+    dev.reset(new PolonskyKeer::Device(hs, start.precondition));
+  }
+  PolonskyKeer::Device& d = *dev;
+  const long f0 = d.fft.forwards, i0 = d.fft.inverses;
+  const double s0 = d.fft.seconds;
+  d.H.upload(heights.data(), d.n);
+  if (start.warm) d.P.upload(st.pressure.data(), d.n);
+  End end;
+  {
+    Run<PolonskyKeer::Device> run(d, o, h_scale, target, start);
+    run.run(res);
+    end = {run.sigma(), run.delta(), run.failure};
+  }
+  st.pressure.resize(d.n);
+  st.displacement.resize(d.n);
+  d.P.download(st.pressure.data(), d.n);
+  d.W.download(st.displacement.data(), d.n);
+  hs.count_device_transforms(d.fft.forwards - f0, d.fft.inverses - i0, d.fft.seconds - s0);
+  if (cuda::profile().on) {
+    const cuda::Profile& pr = cuda::profile();
+    std::fprintf(stderr,
+                 "cuda profile, so far: transforms %.3f s (%ld + %ld), passes %.3f s (%ld), reductions %.3f s (%ld), "
+                 "uploads %.3f s (%.2f GB), downloads %.3f s (%.2f GB), set-up %.3f s\n",
+                 d.fft.seconds, d.fft.forwards, d.fft.inverses, pr.pass_s, pr.passes, pr.reduce_s, pr.reductions,
+                 pr.upload_s, 1e-9 * pr.upload_bytes, pr.download_s, 1e-9 * pr.download_bytes, pr.setup_s);
+  }
+  if (!o.keep_work) dev.reset();
+  return end;
+}
+
+}  // namespace cmc

@@ -1,0 +1,382 @@
+// One Polonsky–Keer solve, written once for every backend (grid/Backend.hpp): the steps
+// (a)–(h) of Polonsky & Keer §3 (see PolonskyKeer.hpp) as named parts, over a backend B
+// that holds the fields and runs the passes. The CPU backend (PolonskyKeer.cpp) runs them
+// with OpenMP over the contact set only; the CUDA backend (contact/PolonskyKeerDevice.cu)
+// as kernels with fixed-order reductions. Neither holds any of the algorithm.
+//
+// What B provides (pointers are the backend's: host or device memory):
+//   n, nspec            points held, spectrum modes held
+//   points, transform_points
+//                       points of the whole grid, and of its transform grid (padded when free)
+//   p, w, t, z, m, h    pressure (times sigma), w = h + u, direction, preconditioned gap,
+//                       contact mask (m[i] == (p[i] > 0), always), heights
+//   p_hat, t_hat, h_hat, out, ker
+//                       spectra as interleaved (re, im) doubles: of p, of t, of h/N, the
+//                       transform's scratch; ker: the compliance (1/N folded in)
+//   all(k, f)                         f(i) for i in [0, k)
+//   reduce_in<Acc>(m, k, f)           f(i, acc) for i in the mask, merged in a fixed order
+//   reduce_in_or_below<Acc>(m, w, c, k, f)
+//                                     the same for i in the mask or with w[i] < c; the CPU
+//                                     calls f for the other points of a block of eight
+//                                     too, so f must be a no-op there
+//   sum(v)                            Σ v over the whole grid
+//   forward_p(), forward_h()          p_hat = FFT(p), h_hat = FFT(h) (unnormalised)
+//   curvature_t()                     t_hat = FFT(t); returns <t, G t>
+//   inverse_w()                       w = inverse FFT of out
+//   stiffness_z()                     z = K z (one FFT pair)
+#pragma once
+
+#include "cmc/contact/PolonskyKeer.hpp"
+#include "cmc/grid/Backend.hpp"
+
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <numbers>
+#include <string>
+
+namespace cmc::pk {
+
+// Sums of step (a) over the contact set Ic = {p > 0} and the overlap set, relative to c.
+struct GapSums {
+  double s1 = 0.0, s2 = 0.0, nc = 0.0;  // Σ_Ic (w − c), Σ_Ic (w − c)², |Ic|
+  double ol = 0.0, nol = 0.0;           // Σ overlap², number of overlapping points
+  double tsum = 0.0;                    // Σ_Ic t: keeps the next direction load-neutral
+  CMC_HD void merge(const GapSums& o) {
+    s1 += o.s1, s2 += o.s2, nc += o.nc, ol += o.ol, nol += o.nol, tsum += o.tsum;
+  }
+};
+struct Sum {
+  double v = 0.0;
+  CMC_HD void merge(const Sum& o) { v += o.v; }
+};
+struct GzSums {  // Σ_Ic z, Σ_Ic g z, Σ_Ic g
+  double zsum = 0.0, gz = 0.0, gsum = 0.0;
+  CMC_HD void merge(const GzSums& o) { zsum += o.zsum, gz += o.gz, gsum += o.gsum; }
+};
+struct StepSums {
+  double psum = 0.0;
+  bool changed = false;
+  CMC_HD void merge(const StepSums& o) { psum += o.psum, changed = changed || o.changed; }
+};
+
+// Where a solve starts (PolonskyKeer::solve works it out from the state, for any backend).
+struct Start {
+  bool warm = false;          // the backend's pressure holds a start (else it is made here)
+  double delta = 0.0;         // the previous penetration (load control) or the target one
+  bool precondition = false;  // the stiffness preconditioner (periodic boundary only)
+  double overlap_k = 0.0;     // E* π / L, the stiffness of the longest wave: overlap -> pressure
+  double longest_compliance = 0.0;  // L / (π E*): the first step's compliance
+};
+// Where it ended: the lazy load scaling, the penetration, and why it failed (empty: it did not).
+struct End {
+  double sigma = 1.0, delta = 0.0;
+  std::string failure;
+};
+
+// Every member is public: nvcc's device lambdas may not sit in private member functions.
+template <class B>
+class Run {
+ public:
+  Run(B& b, const PolonskyKeer::Options& o, double h_scale, const Target& target, const Start& start)
+      : b_(b), opt_(o), h_scale_(h_scale), force_(target.control == Control::MeanPressure),
+        target_(force_ ? target.value : 0.0), delta_(start.delta), warm_(start.warm),
+        precondition_(start.precondition), overlap_k_(start.overlap_k), last_tau_(start.longest_compliance) {
+    heights_spectrum();
+  }
+
+  void run(SolveResult& res);
+  double delta() const { return delta_; }
+  double sigma() const { return sigma_; }
+  std::string failure;
+
+  // ---- the spectral state that makes an iteration cost one FFT pair
+  // ĥ/N: the operator then returns w = h + G p without a pass that reads h.
+  void heights_spectrum() {
+    b_.forward_h();
+    const double norm = 1.0 / b_.transform_points;
+    double* hh = b_.h_hat;
+    b_.all(2 * b_.nspec, [=] CMC_HD(std::size_t k) { hh[k] *= norm; });
+  }
+  // p̂ = s FFT(p) (one forward) and w = h + G p̂ (one inverse).
+  void set_pressure(double s) {
+    b_.forward_p();
+    step(s, 0.0);
+  }
+  // p̂ ← s (p̂ − τ t̂) and w = h + G p̂ (one inverse). The caller applies the same step to
+  // the real-space p. On the real and imaginary parts as doubles (what std::complex
+  // computes, component by component, for a complex times a real).
+  void step(double s, double tau) {
+    double *out = b_.out, *ph = b_.p_hat;
+    const double *th = b_.t_hat, *off = b_.h_hat, *ker = b_.ker;
+    if (tau != 0.0) {
+      b_.all(b_.nspec, [=] CMC_HD(std::size_t k) {
+        const double re = s * (ph[2 * k] - tau * th[2 * k]), im = s * (ph[2 * k + 1] - tau * th[2 * k + 1]);
+        ph[2 * k] = re, ph[2 * k + 1] = im;
+        out[2 * k] = re * ker[k] + off[2 * k], out[2 * k + 1] = im * ker[k] + off[2 * k + 1];
+      });
+    } else {
+      b_.all(b_.nspec, [=] CMC_HD(std::size_t k) {
+        const double re = s * ph[2 * k], im = s * ph[2 * k + 1];
+        ph[2 * k] = re, ph[2 * k + 1] = im;
+        out[2 * k] = re * ker[k] + off[2 * k], out[2 * k + 1] = im * ker[k] + off[2 * k + 1];
+      });
+    }
+    b_.inverse_w();
+  }
+  void exact() {
+    set_pressure(sigma_);
+    since_exact_ = 0;
+  }
+
+  // ---- the steps
+  // Pressure from the geometric overlap, p = k max(0, δ − h).
+  void overlap_pressure() {
+    double* p = b_.p;
+    const double* h = b_.h;
+    const double d = delta_, k = overlap_k_;
+    b_.all(b_.n, [=] CMC_HD(std::size_t i) { p[i] = (d - h[i] > 0.0 ? d - h[i] : 0.0) * k; });
+  }
+  // Ic from p, after p was set wholesale; the direction is zero off Ic.
+  void set_contact_set() {
+    const double* p = b_.p;
+    std::uint8_t* m = b_.m;
+    double* t = b_.t;
+    b_.all(b_.n, [=] CMC_HD(std::size_t i) {
+      m[i] = p[i] > 0.0;
+      if (!m[i]) t[i] = 0.0;
+    });
+  }
+  void initial_pressure() {
+    // Warm start, or PK's uniform guess (force control), or a guess proportional to the
+    // geometric overlap (displacement control).
+    double* p = b_.p;
+    if (!warm_) {
+      if (force_) {
+        const double v = target_;
+        b_.all(b_.n, [=] CMC_HD(std::size_t i) { p[i] = v; });
+      } else {
+        overlap_pressure();
+      }
+    }
+    if (force_) {
+      if (target_ == 0.0) {
+        b_.all(b_.n, [=] CMC_HD(std::size_t i) { p[i] = 0.0; });
+      } else {
+        const double s = target_ / (b_.sum(p) / b_.points);
+        b_.all(b_.n, [=] CMC_HD(std::size_t i) { p[i] *= s; });
+      }
+    }
+    set_contact_set();
+    exact();  // w = h + G p, and p̂ kept
+  }
+  // (a) gap statistics over Ic = {p > 0} (σ > 0 does not change it), shifted by the
+  // previous δ to avoid cancellation; overlap (w < c) elsewhere.
+  GapSums gap_sums() {
+    const double c = delta_;
+    const double* w = b_.w;
+    const std::uint8_t* m = b_.m;
+    const double* t = b_.t;
+    return b_.template reduce_in_or_below<GapSums>(m, w, c, b_.n, [=] CMC_HD(std::size_t i, GapSums& s) {
+      const double x = w[i] - c;
+      if (m[i]) {
+        s.s1 += x;
+        s.s2 += x * x;
+        s.nc += 1.0;
+        s.tsum += t[i];
+      } else if (x < 0.0) {
+        s.ol += x * x;
+        s.nol += 1.0;
+      }
+    });
+  }
+  // The iteration lost its contact set: start again from the geometric overlap.
+  bool restart_from_overlap() {
+    overlap_pressure();
+    if (b_.sum(b_.p) == 0.0) {
+      failure = "Polonsky-Keer lost its contact set";
+      return false;
+    }
+    sigma_ = 1.0;
+    set_contact_set();
+    exact();
+    conjugate_ = false;
+    return true;
+  }
+  // (c) conjugate direction on Ic: t = g + β (t − t̄). Under load control the old direction
+  // is made load-neutral on the current Ic (Σ_Ic t = 0), so the step keeps Σ p and the
+  // exact line search needs only <t, G t> (PK subtract the Ic-mean of G t instead, which
+  // costs a second transform). Returns Σ g t.
+  double direction(double beta, double tbar) {
+    double* t = b_.t;
+    const double* w = b_.w;
+    const double d = delta_;
+    return b_.template reduce_in<Sum>(b_.m, b_.n, [=] CMC_HD(std::size_t i, Sum& acc) {
+             const double g = w[i] - d;
+             t[i] = g + beta * (t[i] - tbar);
+             acc.v += g * t[i];
+           }).v;
+  }
+  // (c) with the stiffness preconditioner: z = P K P g (made load-neutral on Ic under load
+  // control), β = Σ g z / (Σ g z)_old, t = z + β (t − t̄). One FFT pair. nc = |Ic| (> 0).
+  // Returns Σ g t.
+  double preconditioned_direction(double tbar, double nc) {
+    double* z = b_.z;
+    double* t = b_.t;
+    const double* w = b_.w;
+    const std::uint8_t* m = b_.m;
+    const double d = delta_;
+    b_.all(b_.n, [=] CMC_HD(std::size_t i) { z[i] = m[i] ? w[i] - d : 0.0; });
+    b_.stiffness_z();
+    // One pass for the Ic-mean of z and Σ g z: Σ g (z − z̄) = Σ g z − z̄ Σ g.
+    const GzSums a = b_.template reduce_in<GzSums>(m, b_.n, [=] CMC_HD(std::size_t i, GzSums& s) {
+      const double g = w[i] - d;
+      s.zsum += z[i], s.gz += g * z[i], s.gsum += g;
+    });
+    const double zbar = force_ ? a.zsum / nc : 0.0;
+    const double gz = a.gz - zbar * a.gsum;
+    const double beta = conjugate_ && gz_old_ > 0.0 ? gz / gz_old_ : 0.0;
+    gz_old_ = gz;
+    return b_.template reduce_in<Sum>(m, b_.n, [=] CMC_HD(std::size_t i, Sum& acc) {
+             t[i] = (z[i] - zbar) + beta * (t[i] - tbar);
+             acc.v += (w[i] - d) * t[i];
+           }).v;
+  }
+  // (e)–(g) pressure step p ← σ p − τ t on Ic, projection onto p ≥ 0, overlapping points
+  // join with p = −τ g. Then (h) the load scaling (applied lazily through σ) and the new
+  // displacement. Returns false if the pressure vanished under load control.
+  bool project(double tau) {
+    double* p = b_.p;
+    const double* w = b_.w;
+    double* t = b_.t;
+    std::uint8_t* m = b_.m;
+    const double sg = sigma_, d = delta_;
+    // Off Ic and without overlap (w ≥ d) p stays 0 and adds nothing.
+    const StepSums st = b_.template reduce_in_or_below<StepSums>(m, w, d, b_.n, [=] CMC_HD(std::size_t i, StepSums& s) {
+      double pn = sg * p[i];
+      if (pn > 0.0) {
+        pn -= tau * t[i];
+        if (pn < 0.0) pn = 0.0, s.changed = true;
+      }
+      if (pn == 0.0) {
+        const double g = w[i] - d;
+        if (g < 0.0) pn = -tau * g, s.changed = true;
+      }
+      p[i] = pn;
+      s.psum += pn;
+      m[i] = pn > 0.0;
+      if (!m[i]) t[i] = 0.0;  // keeps the direction zero off Ic
+    });
+    double scale = 1.0;
+    if (force_) {
+      const double mean_p = st.psum / b_.points;
+      if (!(mean_p > 0.0)) {
+        failure = "Polonsky-Keer: pressure vanished during the iteration";
+        return false;
+      }
+      scale = target_ / mean_p;
+    }
+    // A linear step is one inverse transform; a projected one needs the transform of the
+    // new p (one forward more).
+    if (st.changed || ++since_exact_ >= opt_.recompute_every) {
+      set_pressure(scale);
+      since_exact_ = 0;
+    } else {
+      step(scale, tau);
+    }
+    sigma_ = scale;
+    conjugate_ = !st.changed;
+    return true;
+  }
+
+  B& b_;
+  const PolonskyKeer::Options& opt_;
+  double h_scale_;
+  bool force_;
+  double target_;
+  double delta_;
+  bool warm_;
+  bool precondition_;
+  double overlap_k_;
+  double last_tau_;          // compliance of the last step (first: of the longest wave)
+  double sigma_ = 1.0;       // the pressure is sigma_ p: the last load scaling, applied lazily
+  int since_exact_ = 0;      // linear spectral steps since p̂ was last taken from p
+  bool conjugate_ = false;   // PK's δ flag: false restarts steepest descent
+  double gz_old_ = 1.0;      // Σ_Ic g z of the previous direction
+};
+
+template <class B>
+void Run<B>::run(SolveResult& res) {
+  initial_pressure();
+  double G_old = 1.0;
+  for (int it = 0;; ++it) {
+    const double c = delta_;
+    const GapSums S = gap_sums();
+    if (S.nc == 0.0) {
+      // No point carries pressure: either no contact at all (a valid solution of a
+      // displacement-controlled step whose indenter does not reach the surface, or of
+      // zero load), or the iteration lost its contact set.
+      if ((!force_ && S.nol == 0.0) || (force_ && target_ == 0.0)) {
+        res.iterations = it;
+        res.residual = 0.0;
+        return;
+      }
+      if (!restart_from_overlap()) return;
+      ++res.diagnostics.restarts;
+      continue;
+    }
+    double G;
+    if (force_) {
+      const double shift = S.s1 / S.nc;  // mean gap over Ic relative to c
+      delta_ = c + shift;                // (b) the rigid-body position that zeroes it
+      G = std::max(0.0, S.s2 - S.nc * shift * shift);
+    } else {
+      G = S.s2;
+    }
+    // Overlap term measured with the previous δ; it is zero at convergence either way.
+    res.residual = std::sqrt((G + S.ol) / (S.nc + S.nol)) / h_scale_;
+    res.iterations = it;
+    if (opt_.progress && it % std::max(1, opt_.progress_every) == 0) opt_.progress({it, res.residual});
+    if (res.residual <= opt_.tolerance) {
+      if (since_exact_ == 0 || !opt_.confirm) return;
+      exact();  // confirm on u recomputed from the real-space p (removes spectral drift)
+      ++res.diagnostics.exact_recomputes;
+      continue;
+    }
+    if (it >= opt_.max_iterations) return;
+
+    const double beta = conjugate_ ? G / G_old : 0.0;
+    if (beta == 0.0) ++res.diagnostics.restarts;
+    G_old = G;
+    const double tbar = force_ ? S.tsum / S.nc : 0.0;
+    const double sgt = precondition_ ? preconditioned_direction(tbar, S.nc) : direction(beta, tbar);
+    // (d) curvature along t from its transform alone (one forward transform)
+    const double denom = b_.curvature_t();
+    double tau;
+    if (denom > 0.0 && sgt > 0.0) {
+      tau = last_tau_ = sgt / denom;
+    } else if (S.nol > 0.0) {
+      tau = last_tau_;  // nothing to gain on Ic: only overlapping points move
+      conjugate_ = false;
+    } else {
+      // No descent left and no overlap: round-off floor. Confirm on an exact u, then stop.
+      if (since_exact_ == 0) return;
+      exact();
+      ++res.diagnostics.exact_recomputes;
+      conjugate_ = false;
+      continue;
+    }
+    if (!project(tau)) return;
+    if (!conjugate_) ++res.diagnostics.clipped_steps;
+  }
+}
+
+// The solve on the GPU (contact/PolonskyKeerDevice.cu): uploads the heights (and a warm
+// start), runs Run over the device backend, and leaves p (times sigma) and w = h + u in
+// st.pressure and st.displacement, as the CPU backend does. `dev` holds the device's work
+// arrays (made on first use; kept while Options::keep_work). A build without CUDA throws.
+End solve_on_device(std::unique_ptr<PolonskyKeer::Device, PolonskyKeer::DeviceDelete>& dev, HalfSpace& hs,
+                    const Field& h, const PolonskyKeer::Options& o, double h_scale, const Target& target,
+                    ContactState& st, const Start& start, SolveResult& res);
+
+}  // namespace cmc::pk
