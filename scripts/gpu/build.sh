@@ -13,9 +13,9 @@
 # curl and its TLS libraries, which the binaries' run path does not reach): source it before
 # running cmc from BUILD by hand.
 #
-# The CUDA backend: not in this version (issue 16, open: no GPU machine yet; README,
-# "GPU"). Where nvcc is found this script says so and builds and tests the CPU backend, which
-# is what can be brought up today; a build with -DCMC_CUDA=ON is refused by CMakeLists.txt.
+# It builds the CPU backend. The CUDA backend is built on the Debian machine with the CUDA
+# toolkit and carried with scripts/gpu/pack.sh (README, "GPU"): this script re-roots every
+# search in the bundle, where CMake would not find the machine's CUDA toolkit.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 bundle=$(cd "${1:-gpu-bundle}" 2>/dev/null && pwd) ||
@@ -34,7 +34,7 @@ export PKG_CONFIG_SYSROOT_DIR="$prefix"
 unset PKG_CONFIG_PATH
 
 if command -v nvcc >/dev/null; then
-  echo "scripts/gpu/build.sh: $(nvcc --version | tail -1) found; cmc's CUDA backend is not in this version (issue 16): building and testing the CPU backend" >&2
+  echo "scripts/gpu/build.sh: $(nvcc --version | tail -1) found; building the CPU backend (the CUDA one: scripts/gpu/pack.sh on the build machine; README, \"GPU\")" >&2
 fi
 jobs=$(nproc 2>/dev/null || echo 2)
 mkdir -p "$build"
