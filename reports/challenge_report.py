@@ -21,7 +21,7 @@ import re
 
 import numpy as np
 
-from common import (CHALLENGE, FAMILY_QUANTITIES, case_name, family_members, finite, fmt, get, h5_open, load_json,
+from common import (CHALLENGE, FAMILY_QUANTITIES, GPU_KIND, case_name, family_members, finite, fmt, get, gpu_runs, h5_open, load_json,
                     md_table, plt, read_reference_csv, rel, roundoff_note, run_strategy, run_strategy_error, STRATEGIES, s_extrapolation,
                     s_extrapolation_verdict, savefig, step_groups, transfer_caveat, write_csv)
 
@@ -1056,6 +1056,48 @@ def _grid_table(runs):
 _FAMILY_LABEL = {"a_r": "a_r", "a_rep": "repulsive a_r", "mean_gap": "mean gap (µm)"}  # FAMILY_QUANTITIES' rows
 
 
+def _gpu_grids(reference_dir):
+    """Issues 13 and 16: the challenge on grids run on a GPU (reference/gpu/runs.json), with where
+    each ran; the shape run set beside the scaled-family store's CPU run of the same case."""
+    recs = gpu_runs(reference_dir)
+    lines = ["## The challenge on finer grids, run on a GPU", ""]
+    if not recs:
+        return lines + ["None stored yet (scripts/gpu/check.sh on a GPU machine, then scripts/gpu/store.py; "
+                        "README, \"GPU\").", ""]
+    lines += ["Runs of the CUDA backend (`reference/gpu/runs.json`: command, device, date of each). The "
+              "adhesion rows are `cases/challenge/reference-load.toml` (ρ = 2.071 nm as the problem states), "
+              "plain, on the loading branch; the shape row is the scaled family's s = 1 case (μ_T = 3, so ρ "
+              "follows from the surface), stopped at 170 outer steps like its CPU run in the table above. "
+              "Error bars: none here; the grid-to-grid change is the refinement error of the coarser grid.", ""]
+    rows = []
+    for r in sorted(recs, key=lambda r: (r["kind"], r["n"])):
+        gap = r.get("mean_gap_m")
+        rows.append([GPU_KIND.get(r["kind"], r["kind"]), f"{r['n']}²", fmt(r.get("dx_over_rho"), 3),
+                     f"{r['device']}, {r['date']}" if r.get("backend") == "cuda" else r.get("device", "?"),
+                     r["iterations"], fmt(r["solve_s"], 4), fmt(r["a_r"], 6), fmt(r.get("a_rep"), 6),
+                     fmt(gap * 1e6 if gap is not None else None, 8), r["status"]])
+    lines += [md_table(["case", "grid", "dx/ρ", "ran on", "iterations", "solve (s)", "a_r", "repulsive a_r",
+                        "mean gap (µm)", "status"], rows), ""]
+    fam = load_json(os.path.join(reference_dir, "challenge-scaled", "scaled_family.json"))
+    cpu = None
+    for m in (fam or {}).get("members", []):
+        for run in m.get("runs", []):
+            if run.get("role") == "shape_n8192":
+                cpu = run
+    gpu = next((r for r in recs if r["kind"] == "shape" and r["n"] == 8192), None)
+    if cpu and gpu:
+        same_it = cpu["iterations"] == gpu["iterations"]
+        lines += [f"The 8192² shape run on both: the CPU's ({fmt(cpu['wall_s'], 4)} s on 2 cores) and the GPU's "
+                  f"({fmt(gpu['solve_s'], 4)} s) took {cpu['iterations']} and {gpu['iterations']} iterations"
+                  + (" (the same)" if same_it else "") + f"; a_r {cpu['a_r']!r} and {gpu['a_r']!r}, repulsive a_r "
+                  f"{cpu['a_rep']!r} and {gpu['a_rep']!r}, mean gap differing by "
+                  f"{fmt(abs(cpu['mean_gap'] - gpu['mean_gap_m']) / cpu['mean_gap'], 2)} relative"
+                  + (": the same contact set, and the backends agree to round-off on this grid." if same_it and
+                     cpu["a_r"] == gpu["a_r"] and abs(cpu["mean_gap"] - gpu["mean_gap_m"]) < 1e-9 * cpu["mean_gap"]
+                     else "."), ""]
+    return lines
+
+
 def _adhesion_resolution(reference_dir):
     """Issue 13: the challenge's adhesive numbers with error bars, from the scaled-family store
     (reference/challenge-scaled/scaled_family.json, written by scripts/scaled_family.py)."""
@@ -1187,6 +1229,7 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
     else:
         tail += ["(none yet)", ""]
     tail += ["#" + ln if ln.startswith("## ") else ln for ln in _adhesion_resolution(reference_dir)]
+    tail += ["#" + ln if ln.startswith("## ") else ln for ln in _gpu_grids(reference_dir)]
 
     sweep = _load_sweep(runs, out_dir, data_dir, case_dir, reference_dir)
     tabor = _tabor(runs, out_dir, data_dir, case_dir, reference_dir)

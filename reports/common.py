@@ -460,3 +460,13 @@ def transfer_caveat(members=None, strategy="range"):
                        f"s = 1) is indicative and probably pessimistic, not a bound; {nearer} would test the trend.")
     return text + ("They do not agree, so the family does not reproduce the challenge's coarse-grid behaviour and the "
                    f"band is indicative, not a bound; {nearer} is needed.")
+
+
+def gpu_runs(reference_dir, notes=None):
+    """The CUDA backend's stored runs (reference/gpu/runs.json, scripts/gpu/store.py): its records,
+    or [] when the store is missing."""
+    d = load_json(os.path.join(reference_dir, "gpu", "runs.json"), notes)
+    return d.get("records", []) if isinstance(d, dict) else []
+
+
+GPU_KIND = {"hardwall": "hard wall", "adhesive": "adhesion (plain)", "shape": "adhesion, shape (s = 1 case)"}

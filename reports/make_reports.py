@@ -53,7 +53,7 @@ def main(argv=None):
     jobs = [
         ("validation", lambda out, notes: validation_report.build(validation_dirs, a.reference, out, notes)),
         ("performance", lambda out, notes: performance_report.build(os.path.join(a.results, "performance"),
-                                                                    a.bench, out, notes)),
+                                                                    a.bench, out, notes, a.reference)),
         ("challenge", lambda out, notes: challenge_report.build(a.results, a.cases, out, notes, a.reference)),
     ]
     status = 0

@@ -15,7 +15,7 @@ import re
 
 import numpy as np
 
-from common import finite, fmt, load_json, md_table, plt, savefig
+from common import GPU_KIND, finite, fmt, gpu_runs, load_json, md_table, plt, savefig
 
 
 def _records(perf_dir, notes):
@@ -165,7 +165,30 @@ def _bench_plot(fam, same, out_dir):
     return path, rows
 
 
-def build(perf_dir, bench_path, out_dir, notes):
+def _gpu(reference_dir, notes):
+    """The CUDA backend's stored runs (reference/gpu/runs.json): cost against the cuFFT pair."""
+    recs = gpu_runs(reference_dir, notes)
+    lines = ["## The CUDA backend (one GPU)", ""]
+    if not recs:
+        return lines + [f"No GPU runs stored in `{reference_dir}/gpu/runs.json` (scripts/gpu/check.sh on a GPU "
+                        "machine, then scripts/gpu/store.py; README, \"GPU\").", ""]
+    lines += ["The challenge at 250 kPa with `grid.backend = \"cuda\"` (command, device and date of each run in the "
+              "store). The FFT pair is cuFFT's r2c + c2r of the grid, timed in the same run; the ratios divide the "
+              "steps' solve time by it (per iteration, per FFT pair); \"in FFTs\" is the share of the solve time "
+              "inside the transforms. The adhesive solver's outer steps run on the host (README, \"GPU\").", ""]
+    rows = []
+    for r in sorted(recs, key=lambda r: (r["kind"], r["n"])):
+        peak = r.get("gpu_peak_mib")
+        rows.append([GPU_KIND.get(r["kind"], r["kind"]), f"{r['n']}²", r["device"], r["iterations"],
+                     fmt(r["fft_pairs"]), fmt(r["solve_s"], 4), fmt(r["fft_pair_s"] * 1e3, 4),
+                     fmt(r["time_per_iteration"], 3), fmt(r["time_per_fft_pair"], 3), fmt(r["fft_share"], 2),
+                     fmt(peak / 1024 if peak else None, 3), r["status"]])
+    lines += [md_table(["case", "grid", "device", "iterations", "FFT pairs", "solve (s)", "FFT pair (ms)",
+                        "per iteration", "per FFT pair", "in FFTs", "GPU peak (GiB)", "status"], rows), ""]
+    return lines
+
+
+def build(perf_dir, bench_path, out_dir, notes, reference_dir="reference"):
     os.makedirs(out_dir, exist_ok=True)
     lines = ["# Performance report", ""]
     recs = _records(perf_dir, notes) if os.path.isdir(perf_dir) else []
@@ -217,4 +240,5 @@ def build(perf_dir, bench_path, out_dir, notes):
             lines += [md_table(["benchmark", "n", "FFT pair (ms)", "iteration (ms)", "FFT pairs / iteration",
                                 "per iteration", "per FFT pair"], rows), ""]
         lines += [f"![iteration vs FFT]({os.path.basename(path)})", ""]
+    lines += _gpu(reference_dir, notes)
     return "\n".join(lines) + "\n"

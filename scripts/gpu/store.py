@@ -1,0 +1,101 @@
+#!/usr/bin/python3
+"""Store GPU runs made by scripts/gpu/check.sh as a reference with provenance (issue 16).
+
+    /usr/bin/python3 scripts/gpu/store.py --device "NVIDIA H100 80GB HBM3" CHECK_OUT [CHECK_OUT ...]
+
+CHECK_OUT: a folder check.sh wrote (--out): runs/<backend>-<kind>-<n>/summary.json and, beside
+it, <tag>.gpu-memory (nvidia-smi's samples). Each run becomes one record of
+reference/gpu/runs.json (replacing a record of the same tag): the command that made it, the
+device, the date, iterations, FFT pairs, the steps' solve time, the FFT pair time measured in
+the same run, the answer (a_r, repulsive a_r, mean gap) and the GPU memory peak. The
+challenge and performance reports print them (reports/challenge_report.py,
+reports/performance_report.py). Uses the standard library only.
+"""
+import argparse
+import glob
+import json
+import os
+import sys
+
+KIND_FILE = {"hardwall": "reference-load-hardwall", "adhesive": "reference-load", "shape": "scaled-family"}
+SHAPE_SETS = ("--set case.name=challenge-scaled-s1 --set surface.cutoff_wavelength=1e-07 "
+              "--set interaction.work_of_adhesion=0.05 --set solver.max_outer_steps=170 "
+              "--set interaction.coarse_graining=\"shape\"")
+
+
+def dx_over_rho(s):
+    f = s.get("surface_facts", {})
+    rho = f.get("specified_range") or f.get("interaction_range")
+    return s["grid"]["dx"] / rho if rho else None
+
+
+def record(run_dir, device):
+    tag = os.path.basename(run_dir)
+    parts = tag.split("-")
+    if len(parts) != 3 or parts[1] not in KIND_FILE:
+        return None
+    backend, kind, n = parts[0], parts[1], int(parts[2])
+    s = json.load(open(os.path.join(run_dir, "summary.json")))
+    steps, t = s["steps"], s["timing"]
+    last = steps[-1]
+    obs = last.get("observables", {})
+    samples = os.path.join(os.path.dirname(os.path.dirname(run_dir)), tag + ".gpu-memory")
+    peak = None
+    if os.path.exists(samples):
+        vals = [float(x) for x in open(samples).read().split() if x.strip().replace(".", "", 1).isdigit()]
+        peak = max(vals) if vals else None
+    cmd = (f"cmc run cases/challenge/{KIND_FILE[kind]}.toml --set grid.n={n} --set grid.backend={backend} "
+           f"--set output.fields=false" + (" " + SHAPE_SETS if kind == "shape" else ""))
+    return {
+        "tag": tag, "kind": kind, "n": n, "backend": backend,
+        "device": device if backend == "cuda" else "host CPU of the GPU machine",
+        "host_threads": s["grid"].get("threads"),
+        "command": cmd + f"   (scripts/gpu/check.sh {kind}:{n})",
+        "status": s["status"],
+        "iterations": t["iterations"], "fft_pairs": t["fft_pairs"],
+        "solve_s": sum(x["wall_s"] for x in steps), "run_s": t["wall_s"],
+        "fft_pair_s": t["fft_pair_s"], "time_per_iteration": t["time_per_iteration"],
+        "time_per_fft_pair": t["time_per_fft_pair"], "fft_share": t["fft_share"],
+        "outer_steps": last.get("diagnostics", {}).get("outer_iterations"),
+        # dx over the problem's ρ (a coarse-grained law's own length is larger: shape)
+        "dx_over_rho": dx_over_rho(s),
+        "a_r": last["contact_fraction"], "a_rep": obs.get("repulsive_fraction"), "mean_gap_m": last["mean_gap"],
+        "gpu_peak_mib": peak,
+    }
+
+
+def main(argv):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("outs", nargs="+", help="folders scripts/gpu/check.sh wrote (--out)")
+    ap.add_argument("--device", required=True, help="the GPU, as nvidia-smi names it (check.sh's first line)")
+    ap.add_argument("--date", required=True, help="the day the runs were made (YYYY-MM-DD)")
+    ap.add_argument("--store", default="reference/gpu/runs.json")
+    a = ap.parse_args(argv)
+    data = {"what": "runs of the CUDA backend (issue 16), made with scripts/gpu/check.sh and stored by "
+                    "scripts/gpu/store.py", "records": []}
+    if os.path.exists(a.store):
+        data = json.load(open(a.store))
+    by_tag = {r["tag"]: r for r in data["records"]}
+    for out in a.outs:
+        for d in sorted(glob.glob(os.path.join(out, "runs", "*"))):
+            if not os.path.exists(os.path.join(d, "summary.json")):
+                continue
+            r = record(d, a.device)
+            if r is None:
+                print(f"store.py: {d}: not a check.sh run (<backend>-<kind>-<n>); skipped", file=sys.stderr)
+                continue
+            r["date"] = a.date
+            by_tag[r["tag"]] = r
+    data["records"] = sorted(by_tag.values(), key=lambda r: (r["kind"], r["backend"], r["n"]))
+    os.makedirs(os.path.dirname(a.store), exist_ok=True)
+    tmp = a.store + ".tmp"
+    with open(tmp, "w") as f:
+        json.dump(data, f, indent=1, sort_keys=True)
+        f.write("\n")
+    os.replace(tmp, a.store)
+    print(f"store.py: {len(data['records'])} records in {a.store}", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
