@@ -21,7 +21,7 @@ import re
 
 import numpy as np
 
-from common import (CHALLENGE, FAMILY_QUANTITIES, GPU_KIND, case_name, family_members, finite, fmt, get, gpu_runs, h5_open, load_json,
+from common import (CHALLENGE, FAMILY_QUANTITIES, case_name, family_members, finite, fmt, get, gpu_row_head, gpu_section, h5_open, load_json,
                     md_table, plt, read_reference_csv, rel, roundoff_note, run_strategy, run_strategy_error, STRATEGIES, s_extrapolation,
                     s_extrapolation_verdict, savefig, step_groups, transfer_caveat, write_csv)
 
@@ -1059,20 +1059,18 @@ _FAMILY_LABEL = {"a_r": "a_r", "a_rep": "repulsive a_r", "mean_gap": "mean gap (
 def _gpu_grids(reference_dir):
     """Issues 13 and 16: the challenge on grids run on a GPU (reference/gpu/runs.json), with where
     each ran; the shape run set beside the scaled-family store's CPU run of the same case."""
-    recs = gpu_runs(reference_dir)
-    lines = ["## The challenge on finer grids, run on a GPU", ""]
+    recs, lines = gpu_section(reference_dir, "The challenge on finer grids, run on a GPU")
     if not recs:
-        return lines + ["None stored yet (scripts/gpu/check.sh on a GPU machine, then scripts/gpu/store.py; "
-                        "README, \"GPU\").", ""]
+        return lines
     lines += ["Runs of the CUDA backend (`reference/gpu/runs.json`: command, device, date of each). The "
               "adhesion rows are `cases/challenge/reference-load.toml` (ρ = 2.071 nm as the problem states), "
               "plain, on the loading branch; the shape row is the scaled family's s = 1 case (μ_T = 3, so ρ "
               "follows from the surface), stopped at 170 outer steps like its CPU run in the table above. "
               "Error bars: none here; the grid-to-grid change is the refinement error of the coarser grid.", ""]
     rows = []
-    for r in sorted(recs, key=lambda r: (r["kind"], r["n"])):
+    for r in recs:
         gap = r.get("mean_gap_m")
-        rows.append([GPU_KIND.get(r["kind"], r["kind"]), f"{r['n']}²", fmt(r.get("dx_over_rho"), 3),
+        rows.append(gpu_row_head(r) + [fmt(r.get("dx_over_rho"), 3),
                      f"{r['device']}, {r['date']}" if r.get("backend") == "cuda" else r.get("device", "?"),
                      r["iterations"], fmt(r["solve_s"], 4), fmt(r["a_r"], 6), fmt(r.get("a_rep"), 6),
                      fmt(gap * 1e6 if gap is not None else None, 8), r["status"]])

@@ -463,10 +463,27 @@ def transfer_caveat(members=None, strategy="range"):
 
 
 def gpu_runs(reference_dir, notes=None):
-    """The CUDA backend's stored runs (reference/gpu/runs.json, scripts/gpu/store.py): its records,
-    or [] when the store is missing."""
+    """The CUDA backend's stored runs (reference/gpu/runs.json, scripts/gpu/store.py), sorted by
+    case and grid; [] when the store is missing."""
     d = load_json(os.path.join(reference_dir, "gpu", "runs.json"), notes)
-    return d.get("records", []) if isinstance(d, dict) else []
+    recs = d.get("records", []) if isinstance(d, dict) else []
+    return sorted(recs, key=lambda r: (r["kind"], r["n"]))
+
+
+def gpu_section(reference_dir, title, notes=None):
+    """A report section on the stored GPU runs: (the records, the section's first lines); the
+    lines say what to run where none are stored."""
+    recs = gpu_runs(reference_dir, notes)
+    lines = [f"## {title}", ""]
+    if not recs:
+        lines += [f"No GPU runs stored in `{reference_dir}/gpu/runs.json` yet (scripts/gpu/check.sh on a GPU "
+                  "machine, then scripts/gpu/store.py; README, \"GPU\").", ""]
+    return recs, lines
 
 
 GPU_KIND = {"hardwall": "hard wall", "adhesive": "adhesion (plain)", "shape": "adhesion, shape (s = 1 case)"}
+
+
+def gpu_row_head(r):
+    """A stored GPU run's first two cells: the case and the grid."""
+    return [GPU_KIND.get(r["kind"], r["kind"]), f"{r['n']}²"]

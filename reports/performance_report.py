@@ -15,7 +15,7 @@ import re
 
 import numpy as np
 
-from common import GPU_KIND, finite, fmt, gpu_runs, load_json, md_table, plt, savefig
+from common import finite, fmt, gpu_row_head, gpu_section, load_json, md_table, plt, savefig
 
 
 def _records(perf_dir, notes):
@@ -167,19 +167,17 @@ def _bench_plot(fam, same, out_dir):
 
 def _gpu(reference_dir, notes):
     """The CUDA backend's stored runs (reference/gpu/runs.json): cost against the cuFFT pair."""
-    recs = gpu_runs(reference_dir, notes)
-    lines = ["## The CUDA backend (one GPU)", ""]
+    recs, lines = gpu_section(reference_dir, "The CUDA backend (one GPU)", notes)
     if not recs:
-        return lines + [f"No GPU runs stored in `{reference_dir}/gpu/runs.json` (scripts/gpu/check.sh on a GPU "
-                        "machine, then scripts/gpu/store.py; README, \"GPU\").", ""]
+        return lines
     lines += ["The challenge at 250 kPa with `grid.backend = \"cuda\"` (command, device and date of each run in the "
               "store). The FFT pair is cuFFT's r2c + c2r of the grid, timed in the same run; the ratios divide the "
               "steps' solve time by it (per iteration, per FFT pair); \"in FFTs\" is the share of the solve time "
               "inside the transforms. The adhesive solver's outer steps run on the host (README, \"GPU\").", ""]
     rows = []
-    for r in sorted(recs, key=lambda r: (r["kind"], r["n"])):
+    for r in recs:
         peak = r.get("gpu_peak_mib")
-        rows.append([GPU_KIND.get(r["kind"], r["kind"]), f"{r['n']}²", r["device"], r["iterations"],
+        rows.append(gpu_row_head(r) + [r["device"], r["iterations"],
                      fmt(r["fft_pairs"]), fmt(r["solve_s"], 4), fmt(r["fft_pair_s"] * 1e3, 4),
                      fmt(r["time_per_iteration"], 3), fmt(r["time_per_fft_pair"], 3), fmt(r["fft_share"], 2),
                      fmt(peak / 1024 if peak else None, 3), r["status"]])

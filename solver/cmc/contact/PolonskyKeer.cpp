@@ -72,24 +72,17 @@ namespace pk {
 // the operator's FFTW transforms, and OpenMP passes that visit the contact set only (the
 // block scans above). The pressure and w = h + u are the state's pressure and
 // displacement fields, so the solve works in place.
-struct Host {
+struct Host : Fields {
   HalfSpace& hs;
   Field &P, &W;
   const Field& H;
   PolonskyKeer::Work& wk;
-  std::size_t n, nspec;
-  double points, transform_points;
-  double *p = nullptr, *w = nullptr, *t = nullptr, *z = nullptr;
-  std::uint8_t* m = nullptr;
-  const double* h = nullptr;
-  double *p_hat = nullptr, *t_hat = nullptr, *h_hat = nullptr, *out = nullptr;
-  const double* ker = nullptr;
 
   Host(HalfSpace& half_space, const Field& heights, ContactState& st, PolonskyKeer::Work& work, bool warm,
        bool precondition)
-      : hs(half_space), P(st.pressure), W(st.displacement), H(heights), wk(work), n(heights.size()),
-        nspec(half_space.spectrum_size()), points(double(half_space.grid().points())),
-        transform_points(double(half_space.transform_points())) {
+      : hs(half_space), P(st.pressure), W(st.displacement), H(heights), wk(work) {
+    n = heights.size(), nspec = half_space.spectrum_size();
+    points = double(half_space.grid().points()), transform_points = double(half_space.transform_points());
     if (!warm) P.assign(n, 0.0);
     W.resize(n);
     wk.t.assign(n, 0.0);

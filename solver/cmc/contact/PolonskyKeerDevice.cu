@@ -18,15 +18,9 @@
 
 namespace cmc {
 
-struct PolonskyKeer::Device {
-  // ---- the backend interface of pk::Run (PolonskyKeerRun.hpp)
-  std::size_t n, nspec;
-  double points, transform_points;
-  double *p = nullptr, *w = nullptr, *t = nullptr, *z = nullptr;
-  std::uint8_t* m = nullptr;
-  const double* h = nullptr;
-  double *p_hat = nullptr, *t_hat = nullptr, *h_hat = nullptr, *out = nullptr;
-  const double* ker = nullptr;
+struct PolonskyKeer::Device : pk::Fields {
+  // ---- the backend interface of pk::Run (PolonskyKeerRun.hpp): the fields (pk::Fields), the passes
+  // and the transforms
 
   template <class F>
   void all(std::size_t k, F f) {
@@ -79,10 +73,10 @@ struct PolonskyKeer::Device {
   cuda::Fft fft;
 
   Device(HalfSpace& hs, bool pre)
-      : n(hs.grid().size()), nspec(hs.spectrum_size()), points(double(hs.grid().points())),
-        transform_points(double(hs.transform_points())), nx(hs.grid().nx), ny(hs.grid().ny), precondition(pre),
-        P(n, "the pressure"), W(n, "the displacement"), T(n, "the direction"), Z(pre ? n : 0, "the preconditioned gap"),
-        H(n, "the heights"), PH(2 * nspec, "a spectrum"), TH(2 * nspec, "a spectrum"), HH(2 * nspec, "a spectrum"),
+      : pk::Fields{hs.grid().size(), hs.spectrum_size(), double(hs.grid().points()), double(hs.transform_points())},
+        nx(hs.grid().nx), ny(hs.grid().ny), precondition(pre), P(n, "the pressure"), W(n, "the displacement"),
+        T(n, "the direction"), Z(pre ? n : 0, "the preconditioned gap"), H(n, "the heights"),
+        PH(2 * nspec, "a spectrum"), TH(2 * nspec, "a spectrum"), HH(2 * nspec, "a spectrum"),
         OUT(2 * nspec, "a spectrum"), KER(nspec, "the compliance"), STIFF(pre ? nspec : 0, "the stiffness"),
         M(n, "the contact set"), fft(nx, ny) {
     p = P.data(), w = W.data(), t = T.data(), z = Z.data(), m = M.data(), h = H.data();

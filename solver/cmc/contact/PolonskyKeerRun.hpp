@@ -60,6 +60,18 @@ struct StepSums {
   CMC_HD void merge(const StepSums& o) { psum += o.psum, changed = changed || o.changed; }
 };
 
+// The fields and sizes a backend hands Run (see above for each): the CPU's point into the
+// state and its work arrays, the GPU's into device memory.
+struct Fields {
+  std::size_t n = 0, nspec = 0;
+  double points = 0.0, transform_points = 0.0;
+  double *p = nullptr, *w = nullptr, *t = nullptr, *z = nullptr;
+  std::uint8_t* m = nullptr;
+  const double* h = nullptr;
+  double *p_hat = nullptr, *t_hat = nullptr, *h_hat = nullptr, *out = nullptr;
+  const double* ker = nullptr;
+};
+
 // Where a solve starts (PolonskyKeer::solve works it out from the state, for any backend).
 struct Start {
   bool warm = false;          // the backend's pressure holds a start (else it is made here)
