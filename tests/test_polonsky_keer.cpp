@@ -2,12 +2,16 @@
 #include "cmc/analytic/Analytic.hpp"
 #include "cmc/contact/ContactRule.hpp"
 #include "cmc/contact/PolonskyKeer.hpp"
+#include "cmc/contact/PolonskyKeerHost.hpp"
 #include "cmc/surface/SelfAffine.hpp"
 #include "cmc/surface/Topography.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
+#include <string>
+#include <utility>
 
 using namespace cmc;
 
@@ -186,4 +190,76 @@ TEST(PolonskyKeer, KeptWorkArraysGiveTheSameBits) {
       EXPECT_EQ(sa.penetration, sb.penetration);
     }
   }
+}
+
+// One source, two ways of visiting points (issue 16). The CUDA backend calls a reduction's
+// body only for the points it selects (in the contact set; in it or below the level) and
+// each point on its own; the CPU backend calls it for every point of a block of eight that
+// holds one. So every body must do nothing off its points, or the backends would differ
+// by more than round-off. A backend with the GPU's selection, run here point by point in
+// index order over the CPU's transforms, gives the CPU backend's bits (the grids are below
+// Grid::parallel_min, so both sum in one thread, in index order). It fails when a body adds
+// something for the other points of a block (checked: gap_sums adding 1e-30 to the overlap
+// sum for each visited point out of contact and not overlapping).
+namespace {
+struct PointwiseHost : pk::Host {
+  using pk::Host::Host;
+  template <class Acc, class F>
+  Acc reduce_in(const std::uint8_t* mask, std::size_t k, F f) {
+    Acc acc;
+    for (std::size_t i = 0; i < k; ++i)
+      if (mask[i]) f(i, acc);
+    return acc;
+  }
+  template <class Acc, class F>
+  Acc reduce_in_or_below(const std::uint8_t* mask, const double* v, double level, std::size_t k, F f) {
+    Acc acc;
+    for (std::size_t i = 0; i < k; ++i)
+      if (mask[i] || v[i] < level) f(i, acc);
+    return acc;
+  }
+};
+
+template <class B>
+std::pair<pk::End, SolveResult> run_backend(HalfSpace& hs, const Field& h, const PolonskyKeer::Options& o,
+                                             const Target& target, ContactState& st, PolonskyKeer::Work& work) {
+  pk::Start start;
+  start.delta = target.control == Control::MeanPressure ? st.penetration : target.value;
+  start.precondition = o.precondition;
+  start.overlap_k = std::numbers::pi;  // E* π / L with E* = L = 1
+  start.longest_compliance = 1.0 / std::numbers::pi;
+  B backend(hs, h, st, work, false, start.precondition);
+  pk::Run<B> run(backend, o, 1.0, target, start);
+  SolveResult res;
+  run.run(res);
+  return {pk::End{run.sigma(), run.delta(), run.failure}, res};
+}
+}  // namespace
+
+TEST(PolonskyKeer, BodiesActOnlyOnTheirPoints) {
+  const auto surf = rough_surface(128, 7);
+  ASSERT_LT(surf.map.grid.size(), Grid::parallel_min);
+  PeriodicHalfSpace hs(surf.map.grid, 1.0);
+  const double half_mean = 0.5 * Grid::mean(surf.map.heights);  // heights start at 0: overlap below it
+  for (bool precondition : {true, false})
+    for (const Target& target : {Target{Control::MeanPressure, 0.05}, Target{Control::Penetration, half_mean}}) {
+      SCOPED_TRACE(std::string(precondition ? "preconditioned, " : "plain, ") +
+                   (target.control == Control::MeanPressure ? "force" : "displacement"));
+      PolonskyKeer::Options o;
+      o.tolerance = 1e-10;
+      o.precondition = precondition;
+      ContactState sa, sb;
+      PolonskyKeer::Work wa, wb;
+      const auto [ea, ra] = run_backend<pk::Host>(hs, surf.map.heights, o, target, sa, wa);
+      const auto [eb, rb] = run_backend<PointwiseHost>(hs, surf.map.heights, o, target, sb, wb);
+      ASSERT_TRUE(ea.failure.empty()) << ea.failure;
+      ASSERT_LE(ra.residual, o.tolerance);
+      EXPECT_GT(ra.iterations, 5);
+      EXPECT_EQ(ra.iterations, rb.iterations);
+      EXPECT_EQ(ra.residual, rb.residual);
+      EXPECT_EQ(ea.sigma, eb.sigma);
+      EXPECT_EQ(ea.delta, eb.delta);
+      EXPECT_EQ(sa.pressure, sb.pressure);
+      EXPECT_EQ(sa.displacement, sb.displacement);
+    }
 }
