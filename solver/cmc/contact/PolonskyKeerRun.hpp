@@ -202,18 +202,23 @@ class Run {
       }
     });
   }
-  // The iteration lost its contact set: start again from the geometric overlap.
-  bool restart_from_overlap() {
+  // The iteration lost its contact set: start again from the geometric overlap. Under
+  // displacement control an indenter that overlaps the heights nowhere has p = 0 for its
+  // solution: the overlap the iterate showed was the transforms' round-off (an indenter
+  // that just touches, δ = min h, overlaps by 1e-17 after w = h + G p is transformed).
+  enum class Restart { Again, NoContact, Failed };
+  Restart restart_from_overlap() {
     overlap_pressure();
-    if (b_.sum(b_.p) == 0.0) {
+    const bool none = b_.sum(b_.p) == 0.0;
+    if (none && force_) {
       failure = "Polonsky-Keer lost its contact set";
-      return false;
+      return Restart::Failed;
     }
     sigma_ = 1.0;
     set_contact_set();
     exact();
     conjugate_ = false;
-    return true;
+    return none ? Restart::NoContact : Restart::Again;
   }
   // (c) conjugate direction on Ic: t = g + β (t − t̄). Under load control the old direction
   // is made load-neutral on the current Ic (Σ_Ic t = 0), so the step keeps Σ p and the
@@ -333,7 +338,13 @@ void Run<B>::run(SolveResult& res) {
         res.residual = 0.0;
         return;
       }
-      if (!restart_from_overlap()) return;
+      const Restart r = restart_from_overlap();
+      if (r == Restart::Failed) return;
+      if (r == Restart::NoContact) {
+        res.iterations = it;
+        res.residual = 0.0;
+        return;
+      }
       ++res.diagnostics.restarts;
       continue;
     }
