@@ -584,6 +584,21 @@ toml::table Writer::step_json(const StepRecord& r) {
   return t;
 }
 
+// Where the transforms ran: on the CPU, FFTW's plans; on the GPU, cuFFT for the
+// Polonsky-Keer iterations (and the device), FFTW for what stays on the host (the
+// quasi-static solver's outer steps).
+std::string Writer::fft_plans() const {
+  const std::string host = scene_.half_space->plan_source();
+  if (case_.grid.backend != "cuda") return host;
+  std::string device;
+  try {
+    device = cuda::device_description();
+  } catch (const std::exception& e) {
+    device = e.what();
+  }
+  return "cuFFT on " + device + " (Polonsky-Keer); " + host + " (host)";
+}
+
 toml::table Writer::summary_base() const {
   const Units& u = scene_.units;
   const Grid& g = scene_.grid;
@@ -601,7 +616,7 @@ toml::table Writer::summary_base() const {
                            {"mpi_ranks", ranks()},
                            {"threads", thread_count()},
                            {"backend", case_.grid.backend},
-                           {"fft_plans", case_.grid.backend == "cuda" ? std::string("cuFFT") : std::string(scene_.half_space->plan_source())},
+                           {"fft_plans", fft_plans()},
                            {"fft_wisdom_fingerprint", builtin_wisdom_fingerprint()}}},
       {"surface", scene_.topography.description},
   };

@@ -68,6 +68,7 @@ class Writer {
 
  private:
   toml::table summary_base() const;
+  std::string fft_plans() const;  // where the transforms ran (summary.json grid.fft_plans)
   void load_partial();
   std::filesystem::path step_file(int index) const;
   OutputLock lock_;
