@@ -121,9 +121,23 @@ class Cascade {
   Cascade(const HalfSpace& hs, const Field& k_response)
       : nx_(hs.grid().nx), ny_(hs.grid().ny), y0_(hs.grid().y0), rows_(hs.grid().rows()), periodic_(hs.periodic()) {
     const int mx = hs.transform_nx(), my = hs.transform_ny();
+    // Each neighbour once. Where a periodic grid is narrower than the stencil (a line, ny =
+    // 1; or 2 points across) offsets alias: the rows above and below a line are the line
+    // itself, and (0, ±1) is the point itself. K's entry at the aliased offset already holds
+    // every image, so a neighbour counted twice is pulled twice (a line's x-neighbours three
+    // times), and the cascade predicts jumps that the next solve undoes: it cycled.
+    std::vector<std::pair<int, int>> seen;
     for (int dy = -kRadius; dy <= kRadius; ++dy)
-      for (int dx = -kRadius; dx <= kRadius; ++dx)
-        if (dx != 0 || dy != 0) stencil_.push_back({dx, dy, hs.transform_entry(k_response, (dy + my) % my, (dx + mx) % mx)});
+      for (int dx = -kRadius; dx <= kRadius; ++dx) {
+        if (periodic_) {
+          const std::pair<int, int> at{wrap(dx, nx_), wrap(dy, ny_)};
+          if (at == std::pair<int, int>{0, 0} || std::find(seen.begin(), seen.end(), at) != seen.end()) continue;
+          seen.push_back(at);
+        } else if (dx == 0 && dy == 0) {
+          continue;
+        }
+        stencil_.push_back({dx, dy, hs.transform_entry(k_response, (dy + my) % my, (dx + mx) % mx)});
+      }
   }
 
   // x: on exit the predicted gaps. Returns the number of points moved (on this rank).
