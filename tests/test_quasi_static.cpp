@@ -19,7 +19,6 @@
 #include "cmc/surface/SurfaceStats.hpp"
 
 #include <gtest/gtest.h>
-#include <toml++/toml.h>
 
 #include <algorithm>
 #include <cmath>
@@ -228,9 +227,9 @@ TEST(QuasiStatic, ShapeLawsEquilibriumAndAcceleration) {
   }
 }
 
-// A line (ny = 1, plane strain): the 1-D adhesive sinusoid of cases/validation (Johnson
-// 1995, α = 0.3, range resolved) on its loading values, through the jump into contact under
-// displacement control. The cascade's stencil of the 8 nearest points must not count a
+// A line (ny = 1, plane strain): the 1-D adhesive sinusoid's loading branch (Johnson 1995,
+// α = 0.3, range resolved; cases/validation/johnson-alpha03-loading.toml), through the jump
+// into contact under displacement control. The cascade's stencil of the 8 nearest points must not count a
 // neighbour twice where the grid wraps onto itself (ny = 1: the rows above and below are
 // the same row, and the point itself): counted three times, the pull of a jump predicted
 // jumps that the next solve undid, and the step cycled for 1000 outer steps at tension
@@ -240,11 +239,7 @@ TEST(QuasiStatic, ShapeLawsEquilibriumAndAcceleration) {
 // one more outer step would change no point's tension by more than that; measured: at most
 // 5e-8 E*, 5e-4 of that scale).
 TEST(QuasiStatic, LineThroughJumpIn) {
-  toml::table t = toml::parse_file(std::string(CMC_SOURCE_DIR) + "/cases/validation/johnson-alpha03.toml");
-  t["loading"].as_table()->erase("unloading");
-  t.erase("validation");
-  t.insert_or_assign("solver", toml::table{{"kind", "quasi_static"}, {"tolerance", 1e-8}});
-  const Case c = parse_case(t, "johnson-alpha03 (loading only)");
+  const Case c = load_case(std::string(CMC_SOURCE_DIR) + "/cases/validation/johnson-alpha03-loading.toml");
   ASSERT_EQ(c.grid.ny, 1);
   std::vector<RunSummary> runs;
   double scale = 0.0;  // tension_tolerance x w/ρ, in units of E*
