@@ -113,6 +113,7 @@ int cmd_refine(int argc, char** argv) {
     auto overrides = a.overrides;
     overrides.insert(overrides.begin(), {"grid.n=" + std::to_string(n), "output.fields=false"});
     cases.push_back(load_case(file, overrides));
+    require_backend(cases.back());
   }
   const OutputLock lock(out);  // one study per folder (each grid's run locks its own too)
   std::vector<RefinementGrid> done;

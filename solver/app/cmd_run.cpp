@@ -56,6 +56,7 @@ int cmd_run(int argc, char** argv) {
       throw CaseError("--checkpoint-every '" + e + "': expected seconds, a number >= 0");
   }
   const Case c = load_case(a.positional[0], a.overrides);
+  require_backend(c);
   // Before the scene is built: a second run on DIR stops at once (rank 0 holds the lock).
   const OutputLock lock = is_root() ? OutputLock(a.out) : OutputLock();
   print_memory_plan(c, a.quiet);

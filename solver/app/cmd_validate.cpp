@@ -38,6 +38,7 @@ int cmd_validate(int argc, char** argv) {
   std::vector<Case> cases;
   for (const auto& file : a.positional) {
     cases.push_back(load_case(file, a.overrides));
+    require_backend(cases.back());
     if (!cases.back().validation) throw CaseError(file + ": no [validation] section: nothing to compare with");
   }
   // One owner per output folder, from the start (the results are written after the solves).

@@ -40,6 +40,9 @@ Args parse_args(int argc, char** argv, int first, const std::vector<std::string>
 // One line on stderr before anything large is allocated: the grid, the memory the run
 // will hold at its peak (estimate_memory, counted from the code) and what is available.
 void print_memory_plan(const Case& c, bool quiet);
+// A case with grid.backend = "cuda" on a machine without a usable GPU stops here, before
+// any output folder is made (exit 4, the message says what to do).
+void require_backend(const Case& c);
 Progress make_progress(bool quiet, int* step, std::chrono::steady_clock::time_point t0, int total_steps = 0,
                        int first_step = 0);
 

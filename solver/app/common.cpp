@@ -59,6 +59,11 @@ Args parse_args(int argc, char** argv, int first, const std::vector<std::string>
   return a;
 }
 
+void require_backend(const Case& c) {
+  std::string why;
+  if (c.grid.backend == "cuda" && !cuda::available(&why)) throw std::runtime_error(c.file + ": " + why);
+}
+
 void print_memory_plan(const Case& c, bool quiet) {
   if (quiet) return;
   const MemoryEstimate e = estimate_memory(c);
