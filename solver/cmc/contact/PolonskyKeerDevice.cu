@@ -8,8 +8,10 @@
 // p, w = h + u, t, h (4 doubles), z (1, with the preconditioner), the contact mask (1
 // byte), the spectra p̂, t̂, ĥ/N and the transform's scratch (4 nspec complex ≈ 4
 // doubles), the compliance and the stiffness (nspec doubles each ≈ ½ each), and cuFFT's
-// work area (measured for the shape: cufftMakePlan2d reports it). About 11 doubles a
-// point with the preconditioner: 24 GiB at 16384², 95 GiB at 32768².
+// work area (cufftMakePlan2d reports it for the shape). Counted by polonsky_keer_bytes
+// (grid/Backend.hpp), with the work area taken as one real field: 22.3 GiB at 16384² with
+// the preconditioner (nvidia-smi's peak on an H100: 22.8 GiB, the CUDA context included),
+// 89 GiB at 32768² (77 GiB without the preconditioner).
 #include "cmc/contact/PolonskyKeerRun.hpp"
 #include "cmc/grid/CudaDevice.cuh"
 
