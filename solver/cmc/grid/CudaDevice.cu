@@ -52,19 +52,28 @@ std::size_t make_plans(int nx, int ny, cufftHandle& f, cufftHandle& i) {
 }  // namespace
 
 Fft::Fft(int nx, int ny) {
-  const std::size_t ws = make_plans(nx, ny, f_, i_);
-  work_ = Buffer<unsigned char>(std::max<std::size_t>(ws, 1), "cuFFT's work area");
-  check(cufftSetWorkArea(f_, work_.data()), "setting the work area");
-  check(cufftSetWorkArea(i_, work_.data()), "setting the work area");
-  check(cudaEventCreate(&e0_), "creating an event");
-  check(cudaEventCreate(&e1_), "creating an event");
+  try {
+    const std::size_t ws = make_plans(nx, ny, f_, i_);
+    work_ = Buffer<unsigned char>(std::max<std::size_t>(ws, 1), "cuFFT's work area");
+    check(cufftSetWorkArea(f_, work_.data()), "setting the work area");
+    check(cufftSetWorkArea(i_, work_.data()), "setting the work area");
+    check(cudaEventCreate(&e0_), "creating an event");
+    check(cudaEventCreate(&e1_), "creating an event");
+  } catch (...) {
+    release();  // a constructor that throws runs no destructor: the plans would leak
+    throw;
+  }
 }
 
-Fft::~Fft() {
+Fft::~Fft() { release(); }
+
+void Fft::release() noexcept {
   if (f_) cufftDestroy(f_);
   if (i_) cufftDestroy(i_);
   if (e0_) cudaEventDestroy(e0_);
   if (e1_) cudaEventDestroy(e1_);
+  f_ = i_ = 0;
+  e0_ = e1_ = nullptr;
 }
 
 void Fft::timed(cufftResult r, const char* what) {

@@ -206,6 +206,7 @@ class Fft {
 
  private:
   void timed(cufftResult r, const char* what);
+  void release() noexcept;
   cufftHandle f_ = 0, i_ = 0;
   Buffer<unsigned char> work_;
   cudaEvent_t e0_ = nullptr, e1_ = nullptr;
