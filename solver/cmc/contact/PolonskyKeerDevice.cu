@@ -110,7 +110,7 @@ pk::End pk::solve_on_device(std::unique_ptr<PolonskyKeer::Device, PolonskyKeer::
         << double(total_b) / double(1u << 30) << " GiB are free: use a smaller grid or the CPU backend";
       throw std::runtime_error(s.str());
     }
-    cuda::ProfileScope ps(&cuda::Profile::setup_s);
+    cuda::ProfileScope ps(cuda::profile().setup_s);
     dev.reset(new PolonskyKeer::Device(hs, start.precondition));
   }
   PolonskyKeer::Device& d = *dev;

@@ -40,7 +40,7 @@ struct Profile {
 Profile& profile();
 class ProfileScope {
  public:
-  explicit ProfileScope(double Profile::*slot) : slot_(slot) {
+  explicit ProfileScope(double& slot) : slot_(&slot) {
     if (profile().on) {
       cudaDeviceSynchronize();
       t0_ = std::chrono::steady_clock::now();
@@ -49,13 +49,13 @@ class ProfileScope {
   ~ProfileScope() {
     if (!profile().on) return;
     cudaDeviceSynchronize();
-    profile().*slot_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+    *slot_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
   }
   ProfileScope(const ProfileScope&) = delete;
   ProfileScope& operator=(const ProfileScope&) = delete;
 
  private:
-  double Profile::*slot_;
+  double* slot_;
   std::chrono::steady_clock::time_point t0_{};
 };
 
@@ -79,12 +79,12 @@ class Buffer {
   T* data() const { return p_; }
   std::size_t size() const { return n_; }
   void upload(const T* host, std::size_t n) {
-    ProfileScope ps(&Profile::upload_s);
+    ProfileScope ps(profile().upload_s);
     profile().upload_bytes += double(n * sizeof(T));
     check(cudaMemcpy(p_, host, n * sizeof(T), cudaMemcpyHostToDevice), "copy to the device");
   }
   void download(T* host, std::size_t n) const {
-    ProfileScope ps(&Profile::download_s);
+    ProfileScope ps(profile().download_s);
     profile().download_bytes += double(n * sizeof(T));
     check(cudaMemcpy(host, p_, n * sizeof(T), cudaMemcpyDeviceToHost), "copy from the device");
   }
@@ -108,7 +108,7 @@ __global__ void all_kernel(std::size_t n, F f) {
 template <class F>
 void all(std::size_t n, F f) {
   if (!n) return;
-  ProfileScope ps(&Profile::pass_s);
+  ProfileScope ps(profile().pass_s);
   ++profile().passes;
   all_kernel<<<blocks_for(n), kThreads>>>(n, f);
   check(cudaGetLastError(), "a per-point pass");
@@ -169,7 +169,7 @@ class Reducer {
   template <class Acc, class Sel, class F>
   Acc run(std::size_t n, Sel sel, F f) {
     static_assert(sizeof(Acc) <= kMaxAcc, "a reduction record larger than the scratch holds");
-    ProfileScope ps(&Profile::reduce_s);
+    ProfileScope ps(profile().reduce_s);
     ++profile().reductions;
     Acc* part = reinterpret_cast<Acc*>(scratch_.data());
     const int nb = blocks_for(n);
