@@ -117,3 +117,9 @@ set_tests_properties(cli.progress_in_log_hardwall PROPERTIES LABELS quick
 add_test(NAME cli.progress_every_malformed
          COMMAND sh -c "rm -rf ${CMAKE_BINARY_DIR}/cli_progress_bad; CMC_PROGRESS_EVERY=-1 $<TARGET_FILE:cmc> run ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load.toml --set grid.n=128 --out ${CMAKE_BINARY_DIR}/cli_progress_bad 2>${CMAKE_BINARY_DIR}/cli_progress_bad.err; rc=$?; grep -q CMC_PROGRESS_EVERY ${CMAKE_BINARY_DIR}/cli_progress_bad.err && test $rc -eq 2 && test ! -e ${CMAKE_BINARY_DIR}/cli_progress_bad")
 set_tests_properties(cli.progress_every_malformed PROPERTIES LABELS quick)
+# The GPU scripts' CPU half (issue 16): scripts/gpu/check.sh runs a case through a packed
+# build (here a pack of this build's cmc) and prints its line, and scripts/gpu/store.py
+# stores that run with its provenance; the stored record must carry the run's own answer.
+set(CMC_GPU_SCRIPTS ${CMAKE_BINARY_DIR}/gpu-scripts)
+cmc_cli_test(gpu_scripts.check_and_store "rm -rf ${CMC_GPU_SCRIPTS} && mkdir -p ${CMC_GPU_SCRIPTS}/pack/bin && ln -s $<TARGET_FILE:cmc> ${CMC_GPU_SCRIPTS}/pack/bin/cmc && : > ${CMC_GPU_SCRIPTS}/pack/env.sh && CMC_THREADS=1 ${CMAKE_SOURCE_DIR}/scripts/gpu/check.sh --pack ${CMC_GPU_SCRIPTS}/pack --out ${CMC_GPU_SCRIPTS}/out cpu-hardwall:64 | grep -Eq '^cpu-hardwall-64 +[0-9]+ .* converged$' && /usr/bin/python3 ${CMAKE_SOURCE_DIR}/scripts/gpu/store.py --device test --date 2026-01-01 --store ${CMC_GPU_SCRIPTS}/runs.json ${CMC_GPU_SCRIPTS}/out && /usr/bin/python3 -c \"import json; r = json.load(open('${CMC_GPU_SCRIPTS}/runs.json'))['records']; s = json.load(open('${CMC_GPU_SCRIPTS}/out/runs/cpu-hardwall-64/summary.json')); assert len(r) == 1 and r[0]['tag'] == 'cpu-hardwall-64' and r[0]['a_r'] == s['steps'][0]['contact_fraction'] and r[0]['iterations'] == s['timing']['iterations'], r\"")
+set_tests_properties(gpu_scripts.check_and_store PROPERTIES LABELS "quick;python")
