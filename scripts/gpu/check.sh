@@ -81,6 +81,9 @@ header() {
 }
 
 nvidia-smi --query-gpu=name,memory.total,driver_version --format=csv,noheader 2>&1 | sed 's/^/GPU: /'
+# A library the pack lacks and the machine does not have stops everything: say which.
+missing=$(ldd "$pack"/bin/* 2>/dev/null | awk '/not found/ {print $1}' | sort -u | tr '\n' ' ')
+[ -z "$missing" ] || { echo "scripts/gpu/check.sh: not found on this machine: $missing(pack them with scripts/gpu/pack.sh, or install them)" >&2; exit 1; }
 "$pack/bin/cmc" --version 2>/dev/null | head -1
 for stage in "$@"; do
   case "$stage" in
