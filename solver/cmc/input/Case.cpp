@@ -720,11 +720,12 @@ MemoryEstimate estimate_memory(const Case& c) {
     run_transform += 2.0 + (periodic ? sp / 2.0 / m : 0.0);
     solve_grid += 5.0 + 3.0 + 3.0 + 1.0 / 8.0 + 1.0;
   }
-  // A solved step: the writer's scaled copy of a field; the observables (the contact mask
-  // (bytes), patch labels (ints) and their union-find parents, a Fourier transform of the
-  // pressure (its spectrum and scratch), the distributions' per-thread counts) before it.
-  step_grid = 1.0;
-  if (c.observables.enabled) step_grid = std::max(step_grid, 1.0 / 8.0 + 1.0 + 2.0 + 1.0);
+  // A solved step: the observables (the contact mask (bytes), patch labels (ints) and their
+  // union-find parents, a Fourier transform of the pressure (its spectrum and scratch), the
+  // distributions' per-thread counts). The writer scales and writes a field a block of
+  // rows at a time (8 MB), so it holds no copy of a field.
+  step_grid = 0.0;
+  if (c.observables.enabled) step_grid = 1.0 / 8.0 + 1.0 + 2.0 + 1.0;
   // The adhesive CG measures and writes inside its load path, beside its work arrays.
   if (adhesive) run_grid += step_grid, step_grid = 0.0;
   const double phase_grid = std::max(solve_grid * n + solve_transform * m, step_grid * n);

@@ -7,6 +7,7 @@
 #include "cmc/grid/Ranks.hpp"
 #include "cmc/surface/H5Handle.hpp"
 
+#include <algorithm>
 #include <hdf5.h>
 #include <unistd.h>
 
@@ -81,14 +82,21 @@ void dataset(hid_t where, const std::string& name, const Grid& g, const Field& v
                  H5Dclose);
     check(d, "dataset " + name);
   }
+  // Scaled and written a block of rows at a time (about 2^20 values, 8 MB): a field is
+  // never held twice on the host while it is written (a 32768² field is 8.6 GB).
+  const std::size_t block_rows = std::max<std::size_t>(1, (std::size_t(1) << 20) / std::size_t(nx));
+  Field scaled;
   for_each_slab(g, values.data(), [&](int y0, int rows, const double* v) {
-    const std::size_t n = std::size_t(rows) * nx;
-    Field scaled(n);
-    for (std::size_t i = 0; i < n; ++i) scaled[i] = v[i] * scale;
-    hsize_t start[2] = {hsize_t(y0), 0}, count[2] = {hsize_t(rows), nx};
-    H5Handle mem(H5Screate_simple(2, count, nullptr), H5Sclose);
-    check(H5Sselect_hyperslab(space, H5S_SELECT_SET, start, nullptr, count, nullptr), "selecting rows of " + name);
-    check(H5Dwrite(d, H5T_NATIVE_DOUBLE, mem, space, H5P_DEFAULT, scaled.data()), "writing " + name);
+    for (std::size_t r0 = 0; r0 < std::size_t(rows); r0 += block_rows) {
+      const std::size_t rr = std::min(block_rows, std::size_t(rows) - r0), n = rr * nx;
+      scaled.resize(n);
+      const double* src = v + r0 * nx;
+      for (std::size_t i = 0; i < n; ++i) scaled[i] = src[i] * scale;
+      hsize_t start[2] = {hsize_t(y0) + hsize_t(r0), 0}, count[2] = {hsize_t(rr), nx};
+      H5Handle mem(H5Screate_simple(2, count, nullptr), H5Sclose);
+      check(H5Sselect_hyperslab(space, H5S_SELECT_SET, start, nullptr, count, nullptr), "selecting rows of " + name);
+      check(H5Dwrite(d, H5T_NATIVE_DOUBLE, mem, space, H5P_DEFAULT, scaled.data()), "writing " + name);
+    }
   });
   if (!is_root()) return;
   attr_string(d, "units", unit);
