@@ -65,8 +65,11 @@ run_case() {  # kind (hardwall|adhesive|shape), n, backend
   : >"$samples"
   nvidia-smi --query-gpu=memory.used --format=csv,noheader,nounits --loop-ms=200 >"$samples" 2>/dev/null &
   local mon=$!
-  timeout "$cap" "$pack/bin/cmc" run "cases/challenge/$file.toml" --set "grid.n=$2" --set "grid.backend=$3" \
-    --set output.fields=false "${extra[@]}" --out "$dir" >"$out/$tag.log" 2>&1
+  local args=(run "cases/challenge/$file.toml" --set "grid.n=$2" --set "grid.backend=$3" --set output.fields=false
+    "${extra[@]}" --out "$dir")
+  # The command as run, for the record (scripts/gpu/store.py stores it with the run).
+  { printf 'cmc'; printf ' %q' "${args[@]}"; printf '   (scripts/gpu/check.sh %s:%s)\n' "$1" "$2"; } >"$out/$tag.command"
+  timeout "$cap" "$pack/bin/cmc" "${args[@]}" >"$out/$tag.log" 2>&1
   local rc=$?
   kill "$mon" 2>/dev/null; wait "$mon" 2>/dev/null
   local peak

@@ -1,10 +1,11 @@
 #!/usr/bin/python3
 """Store GPU runs made by scripts/gpu/check.sh as a reference with provenance (issue 16).
 
-    /usr/bin/python3 scripts/gpu/store.py --device "NVIDIA H100 80GB HBM3" CHECK_OUT [CHECK_OUT ...]
+    /usr/bin/python3 scripts/gpu/store.py --device "NVIDIA H100 80GB HBM3" --date YYYY-MM-DD CHECK_OUT [CHECK_OUT ...]
 
 CHECK_OUT: a folder check.sh wrote (--out): runs/<backend>-<kind>-<n>/summary.json and, beside
-it, <tag>.gpu-memory (nvidia-smi's samples). Each run becomes one record of
+it, <tag>.command (the command as check.sh ran it) and <tag>.gpu-memory (nvidia-smi's
+samples). Each run becomes one record of
 reference/gpu/runs.json (replacing a record of the same tag): the command that made it, the
 device, the date, iterations, FFT pairs, the steps' solve time, the FFT pair time measured in
 the same run, the answer (a_r, repulsive a_r, mean gap) and the GPU memory peak. The
@@ -17,10 +18,7 @@ import json
 import os
 import sys
 
-KIND_FILE = {"hardwall": "reference-load-hardwall", "adhesive": "reference-load", "shape": "scaled-family"}
-SHAPE_SETS = ("--set case.name=challenge-scaled-s1 --set surface.cutoff_wavelength=1e-07 "
-              "--set interaction.work_of_adhesion=0.05 --set solver.max_outer_steps=170 "
-              "--set interaction.coarse_graining=\"shape\"")
+KINDS = ("hardwall", "adhesive", "shape")  # check.sh's stages
 
 
 def dx_over_rho(s):
@@ -32,25 +30,29 @@ def dx_over_rho(s):
 def record(run_dir, device):
     tag = os.path.basename(run_dir)
     parts = tag.split("-")
-    if len(parts) != 3 or parts[1] not in KIND_FILE:
+    if len(parts) != 3 or parts[1] not in KINDS:
         return None
     backend, kind, n = parts[0], parts[1], int(parts[2])
     s = json.load(open(os.path.join(run_dir, "summary.json")))
     steps, t = s["steps"], s["timing"]
     last = steps[-1]
     obs = last.get("observables", {})
-    samples = os.path.join(os.path.dirname(os.path.dirname(run_dir)), tag + ".gpu-memory")
+    beside = os.path.dirname(os.path.dirname(run_dir))  # check.sh's --out: <tag>.command, <tag>.gpu-memory
+    try:
+        command = open(os.path.join(beside, tag + ".command")).read().strip()
+    except FileNotFoundError:
+        sys.exit(f"store.py: {run_dir}: no {tag}.command beside it (made by a check.sh that did not record "
+                 "its commands): run the stage again")
+    samples = os.path.join(beside, tag + ".gpu-memory")
     peak = None
     if os.path.exists(samples):
         vals = [float(x) for x in open(samples).read().split() if x.strip().replace(".", "", 1).isdigit()]
         peak = max(vals) if vals else None
-    cmd = (f"cmc run cases/challenge/{KIND_FILE[kind]}.toml --set grid.n={n} --set grid.backend={backend} "
-           f"--set output.fields=false" + (" " + SHAPE_SETS if kind == "shape" else ""))
     return {
         "tag": tag, "kind": kind, "n": n, "backend": backend,
         "device": device if backend == "cuda" else "host CPU of the GPU machine",
         "host_threads": s["grid"].get("threads"),
-        "command": cmd + f"   (scripts/gpu/check.sh {kind}:{n})",
+        "command": command,
         "status": s["status"],
         "iterations": t["iterations"], "fft_pairs": t["fft_pairs"],
         "solve_s": sum(x["wall_s"] for x in steps), "run_s": t["wall_s"],
