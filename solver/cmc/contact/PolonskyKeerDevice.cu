@@ -6,12 +6,14 @@
 //
 // Device memory, per point of an n-point grid (nspec = ny (nx/2 + 1) ≈ n/2 modes):
 // p, w = h + u, t, h (4 doubles), z (1, with the preconditioner), the contact mask (1
-// byte), the spectra p̂, t̂, ĥ/N and the transform's scratch (4 nspec complex ≈ 4
-// doubles), the compliance and the stiffness (nspec doubles each ≈ ½ each), and cuFFT's
-// work area (cufftMakePlan2d reports it for the shape). Counted by polonsky_keer_bytes
-// (grid/Backend.hpp), with the work area taken as one real field: 22.3 GiB at 16384² with
-// the preconditioner (nvidia-smi's peak on an H100: 22.8 GiB, the CUDA context included),
-// 89 GiB at 32768² (77 GiB without the preconditioner).
+// byte), the spectra p̂, ĥ/N and the transform's scratch, which holds t̂ too (3 nspec
+// complex ≈ 3 doubles), the compliance (nspec doubles ≈ ½; the preconditioner's stiffness
+// is taken from it), and cuFFT's work area (cufftMakePlan2d reports it for the shape).
+// Counted by polonsky_keer_bytes (grid/Backend.hpp), with the work area taken as one real
+// field: 19.3 GiB at 16384² with the preconditioner, 77 GiB at 32768² (69 GiB without).
+// Before t̂ moved into the scratch and the stiffness into the compliance (2026-11-26, not
+// yet run on a GPU) the count was 22.3 GiB at 16384², and nvidia-smi's peak on an H100
+// was 22.8 GiB with the CUDA context.
 #include "cmc/contact/PolonskyKeerRun.hpp"
 #include "cmc/grid/CudaDevice.cuh"
 
@@ -42,15 +44,22 @@ struct PolonskyKeer::Device : pk::Fields {
   void forward_p() { fft.forward(p, p_hat); }
   void forward_h() { fft.forward(h, h_hat); }
   double curvature_t() {
-    fft.forward(t, t_hat);
-    return quadratic_form(t_hat, ker);
+    fft.forward(t, out);
+    return quadratic_form(out, ker);
   }
   void inverse_w() { fft.inverse(out, w); }
+  // The stiffness is the compliance's inverse, E*|q|/2 = (1/N)² / (2/(E*|q|)) with 1/N folded
+  // into both, 0 at q = 0: taken from the compliance here instead of held (half a spectrum,
+  // 4 GiB at 32768²). It may differ from the CPU's E*|q|/(2N) in the last bit.
   void stiffness_z() {
     fft.forward(z, out);
     double* o = out;
-    const double* k = STIFF.data();
-    cuda::all(nspec, [=] __device__(std::size_t j) { o[2 * j] *= k[j], o[2 * j + 1] *= k[j]; });
+    const double* k = ker;
+    const double nn = 1.0 / (transform_points * transform_points);
+    cuda::all(nspec, [=] __device__(std::size_t j) {
+      const double s = k[j] > 0.0 ? nn / k[j] : 0.0;
+      o[2 * j] *= s, o[2 * j + 1] *= s;
+    });
     fft.inverse(out, z);
   }
   // Σ_q weight(q) mult(q) |s_q|² over the r2c half-spectrum (HalfSpace::quadratic_form).
@@ -69,7 +78,7 @@ struct PolonskyKeer::Device : pk::Fields {
   // ---- the buffers
   int nx, ny;
   bool precondition;
-  cuda::Buffer<double> P, W, T, Z, H, PH, TH, HH, OUT, KER, STIFF;
+  cuda::Buffer<double> P, W, T, Z, H, PH, HH, OUT, KER;
   cuda::Buffer<std::uint8_t> M;
   cuda::Reducer reducer;
   cuda::Fft fft;
@@ -78,13 +87,12 @@ struct PolonskyKeer::Device : pk::Fields {
       : pk::Fields{hs.grid().size(), hs.spectrum_size(), double(hs.grid().points()), double(hs.transform_points())},
         nx(hs.grid().nx), ny(hs.grid().ny), precondition(pre), P(n, "the pressure"), W(n, "the displacement"),
         T(n, "the direction"), Z(pre ? n : 0, "the preconditioned gap"), H(n, "the heights"),
-        PH(2 * nspec, "a spectrum"), TH(2 * nspec, "a spectrum"), HH(2 * nspec, "a spectrum"),
-        OUT(2 * nspec, "a spectrum"), KER(nspec, "the compliance"), STIFF(pre ? nspec : 0, "the stiffness"),
+        PH(2 * nspec, "a spectrum"), HH(2 * nspec, "a spectrum"),
+        OUT(2 * nspec, "a spectrum"), KER(nspec, "the compliance"),
         M(n, "the contact set"), fft(nx, ny) {
     p = P.data(), w = W.data(), t = T.data(), z = Z.data(), m = M.data(), h = H.data();
-    p_hat = PH.data(), t_hat = TH.data(), h_hat = HH.data(), out = OUT.data(), ker = KER.data();
+    p_hat = PH.data(), h_hat = HH.data(), out = OUT.data(), ker = KER.data();
     KER.upload(hs.compliance().data(), nspec);
-    if (pre) STIFF.upload(hs.stiffness().data(), nspec);
   }
 };
 

@@ -62,7 +62,7 @@ void for_each_in_or_below(const std::uint8_t* m, const double* w, double level, 
 
 // A solve's work arrays (PolonskyKeer::Options::keep_work keeps them between solves).
 struct PolonskyKeer::Work {
-  Spectrum p_hat, t_hat, h_hat;
+  Spectrum p_hat, h_hat;
   Field t, z;
   std::vector<std::uint8_t> ic;
 };
@@ -89,10 +89,9 @@ struct Host : Fields {
     wk.t.assign(n, 0.0);
     wk.ic.resize(n);  // filled by set_contact_set() before any pass reads it
     if (precondition) wk.z.assign(n, 0.0);
-    for (Spectrum* s : {&wk.p_hat, &wk.t_hat, &wk.h_hat}) s->resize(nspec);
+    for (Spectrum* s : {&wk.p_hat, &wk.h_hat}) s->resize(nspec);
     p = P.data(), w = W.data(), t = wk.t.data(), z = wk.z.data(), m = wk.ic.data(), h = H.data();
     p_hat = reinterpret_cast<double*>(wk.p_hat.data());
-    t_hat = reinterpret_cast<double*>(wk.t_hat.data());
     h_hat = reinterpret_cast<double*>(wk.h_hat.data());
     out = reinterpret_cast<double*>(hs.spectrum().data());
     ker = hs.compliance().data();
@@ -127,8 +126,8 @@ struct Host : Fields {
   void forward_p() { hs.forward(P, wk.p_hat); }
   void forward_h() { hs.forward(H, wk.h_hat); }
   double curvature_t() {
-    hs.forward(wk.t, wk.t_hat);
-    return hs.quadratic_form(wk.t_hat, hs.compliance());
+    hs.forward(wk.t);
+    return hs.quadratic_form(hs.spectrum(), hs.compliance());
   }
   void inverse_w() { hs.inverse(W); }
   void stiffness_z() { hs.apply(z, z, hs.stiffness()); }

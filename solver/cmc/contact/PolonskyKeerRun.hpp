@@ -10,9 +10,10 @@
 //                       points of the whole grid, and of its transform grid (padded when free)
 //   p, w, t, z, m, h    pressure (times sigma), w = h + u, direction, preconditioned gap,
 //                       contact mask (m[i] == (p[i] > 0), always), heights
-//   p_hat, t_hat, h_hat, out, ker
-//                       spectra as interleaved (re, im) doubles: of p, of t, of h/N, the
-//                       transform's scratch; ker: the compliance (1/N folded in)
+//   p_hat, h_hat, out, ker
+//                       spectra as interleaved (re, im) doubles: of p, of h/N, and the
+//                       transform's scratch, which holds t's spectrum from curvature_t()
+//                       until the step overwrites it; ker: the compliance (1/N folded in)
 //   all(k, f)                         f(i) for i in [0, k)
 //   reduce_in<Acc>(m, k, f)           f(i, acc) for i in the mask, merged in a fixed order
 //   reduce_in_or_below<Acc>(m, w, c, k, f)
@@ -21,7 +22,7 @@
 //                                     too, so f must be a no-op there
 //   sum(v)                            Σ v over the whole grid
 //   forward_p(), forward_h()          p_hat = FFT(p), h_hat = FFT(h) (unnormalised)
-//   curvature_t()                     t_hat = FFT(t); returns <t, G t>
+//   curvature_t()                     out = FFT(t); returns <t, G t>
 //   inverse_w()                       w = inverse FFT of out
 //   stiffness_z()                     z = K z (one FFT pair)
 #pragma once
@@ -68,7 +69,7 @@ struct Fields {
   double *p = nullptr, *w = nullptr, *t = nullptr, *z = nullptr;
   std::uint8_t* m = nullptr;
   const double* h = nullptr;
-  double *p_hat = nullptr, *t_hat = nullptr, *h_hat = nullptr, *out = nullptr;
+  double *p_hat = nullptr, *h_hat = nullptr, *out = nullptr;
   const double* ker = nullptr;
 };
 
@@ -117,13 +118,15 @@ class Run {
   }
   // p̂ ← s (p̂ − τ t̂) and w = h + G p̂ (one inverse). The caller applies the same step to
   // the real-space p. On the real and imaginary parts as doubles (what std::complex
-  // computes, component by component, for a complex times a real).
+  // computes, component by component, for a complex times a real). t̂ is in `out`
+  // (curvature_t() left it there), read before it is overwritten: one spectrum less to
+  // hold and to stream through the caches than a t̂ of its own (issues 11, 16).
   void step(double s, double tau) {
     double *out = b_.out, *ph = b_.p_hat;
-    const double *th = b_.t_hat, *off = b_.h_hat, *ker = b_.ker;
+    const double *off = b_.h_hat, *ker = b_.ker;
     if (tau != 0.0) {
       b_.all(b_.nspec, [=] CMC_HD(std::size_t k) {
-        const double re = s * (ph[2 * k] - tau * th[2 * k]), im = s * (ph[2 * k + 1] - tau * th[2 * k + 1]);
+        const double re = s * (ph[2 * k] - tau * out[2 * k]), im = s * (ph[2 * k + 1] - tau * out[2 * k + 1]);
         ph[2 * k] = re, ph[2 * k + 1] = im;
         out[2 * k] = re * ker[k] + off[2 * k], out[2 * k + 1] = im * ker[k] + off[2 * k + 1];
       });

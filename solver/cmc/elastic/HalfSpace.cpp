@@ -184,6 +184,8 @@ void HalfSpace::forward(const Field& f, Spectrum& out) {
   fourier_.forward(to_transform_grid(f), out.data());
 }
 
+void HalfSpace::forward(const Field& f) { fourier_.forward(to_transform_grid(f)); }
+
 void HalfSpace::inverse(Field& out) {
   out.resize(grid_.size());
   if (periodic()) {

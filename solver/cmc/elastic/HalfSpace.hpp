@@ -93,6 +93,8 @@ class HalfSpace {
   // ---- spectral primitives (contact-grid fields, zero-padded when free)
   // out = FFT(f) on the transform grid (unnormalised). One forward transform.
   void forward(const Field& f, Spectrum& out);
+  // spectrum() = FFT(f) on the transform grid (unnormalised). One forward transform.
+  void forward(const Field& f);
   // The scratch spectrum that inverse() consumes.
   std::span<Complex> spectrum() { return fourier_.spectrum(); }
   // out = inverse FFT of spectrum() restricted to the contact grid (unnormalised; the

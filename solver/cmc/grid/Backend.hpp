@@ -41,11 +41,10 @@ double time_fft_pair(int nx, int ny, double min_seconds = 0.25, int min_repeats 
 std::size_t fft_work_bytes(int nx, int ny);
 // Bytes of device memory a Polonsky-Keer solve holds on an nx x ny periodic grid: the count
 // of contact/PolonskyKeerDevice.cu (4 real fields, 1 more with the preconditioner, a byte
-// mask, 4 spectra, the compliance and the stiffness), cuFFT's work area, the reductions'
-// scratch.
+// mask, 3 spectra, the compliance), cuFFT's work area, the reductions' scratch.
 inline std::size_t polonsky_keer_bytes(int nx, int ny, bool precondition) {
   const std::size_t n = std::size_t(nx) * std::size_t(ny), ns = std::size_t(ny) * std::size_t(nx / 2 + 1);
-  const std::size_t doubles = n * (precondition ? 5 : 4) + ns * (precondition ? 10 : 9);
+  const std::size_t doubles = n * (precondition ? 5 : 4) + ns * 7;
   return doubles * sizeof(double) + n + fft_work_bytes(nx, ny) + (std::size_t(1) << 16);
 }
 }  // namespace cuda
