@@ -113,14 +113,15 @@ struct JumpPrediction {
 // within 5e-7. Within 2 points: 10 outer steps, 8 s of queue. A larger move floor (1e-2,
 // 1e-1 ρ) costs outer steps (1024²: 9 and 12 instead of 6).
 constexpr int kRadius = 1;
+constexpr int kSide = 2 * kRadius + 1;
 constexpr double kMoveFloor = 1e-3;  // in ρ (w / peak tension): smaller predicted moves are not propagated
 
 class Cascade {
  public:
-  // `k_response`: K applied to a unit displacement at index 0 of the transform grid.
-  Cascade(const HalfSpace& hs, const Field& k_response)
+  // `k_near`: K at the offsets (dx, dy) of the stencil, entry (dy + kRadius) (2 kRadius + 1)
+  // + dx + kRadius (QuasiStaticAdhesion's constructor reads them off K's unit response).
+  Cascade(const HalfSpace& hs, const std::vector<double>& k_near)
       : nx_(hs.grid().nx), ny_(hs.grid().ny), y0_(hs.grid().y0), rows_(hs.grid().rows()), periodic_(hs.periodic()) {
-    const int mx = hs.transform_nx(), my = hs.transform_ny();
     // Each neighbour once. Where a periodic grid is narrower than the stencil (a line, ny =
     // 1; or 2 points across) offsets alias: the rows above and below a line are the line
     // itself, and (0, ±1) is the point itself. K's entry at the aliased offset already holds
@@ -136,7 +137,7 @@ class Cascade {
         } else if (dx == 0 && dy == 0) {
           continue;
         }
-        stencil_.push_back({dx, dy, hs.transform_entry(k_response, (dy + my) % my, (dx + mx) % mx)});
+        stencil_.push_back({dx, dy, k_near[std::size_t((dy + kRadius) * kSide + dx + kRadius)]});
       }
   }
 
@@ -245,9 +246,19 @@ QuasiStaticAdhesion::QuasiStaticAdhesion(HalfSpace& hs, const Field& heights, Ex
     throw std::invalid_argument("QuasiStaticAdhesion: heights do not match the grid");
   if (!(opt_.tension_tolerance > 0.0)) throw std::invalid_argument("QuasiStaticAdhesion: tension_tolerance must be > 0");
   // The diagonal of K: the pressure at a point that holds a unit displacement there and
-  // zero everywhere else (the same at every point of a translation-invariant grid).
-  k_response_ = hs.unit_response();
-  k_self_ = hs.transform_entry(k_response_, 0, 0);
+  // zero everywhere else (the same at every point of a translation-invariant grid); and
+  // K's entries to the cascade's neighbours. Only these numbers are kept, not the response
+  // (a field of the transform grid: 8.6 GB at 32768², issue 16).
+  {
+    const Field response = hs.unit_response();
+    const int mx = hs.transform_nx(), my = hs.transform_ny();
+    k_self_ = hs.transform_entry(response, 0, 0);
+    k_near_.resize(std::size_t(kSide * kSide));
+    for (int dy = -kRadius; dy <= kRadius; ++dy)
+      for (int dx = -kRadius; dx <= kRadius; ++dx)
+        k_near_[std::size_t((dy + kRadius) * kSide + dx + kRadius)] =
+            hs.transform_entry(response, (dy + my) % my, (dx + mx) % mx);
+  }
   if (!(k_self_ > 0.0)) throw std::logic_error("QuasiStaticAdhesion: the half-space's self-stiffness is not positive");
 }
 
@@ -284,8 +295,10 @@ SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st, O
   }
   Field& t = at.tension;
   ContactState& inner = at.inner;
-  Field hp = h_, gt(n, 0.0), next(n, 0.0), predicted(n, 0.0);
-  Cascade cascade(hs_, k_response_);
+  // The solve's own fields (host memory, issue 16): the shifted heights, G t, the
+  // predicted gaps; the next tension is computed twice from them instead of held.
+  Field hp = h_, gt(n, 0.0), predicted(n, 0.0);
+  Cascade cascade(hs_, k_near_);
   PolonskyKeer::Options po;
   po.tolerance = opt_.tolerance;
   po.max_iterations = opt_.max_iterations;
@@ -307,17 +320,23 @@ SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st, O
   const bool warm = !from && st.gap.size() == n && st.pressure.size() == n;
   if (warm) {
     // Start from the previous (smaller) load's state: its tension, and its repulsive
-    // pressure p + t as Polonsky-Keer's warm start.
+    // pressure p + t as Polonsky-Keer's warm start. The state's fields move into the
+    // solve's (and back at the end): the solve holds no second copy of them.
     const double* g = st.gap.data();
     Grid::parallel_for(n, [&](std::size_t b, std::size_t e) {
       for (std::size_t i = b; i < e; ++i) t[i] = jump.tension(g[i]);
     });
-    inner.pressure.resize(n);
+    double* sp = st.pressure.data();
     Grid::parallel_for(n, [&](std::size_t b, std::size_t e) {
-      for (std::size_t i = b; i < e; ++i) inner.pressure[i] = std::max(0.0, st.pressure[i] + t[i]);
+      for (std::size_t i = b; i < e; ++i) sp[i] = std::max(0.0, sp[i] + t[i]);
     });
-    inner.displacement = st.displacement;
+    inner.pressure = std::move(st.pressure);
+    inner.displacement = std::move(st.displacement);
+    inner.gap = std::move(st.gap);  // its buffer: Polonsky-Keer overwrites it
     inner.penetration = st.penetration;
+  } else if (from) {
+    // The state is not read: its fields would only sit beside the solve's.
+    st.pressure = Field(), st.displacement = Field(), st.gap = Field();
   }
 
   double residual = 1.0;
@@ -351,13 +370,12 @@ SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st, O
     }
     const double* x = predicted.data();
     double* tp = t.data();
-    double* tn = next.data();
+    // The next tension of point i (computed here for the residual, and again below where
+    // it replaces t: one exponential more per point instead of a field).
+    auto next_tension = [&](std::size_t i) { return g[i] <= 0.0 ? jump.w_rho : jump.tension(x[i]); };
     residual = Grid::parallel_reduce<MaxReduction>(n, [&](std::size_t b, std::size_t e, MaxReduction& acc) {
                  double m = 0.0;
-                 for (std::size_t i = b; i < e; ++i) {
-                   tn[i] = g[i] <= 0.0 ? jump.w_rho : jump.tension(x[i]);
-                   m = std::max(m, std::abs(tn[i] - tp[i]));
-                 }
+                 for (std::size_t i = b; i < e; ++i) m = std::max(m, std::abs(next_tension(i) - tp[i]));
                  acc.v = std::max(acc.v, m);
                }).v / adh_.peak_tension();
     if (opt_.progress) opt_.progress({res.iterations, residual, outer + 1});
@@ -387,10 +405,12 @@ SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st, O
     // 1.6 ρ): 879 -> 769 iterations, 2032 -> 1714 pairs, the same a_r.
     double* pr = inner.pressure.data();
     Grid::parallel_for(n, [&](std::size_t b, std::size_t e) {
-      for (std::size_t i = b; i < e; ++i)
-        if (pr[i] > 0.0 || x[i] <= 0.0) pr[i] = std::max(0.0, pr[i] + tn[i] - tp[i]);
+      for (std::size_t i = b; i < e; ++i) {
+        const double tn = next_tension(i);
+        if (pr[i] > 0.0 || x[i] <= 0.0) pr[i] = std::max(0.0, pr[i] + tn - tp[i]);
+        tp[i] = tn;
+      }
     });
-    t.swap(next);
     if (opt_.on_outer) {
       at.outer = outer + 1;
       at.so_far.iterations = res.iterations;
@@ -407,15 +427,17 @@ SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st, O
   // The solved state: total pressure p − t, displacement G (p − t), the gap of the solve.
   // (t and gt are those of the last Polonsky-Keer solve, so the fields are consistent.)
   if (!inner.empty()) {
-    st.pressure.resize(n);
-    st.displacement.resize(n);
+    st.pressure = std::move(inner.pressure);
+    st.displacement = std::move(inner.displacement);
+    double* sp = st.pressure.data();
+    double* su = st.displacement.data();
     Grid::parallel_for(n, [&](std::size_t b, std::size_t e) {
       for (std::size_t i = b; i < e; ++i) {
-        st.pressure[i] = inner.pressure[i] - t[i];
-        st.displacement[i] = inner.displacement[i] - gt[i];
+        sp[i] -= t[i];
+        su[i] -= gt[i];
       }
     });
-    st.gap = inner.gap;
+    st.gap = std::move(inner.gap);
     st.penetration = inner.penetration;
     st.mean_pressure = Grid::mean(st.pressure);
     const double* g = st.gap.data();

@@ -71,6 +71,7 @@
 #include "cmc/elastic/HalfSpace.hpp"
 
 #include <functional>
+#include <vector>
 
 namespace cmc {
 
@@ -127,7 +128,7 @@ class QuasiStaticAdhesion {
   ExponentialAdhesion adh_;
   Options opt_;
   double k_self_ = 0.0;
-  Field k_response_;  // K applied to a unit displacement at one point (transform grid)
+  std::vector<double> k_near_;  // K to the 3 x 3 nearest points (the cascade's stencil)
 };
 
 }  // namespace cmc

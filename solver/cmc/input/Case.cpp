@@ -699,26 +699,29 @@ MemoryEstimate estimate_memory(const Case& c) {
     if (load_control) run_grid += 9.0;
   } else if (c.grid.backend == "cuda") {
     // Polonsky-Keer on the GPU holds its work arrays on the device (printed separately,
-    // grid/Backend.hpp polonsky_keer_bytes); on the host, the stiffness made once for the
-    // copy up (half a spectrum, with the preconditioner), and no FFT pair timed on the host
-    // (its two fields, counted above, are not made). Counted from the code; the host's peak
-    // of a GPU run has not been measured.
-    run_transform += (c.solver.precondition ? sp / 2.0 / m : 0.0) - 2.0;
+    // grid/Backend.hpp polonsky_keer_bytes; its stiffness is taken from the compliance
+    // there, the host makes none), and no FFT pair is timed on the host (its two fields,
+    // counted above, are not made). Counted from the code; the host's peak of a GPU run
+    // has not been measured.
+    run_transform -= 2.0;
   } else {
     // Polonsky-Keer, within a solve: the search direction (and the preconditioned gap, on
-    // a periodic grid), the contact set (bytes), and the spectra of the pressure, the
-    // direction and the heights.
+    // a periodic grid), the contact set (bytes), and the spectra of the pressure and the
+    // heights (the direction's is the half-space's scratch spectrum, counted above).
     solve_grid += 1.0 + (periodic && c.solver.precondition ? 1.0 : 0.0) + 1.0 / 8.0;
-    solve_transform += 3.0 * sp / m;
+    solve_transform += 2.0 * sp / m;
   }
   if (c.solver.kind == SolverKind::QuasiStatic) {
-    // QuasiStaticAdhesion: K's unit response and its set-up impulse on the transform grid,
-    // the stiffness when periodic, for the whole run; within a solve, around its
-    // Polonsky-Keer (counted above): the shifted heights, tension, G t, next and predicted
-    // gaps, the inner state, the cascade's pull, applied and decay fields and flags, and
-    // the scaled copy a checkpoint inside the step writes from.
+    // QuasiStaticAdhesion: K's unit response and its set-up impulse on the transform grid
+    // (freed once the cascade's nine entries are read off, like the set-up arrays above)
+    // and the stiffness when periodic, for the whole run; within a solve, around its
+    // Polonsky-Keer (counted above): the shifted heights, the tension, G t and the
+    // predicted gaps, the cascade's pull, applied and decay fields and flags. The inner
+    // state is the driver's (counted above), moved in and back; the next tension is
+    // computed where it is used, and a checkpoint inside a step is written a block of rows
+    // at a time (no copy).
     run_transform += 2.0 + (periodic ? sp / 2.0 / m : 0.0);
-    solve_grid += 5.0 + 3.0 + 3.0 + 1.0 / 8.0 + 1.0;
+    solve_grid += 4.0 + 3.0 + 1.0 / 8.0;
   }
   // A solved step: the observables (the contact mask (bytes), patch labels (ints) and their
   // union-find parents, a Fourier transform of the pressure (its spectrum and scratch), the
