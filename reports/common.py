@@ -481,7 +481,7 @@ def gpu_section(reference_dir, title, notes=None):
     return recs, lines
 
 
-GPU_KIND = {"hardwall": "hard wall", "adhesive": "adhesion (plain)", "shape": "adhesion, shape (s = 1 case)"}
+GPU_KIND = {"hardwall": "hard wall", "hardwall_plain": "hard wall, no preconditioner", "adhesive": "adhesion (plain)", "shape": "adhesion, shape (s = 1 case)"}
 
 
 def gpu_row_head(r):

@@ -18,7 +18,7 @@ import json
 import os
 import sys
 
-KINDS = ("hardwall", "adhesive", "shape")  # check.sh's stages
+KINDS = ("hardwall", "hardwall_plain", "adhesive", "shape")  # check.sh's stages
 
 
 def dx_over_rho(s):
