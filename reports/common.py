@@ -462,6 +462,78 @@ def transfer_caveat(members=None, strategy="range"):
                    f"band is indicative, not a bound; {nearer} is needed.")
 
 
+# Issue 13's targets for a strategy at dx = 2 rho and 4 rho: relative error of a_r and of the mean gap.
+STRATEGY_TARGETS = {2: (0.03, 0.005), 4: (0.06, 0.01)}
+
+
+def realization_members(reference_dir, case_seed):
+    """The family's members on every stored realization of the surface: the main store's (the case
+    file's seed, `case_seed`) and those of reference/challenge-scaled/seeds/*/ (scripts/scaled_family.py
+    --seed N), as {s: [(seed, member), ...]} for the members with a reference, seeds in order."""
+    by_s = {}
+    stores = [(os.path.join(reference_dir, "challenge-scaled", "scaled_family.json"), case_seed)]
+    stores += [(p, None) for p in sorted(glob.glob(os.path.join(reference_dir, "challenge-scaled", "seeds", "*",
+                                                                  "scaled_family.json")))]
+    for path, default_seed in stores:
+        for m in family_members(path):
+            if m.get("reference", {}).get("a_r") and m["s"] > 1:
+                by_s.setdefault(m["s"], []).append((m.get("seed", default_seed), m))
+    for s in by_s:
+        by_s[s].sort(key=lambda x: (x[0] is None, x[0] or 0))
+    return by_s
+
+
+def realization_rows(members, spacings=(2, 4)):
+    """One row per realization (seed, member): the reference a_r and mean gap (± refinement error) and,
+    for each spacing k and each of plain and the strategies, the deviation of that run's a_r and mean
+    gap from the member's reference, marked met/not met against STRATEGY_TARGETS for the strategies.
+    Then a summary row: per column the largest |deviation| and, for the strategies, how many
+    realizations meet the target. Returns (header, rows)."""
+    kinds = ("plain",) + STRATEGIES
+    header = ["seed", "ρ (nm)", "reference a_r", "reference mean gap (µm)"] + [
+        f"{kind}, {k} ρ" for k in spacings for kind in kinds]
+    rows, worst, met, seen = [], {}, {}, {}
+    for seed, m in members:
+        ref = m["reference"]
+        row = [seed if seed is not None else "?", fmt(m["rho_m"] * 1e9, 4),
+               f"{ref['a_r']['value']:.4g} ± {ref['a_r']['refinement_error']:.2g}",
+               f"{ref['mean_gap']['value'] * 1e6:.4g} ± {ref['mean_gap']['refinement_error'] * 1e6:.2g}"]
+        runs = {r["role"]: r for r in m["runs"]}
+        for k in spacings:
+            for kind in kinds:
+                r = runs.get(f"{kind}_{k}rho")
+                col = (kind, k)
+                if not r:
+                    row.append("–")
+                    continue
+                da = r["a_r"] / ref["a_r"]["value"] - 1
+                dg = r["mean_gap"] / ref["mean_gap"]["value"] - 1
+                w = worst.setdefault(col, [0.0, 0.0])
+                w[0], w[1] = max(w[0], abs(da)), max(w[1], abs(dg))
+                cell = f"{100 * da:+.1f} % / {100 * dg:+.2f} %"
+                if kind != "plain" and k in STRATEGY_TARGETS:
+                    ta, tg = STRATEGY_TARGETS[k]
+                    ok = abs(da) <= ta and abs(dg) <= tg
+                    met[col] = met.get(col, 0) + int(ok)
+                    seen[col] = seen.get(col, 0) + 1
+                    cell += " (met)" if ok else " (not met)"
+                row.append(cell)
+        rows.append(row)
+    summary = ["largest", "", "", ""]
+    for k in spacings:
+        for kind in kinds:
+            col = (kind, k)
+            if col not in worst:
+                summary.append("–")
+                continue
+            text = f"{100 * worst[col][0]:.1f} % / {100 * worst[col][1]:.2f} %"
+            if col in seen:
+                text += f"; target met on {met[col]} of {seen[col]}"
+            summary.append(text)
+    rows.append(summary)
+    return header, rows
+
+
 def gpu_runs(reference_dir, notes=None):
     """The CUDA backend's stored runs (reference/gpu/runs.json, scripts/gpu/store.py), sorted by
     case and grid; [] when the store is missing."""

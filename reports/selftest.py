@@ -256,6 +256,37 @@ def transfer_checks():
     return out
 
 
+def realization_checks():
+    """common.realization_rows: each run's a_r and mean gap against its own realization's reference,
+    the strategies' targets (issue 13: 3 % / 0.5 % at 2 rho, 6 % / 1 % at 4 rho) marked per cell and
+    counted in the summary row, plain runs never marked."""
+    sys.path.insert(0, HERE)
+    from common import realization_rows
+
+    def member(a_ref, g_ref, runs):
+        return {"rho_m": 6e-8, "reference": {"a_r": {"value": a_ref, "refinement_error": 1e-4},
+                                             "mean_gap": {"value": g_ref, "refinement_error": 1e-9}},
+                "runs": [{"role": role, "a_r": a, "mean_gap": g} for role, a, g in runs]}
+
+    members = [(28, member(0.05, 3e-6, [("plain_2rho", 0.047, 3.03e-6), ("shape_2rho", 0.0472, 3.02e-6),
+                                         ("shape_4rho", 0.052, 2.99e-6)])),
+               (29, member(0.06, 2.8e-6, [("shape_2rho", 0.0605, 2.801e-6), ("range_4rho", 0.06, 2.7e-6)]))]
+    header, rows = realization_rows(members)
+    out = []
+    col = {h: i for i, h in enumerate(header)}
+    if len(rows) != 3 or rows[0][0] != 28 or rows[1][0] != 29 or rows[2][0] != "largest":
+        out.append(f"realization_rows: rows {rows}")
+        return out
+    want = {("plain, 2 ρ", 0): "-6.0 % / +1.00 %", ("shape, 2 ρ", 0): "-5.6 % / +0.67 % (not met)",
+            ("shape, 2 ρ", 1): "+0.8 % / +0.04 % (met)", ("shape, 4 ρ", 0): "+4.0 % / -0.33 % (met)",
+            ("range, 4 ρ", 1): "+0.0 % / -3.57 % (not met)", ("range, 2 ρ", 0): "–",
+            ("shape, 2 ρ", 2): "5.6 % / 0.67 %; target met on 1 of 2", ("plain, 2 ρ", 2): "6.0 % / 1.00 %"}
+    for (h, r), v in want.items():
+        if rows[r][col[h]] != v:
+            out.append(f"realization_rows: row {r}, column {h!r}: {rows[r][col[h]]!r}, expected {v!r}")
+    return out
+
+
 def roundoff_checks(root):
     """scripts/roundoff_spread.py on hand-made runs: the largest relative difference per quantity
     over the steps, and a clear error (non-zero exit, nothing written) for runs of two cases;
@@ -352,6 +383,7 @@ def main(argv):
         failures += sweep_end_checks()
         failures += roundoff_checks(root)
         failures += transfer_checks()
+        failures += realization_checks()
         # Empty inputs: no crash, and lines saying what to run.
         empty = os.path.join(root, "empty")
         os.makedirs(empty, exist_ok=True)
