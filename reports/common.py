@@ -242,7 +242,7 @@ def strategy_run_near(r, strategy, dx_over_rho):
 
 def strategy_errors(members, strategy, dx_over_rho):
     """The strategy's measured relative error per quantity at this dx/rho: the largest, over the
-    members with a converged reference, of |strategy run / reference - 1| plus the reference's
+    members with a converged reference (of every realization given), of |strategy run / reference - 1| plus the reference's
     own relative refinement error, from the run whose dx/rho is within a factor 1.3 of the given
     one. None where no member has such a run."""
     err, used = {}, []
@@ -252,7 +252,8 @@ def strategy_errors(members, strategy, dx_over_rho):
             continue
         for r in m["runs"]:
             if strategy_run_near(r, strategy, dx_over_rho):
-                used.append(f"s = {m['s']} at {r['n']}² (dx = {r['dx_over_rho']:.2f} rho)")
+                seed = f", seed {m['seed']}" if "seed" in m else ""
+                used.append(f"s = {m['s']}{seed} at {r['n']}² (dx = {r['dx_over_rho']:.2f} rho)")
                 for _, short, _ in FAMILY_QUANTITIES:
                     q = ref[short]
                     e = abs(r[short] / q["value"] - 1) + q["refinement_error"] / abs(q["value"])
@@ -290,7 +291,7 @@ def run_strategy_error(summary, short, members=None):
     if not (finite(rho) and rho > 0 and finite(dx) and dx > 0):
         return None
     k = dx / rho
-    err, used = strategy_errors(family_members() if members is None else members, strategy, k)
+    err, used = strategy_errors(measured_members() if members is None else members, strategy, k)
     return k, (err or {}).get(short), used
 
 
@@ -466,18 +467,32 @@ def transfer_caveat(members=None, strategy="range"):
 STRATEGY_TARGETS = {2: (0.03, 0.005), 4: (0.06, 0.01)}
 
 
+def seed_members(store_dir):
+    """The members with a converged reference of every other realization stored beside a family store
+    (STORE/seeds/*/scaled_family.json, scripts/scaled_family.py --seed N), each with its "seed"."""
+    out = []
+    for path in sorted(glob.glob(os.path.join(store_dir, "seeds", "*", "scaled_family.json"))):
+        out += [m for m in family_members(path) if m.get("reference", {}).get("a_r")]
+    return out
+
+
+def measured_members():
+    """The members a strategy's error is measured on: the family's store and its other realizations."""
+    return family_members() + seed_members(os.path.dirname(FAMILY_STORE))
+
+
 def realization_members(reference_dir, case_seed):
     """The family's members on every stored realization of the surface: the main store's (the case
     file's seed, `case_seed`) and those of reference/challenge-scaled/seeds/*/ (scripts/scaled_family.py
     --seed N), as {s: [(seed, member), ...]} for the members with a reference, seeds in order."""
     by_s = {}
     stores = [(os.path.join(reference_dir, "challenge-scaled", "scaled_family.json"), case_seed)]
-    stores += [(p, None) for p in sorted(glob.glob(os.path.join(reference_dir, "challenge-scaled", "seeds", "*",
-                                                                  "scaled_family.json")))]
     for path, default_seed in stores:
         for m in family_members(path):
             if m.get("reference", {}).get("a_r") and m["s"] > 1:
                 by_s.setdefault(m["s"], []).append((m.get("seed", default_seed), m))
+    for m in seed_members(os.path.join(reference_dir, "challenge-scaled")):
+        by_s.setdefault(m["s"], []).append((m["seed"], m))
     for s in by_s:
         by_s[s].sort(key=lambda x: (x[0] is None, x[0] or 0))
     return by_s

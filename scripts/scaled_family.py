@@ -58,7 +58,7 @@ import tempfile
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "reports"))
 from common import (FAMILY_QUANTITIES as QUANTITIES, STRATEGY_TARGETS, s_extrapolation, s_extrapolation_verdict,
-                    strategy_errors, strategy_run_near)  # noqa: E402
+                    seed_members, strategy_errors, strategy_run_near)  # noqa: E402
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 CASE = "cases/challenge/scaled-family.toml"
@@ -210,10 +210,12 @@ def atomic_write(path, text):
     os.replace(tmp, path)
 
 
-def estimates(members):
+def estimates(members, realizations=()):
     """For members without a reference (the challenge, s = 1): each strategy run's value with the
     strategy's error measured on the family at the same dx/rho (and, as rho/lambda_s is the same
-    for every s, the same dx/lambda_s)."""
+    for every s, the same dx/lambda_s), over the members and the other realizations given (the
+    members of STORE/seeds/*, common.seed_members)."""
+    measured = list(members) + list(realizations)
     for m in members:
         if m.get("reference", {}).get("a_r"):
             m.pop("estimates", None)
@@ -223,7 +225,7 @@ def estimates(members):
             strategy = r["role"].split("_")[0]
             if strategy not in STRATEGY:
                 continue
-            err, used = strategy_errors(members, strategy, r["dx_over_rho"])
+            err, used = strategy_errors(measured, strategy, r["dx_over_rho"])
             row = {"role": r["role"], "n": r["n"], "dx_over_rho": r["dx_over_rho"], "measured_on": used}
             for _, short, _ in QUANTITIES:
                 row[short] = {"value": r[short], "error": None if err is None else err[short] * abs(r[short])}
@@ -293,7 +295,8 @@ def readme(data):
                        "This member's resolved run is not stored yet (it is computed on a grid with dx ≤ 0.8 ρ, "
                        "like the others)") + "; the strategy's runs with the strategy's error measured on the "
                       "family at the same dx/ρ (largest |deviation| from a member's reference plus that reference's "
-                      "refinement error; `—`: no member has a run at that dx/ρ):", "",
+                      "refinement error, over the members here and those of the other realizations in `seeds/`; `—`: "
+                      "no member has a run at that dx/ρ):", "",
                       "| grid | dx/ρ | a_r | repulsive a_r | mean gap (m) | error measured on |", "|---|---|---|---|---|---|"]
             for e in m["estimates"]:
                 cells = []
@@ -371,7 +374,22 @@ def main():
                          "the hard-wall ones included, and recorded in the store, which refuses to merge members of "
                          "different seeds. Store each seed apart (e.g. reference/challenge-scaled/seeds/seedN)")
     ap.add_argument("--dry-run", action="store_true", help="print the runs, run nothing")
+    ap.add_argument("--reestimate", action="store_true",
+                    help="run nothing: recompute the challenge's error bars in --store from the members stored there "
+                         "and the other realizations in STORE/seeds/ (after storing a new realization), and rewrite "
+                         "its scaled_family.json and README.md")
     a = ap.parse_args()
+    if a.reestimate:
+        if not a.store:
+            sys.exit("scaled_family: --reestimate needs --store (the family store whose estimates to recompute)")
+        path = os.path.join(ROOT, a.store, "scaled_family.json")
+        with open(path, encoding="utf-8") as f:
+            data = json.load(f)
+        estimates(data["members"], seed_members(os.path.join(ROOT, a.store)))
+        atomic_write(path, json.dumps(data, indent=1) + "\n")
+        atomic_write(os.path.join(ROOT, a.store, "README.md"), readme(data))
+        print(f"scaled_family: recomputed the estimates of {a.store}", file=sys.stderr)
+        return
     seed_set = [f"surface.seed={a.seed}"] if a.seed is not None else []
     if any(x.split("=")[0].strip() == "surface.seed" for x in a.set):
         sys.exit("scaled_family: give a realization with --seed N (it reaches the hard-wall runs and the store too), "
@@ -447,7 +465,9 @@ def main():
         merged = [old[s] for s in sorted(old, reverse=True)]
         for m in merged:
             m["runs"].sort(key=lambda r: (r["role"].split("_")[0] not in ("resolved", "refinement"), -r["n"], r["role"]))
-        estimates(merged)
+        # A realization's own store measures nothing for the challenge: only the family store's
+        # estimates take the other realizations in.
+        estimates(merged, seed_members(os.path.join(ROOT, a.store)) if a.seed is None else ())
         data = {"generator": "scripts/scaled_family.py", "case_file": CASE, "case_file_hardwall": CASE_HW,
                 "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
                 "load_Pa": 250e3, "members": merged, "s_extrapolation": s_extrapolation(merged)}
