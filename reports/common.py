@@ -245,19 +245,24 @@ def strategy_errors(members, strategy, dx_over_rho):
     members with a converged reference (of every realization given), of |strategy run / reference - 1| plus the reference's
     own relative refinement error, from the run whose dx/rho is within a factor 1.3 of the given
     one. None where no member has such a run."""
-    err, used = {}, []
+    err, used, seeds = {}, [], {}
     for m in members:
         ref = m.get("reference", {})
         if not ref.get("a_r"):
             continue
         for r in m["runs"]:
             if strategy_run_near(r, strategy, dx_over_rho):
-                seed = f", seed {m['seed']}" if "seed" in m else ""
-                used.append(f"s = {m['s']}{seed} at {r['n']}² (dx = {r['dx_over_rho']:.2f} rho)")
+                if "seed" in m:  # another realization: counted per s below
+                    seeds.setdefault(m["s"], []).append(m["seed"])
+                else:
+                    used.append(f"s = {m['s']} at {r['n']}² (dx = {r['dx_over_rho']:.2f} rho)")
                 for _, short, _ in FAMILY_QUANTITIES:
                     q = ref[short]
                     e = abs(r[short] / q["value"] - 1) + q["refinement_error"] / abs(q["value"])
                     err[short] = max(err.get(short, 0.0), e)
+    for s_, ids in sorted(seeds.items(), reverse=True):
+        used.append(f"s = {s_} on {len(ids)} other realization{'s' if len(ids) > 1 else ''} (seed{'s' if len(ids) > 1 else ''} "
+                    f"{', '.join(str(i) for i in sorted(ids))})")
     return (err, used) if used else (None, [])
 
 
