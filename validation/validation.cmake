@@ -22,6 +22,12 @@ set_tests_properties(validate.can_fail PROPERTIES LABELS validation)
 # The report scripts on synthetic inputs (Debian's python3 with matplotlib/h5py).
 add_test(NAME reports.selftest COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/reports/selftest.py)
 set_tests_properties(reports.selftest PROPERTIES LABELS "quick;python")
+# scripts/scaled_family.py's realizations (issue 13): --seed, and error bars over every
+# stored realization (tests/scaled_family_test.py says what each checks; no cmc run).
+foreach(t seed_flag reestimate)
+  add_test(NAME scaled_family.${t} COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/tests/scaled_family_test.py ${t})
+  set_tests_properties(scaled_family.${t} PROPERTIES LABELS "quick;python")
+endforeach()
 
 # cmc surface prints R_c = 1/(rms line-scan curvature) (SurfaceStats.hpp). Two checks
 # against values derived from the surface's definition, not from an earlier run:

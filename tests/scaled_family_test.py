@@ -1,0 +1,84 @@
+#!/usr/bin/python3
+"""scripts/scaled_family.py's realizations (issue 13), without running cmc:
+
+  seed_flag      --set surface.seed=N is refused (it would not reach the hard-wall runs or the
+                 store): the message names --seed; nothing runs.
+  reestimate     --reestimate on a synthetic store: the challenge's (s = 1) error bar is the
+                 largest deviation plus refinement error over the family's members AND the other
+                 realizations in STORE/seeds/, whose seeds are named; without the seeds store, the
+                 family's alone.
+
+usage: /usr/bin/python3 tests/scaled_family_test.py TEST
+"""
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SCRIPT = os.path.join(ROOT, "scripts", "scaled_family.py")
+
+
+def run(*args):
+    return subprocess.run(["/usr/bin/python3", SCRIPT, *args], capture_output=True, text=True, cwd=ROOT)
+
+
+def a_run(role, n, k, a_r, gap):
+    return {"role": role, "n": n, "dx_over_rho": k, "status": "converged", "a_r": a_r, "a_rep": 0.8 * a_r,
+            "mean_gap": gap, "iterations": 10, "fft_pairs": 20.0, "wall_s": 1.0, "command": "cmc run ..."}
+
+
+def member(s, runs, ref=None, seed=None):
+    m = {"s": s, "lambda_s_m": s * 1e-7, "w_J_m2": s * 0.05, "rho_m": s * 2.07e-9, "runs": runs,
+         "reference": {}, "adhesionless": None}
+    if ref:
+        a_r, gap = ref
+        for short, v, unit in (("a_r", a_r, "1"), ("a_rep", 0.8 * a_r, "1"), ("mean_gap", gap, "m")):
+            m["reference"][short] = {"value": v, "unit": unit, "refinement_error": 0.01 * v, "grid": 2048,
+                                     "coarser_grid": 1024, "status": "converged"}
+    if seed is not None:
+        m["seed"] = seed
+    return m
+
+
+def store(path, members):
+    os.makedirs(path, exist_ok=True)
+    with open(os.path.join(path, "scaled_family.json"), "w") as f:
+        json.dump({"generator": "test", "members": members, "load_Pa": 250e3, "s_extrapolation": None}, f)
+
+
+def main(test):
+    if test == "seed_flag":
+        r = run("--s", "32", "--set", "surface.seed=3", "--dry-run")
+        assert r.returncode != 0 and "--seed" in r.stderr, (r.returncode, r.stderr)
+        return
+    assert test == "reestimate", test
+    tmp = tempfile.mkdtemp(prefix="cmc_scaled_family_test_")
+    try:
+        # s = 1: a shape run at 12 rho; s = 32 (the case file's surface): its shape run at 12 rho is
+        # 5 % high; s = 32 on seed 29: 10 % high. Each reference has a 1 % refinement error.
+        challenge = member(1, [a_run("shape_n4096", 4096, 12.0, 0.030, 1.0e-6)])
+        fam = member(32, [a_run("shape_12rho", 128, 12.5, 0.0525, 3.0e-6)], ref=(0.05, 3.0e-6))
+        other = member(32, [a_run("shape_12rho", 128, 12.4, 0.066, 2.8e-6)], ref=(0.06, 2.8e-6), seed=29)
+        store(tmp, [fam, challenge])
+        r = run("--reestimate", "--store", tmp)
+        assert r.returncode == 0, r.stderr
+        est = json.load(open(os.path.join(tmp, "scaled_family.json")))["members"][1]["estimates"][0]
+        assert abs(est["a_r"]["error"] - 0.030 * (0.05 + 0.01)) < 1e-12, est
+        store(os.path.join(tmp, "seeds", "seed29"), [other])
+        r = run("--reestimate", "--store", tmp)
+        assert r.returncode == 0, r.stderr
+        est = json.load(open(os.path.join(tmp, "scaled_family.json")))["members"][1]["estimates"][0]
+        assert abs(est["a_r"]["error"] - 0.030 * (0.10 + 0.01)) < 1e-12, est
+        assert any("seed 29" in u for u in est["measured_on"]), est["measured_on"]
+        readme = open(os.path.join(tmp, "README.md")).read()
+        assert "seeds 29" in readme or "seed 29" in readme, readme
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1])
+    print(f"scaled_family_test {sys.argv[1]}: ok")
