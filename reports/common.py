@@ -242,9 +242,9 @@ def strategy_run_near(r, strategy, dx_over_rho):
 
 def strategy_errors(members, strategy, dx_over_rho):
     """The strategy's measured relative error per quantity at this dx/rho: the largest, over the
-    members with a converged reference (of every realization given), of |strategy run / reference - 1| plus the reference's
-    own relative refinement error, from the run whose dx/rho is within a factor 1.3 of the given
-    one. None where no member has such a run."""
+    members with a converged reference (of every realization given), of |strategy run / reference
+    - 1| plus the reference's own relative refinement error, from the run whose dx/rho is within a
+    factor 1.3 of the given one. None where no member has such a run."""
     err, used, seeds = {}, [], {}
     for m in members:
         ref = m.get("reference", {})
@@ -491,11 +491,9 @@ def realization_members(reference_dir, case_seed):
     file's seed, `case_seed`) and those of reference/challenge-scaled/seeds/*/ (scripts/scaled_family.py
     --seed N), as {s: [(seed, member), ...]} for the members with a reference, seeds in order."""
     by_s = {}
-    stores = [(os.path.join(reference_dir, "challenge-scaled", "scaled_family.json"), case_seed)]
-    for path, default_seed in stores:
-        for m in family_members(path):
-            if m.get("reference", {}).get("a_r") and m["s"] > 1:
-                by_s.setdefault(m["s"], []).append((m.get("seed", default_seed), m))
+    for m in family_members(os.path.join(reference_dir, "challenge-scaled", "scaled_family.json")):
+        if m.get("reference", {}).get("a_r") and m["s"] > 1:
+            by_s.setdefault(m["s"], []).append((m.get("seed", case_seed), m))
     for m in seed_members(os.path.join(reference_dir, "challenge-scaled")):
         by_s.setdefault(m["s"], []).append((m["seed"], m))
     for s in by_s:

@@ -2,16 +2,13 @@
 
 #include "cmc/contact/PolonskyKeerHost.hpp"
 
-#include <chrono>
+#include <algorithm>
 #include <cmath>
-#include <cstdint>
-#include <cstring>
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
 
 namespace cmc {
-
 
 #ifndef CMC_CUDA
 // A build without the CUDA backend: the case parser refuses backend = "cuda" before a solve.

@@ -31,8 +31,8 @@ bool built();
 bool available(std::string* why = nullptr);
 // "NVIDIA H100 80GB HBM3, 79.1 GiB, CUDA runtime 13.0" (throws where none is available).
 std::string device_description();
-// Seconds of one r2c + c2r pair of an nx x ny transform on the device (cuFFT, double), with
-// a multiply by a real kernel between them: the unit the GPU runs' cost is reported in,
+// Seconds of one r2c + c2r pair of an nx x ny transform on the device (cuFFT, double): the
+// unit the GPU runs' cost is reported in,
 // timed like HalfSpace::time_fft_pair (fastest of at least min_repeats pairs taking
 // min_seconds, after one untimed pair). Throws where no device is available.
 double time_fft_pair(int nx, int ny, double min_seconds = 0.25, int min_repeats = 5);
