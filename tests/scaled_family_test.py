@@ -3,7 +3,7 @@
 
   seed_flag      --set surface.seed=N is refused (it would not reach the hard-wall runs or the
                  store): the message names --seed; nothing runs.
-  reestimate     --reestimate on a synthetic store: the challenge's (s = 1) error bar is the
+  reestimate     --reestimate on a folder without a store: a message naming it. On a synthetic store: the challenge's (s = 1) error bar is the
                  largest deviation plus refinement error over the family's members AND the other
                  realizations in STORE/seeds/, whose seeds are named; without the seeds store, the
                  family's alone.
@@ -62,6 +62,8 @@ def main(test):
         challenge = member(1, [a_run("shape_n4096", 4096, 12.0, 0.030, 1.0e-6)])
         fam = member(32, [a_run("shape_12rho", 128, 12.5, 0.0525, 3.0e-6)], ref=(0.05, 3.0e-6))
         other = member(32, [a_run("shape_12rho", 128, 12.4, 0.066, 2.8e-6)], ref=(0.06, 2.8e-6), seed=29)
+        r = run("--reestimate", "--store", os.path.join(tmp, "none"))  # no store there: a message, no traceback
+        assert r.returncode != 0 and "--reestimate: no " in r.stderr and "Traceback" not in r.stderr, r.stderr
         store(tmp, [fam, challenge])
         r = run("--reestimate", "--store", tmp)
         assert r.returncode == 0, r.stderr
