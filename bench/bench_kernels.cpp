@@ -9,6 +9,7 @@
 // threads.
 #include "bench_common.hpp"
 #include "cmc/contact/PolonskyKeer.hpp"
+#include "cmc/grid/RowColumnFourier.hpp"
 #include "cmc/surface/SelfAffine.hpp"
 
 #include <benchmark/benchmark.h>
@@ -29,12 +30,31 @@ static void BM_FFTPair(benchmark::State& state) {
   state.SetLabel("r2c + c2r");
 }
 
+// The same pair made of 1-D transforms by rows and column blocks (RowColumnFourier, the
+// Polonsky-Keer iteration's transform on periodic grids), with nothing fused into it.
+static void BM_RowColumnPair(benchmark::State& state) {
+  const int n = int(state.range(0));
+  RowColumnFourier f(n, n);
+  Field x(std::size_t(n) * n, 1.0), y(x.size());
+  Spectrum s(f.spectrum_size());
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sin(0.001 * double(i));
+  using None = RowColumnFourier::None;
+  for (auto _ : state) {
+    f.forward_rows<None>(x.data(), s.data(), [](std::size_t, None&) {});
+    f.columns<None>(s.data(), RowColumnFourier::kForward | RowColumnFourier::kInverse,
+                    [](const RowColumnFourier::Block&, None&) {});
+    f.inverse_rows<None>(s.data(), y.data(), [](std::size_t, None&) {});
+    benchmark::DoNotOptimize(y.data());
+  }
+  state.SetLabel("rows + column blocks");
+}
+
 // Time per iteration: a solve capped at a fixed number of iterations from the same
 // start, so every benchmark repetition does identical work.
 // Time per iteration: a solve capped at a fixed number of iterations, warm-started from
 // the same converged state at a 10 % higher load (so the iterations are those of a solve,
 // not of PK's cold uniform guess), setup and the final recompute included.
-static void pk_iteration(benchmark::State& state, bool precondition) {
+static void pk_iteration(benchmark::State& state, bool precondition, bool fused = true) {
   const int n = int(state.range(0));
   SelfAffineSpec spec;
   spec.cutoff_wavelength = 4.0 / n;
@@ -43,6 +63,7 @@ static void pk_iteration(benchmark::State& state, bool precondition) {
   PeriodicHalfSpace hs(surf.map.grid, 1.0);
   PolonskyKeer::Options o;
   o.precondition = precondition;
+  o.fused_sweeps = fused;
   o.tolerance = 1e-8;
   ContactState warm;
   PolonskyKeer(hs, surf.map.heights, o).solve({Control::MeanPressure, 0.01}, warm);  // not timed
@@ -58,7 +79,14 @@ static void pk_iteration(benchmark::State& state, bool precondition) {
 }
 static void BM_PolonskyKeerIteration(benchmark::State& state) { pk_iteration(state, true); }
 static void BM_PolonskyKeerIteration_plain(benchmark::State& state) { pk_iteration(state, false); }
+// The same with the passes and FFTW's 2-D transforms one after the other (issue 11's
+// comparison: Options::fused_sweeps off).
+static void BM_PolonskyKeerIteration_unfused(benchmark::State& state) { pk_iteration(state, true, false); }
+static void BM_PolonskyKeerIteration_plain_unfused(benchmark::State& state) { pk_iteration(state, false, false); }
 
 BENCHMARK(BM_FFTPair)->Arg(512)->Arg(1024)->Arg(2048)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_RowColumnPair)->Arg(512)->Arg(1024)->Arg(2048)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_PolonskyKeerIteration)->Arg(512)->Arg(1024)->Arg(2048)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
 BENCHMARK(BM_PolonskyKeerIteration_plain)->Arg(512)->Arg(1024)->Arg(2048)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+BENCHMARK(BM_PolonskyKeerIteration_unfused)->Arg(2048)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+BENCHMARK(BM_PolonskyKeerIteration_plain_unfused)->Arg(2048)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);

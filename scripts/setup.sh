@@ -28,11 +28,14 @@ jobs=$(nproc 2>/dev/null || echo 2)
 # The FFT plans compiled into cmc are timed (FFTW_MEASURE) once per machine and kept in
 # this machine's cache, so that every build and every clone here plans alike and gives the
 # same bits (README "Reproducibility"). Keyed by FFTW's version, the CPU's model and flags
-# and the core count; CMC_WISDOM_CACHE=off plans anew for this build and keeps nothing.
+# and the core count, and by the planning tool's sources (a build that plans other
+# transforms, e.g. RowColumnFourier's column blocks, does not take an older set);
+# CMC_WISDOM_CACHE=off plans anew for this build and keeps nothing.
 wisdom_cache=""
 if [ "${CMC_WISDOM_CACHE:-on}" != off ] && [ -n "${XDG_CACHE_HOME:-${HOME:-}}" ]; then
   key=$({ pkg-config --modversion fftw3 2>/dev/null || true; grep -m1 "^model name" /proc/cpuinfo || true
-          grep -m1 "^flags" /proc/cpuinfo || true; echo "$jobs"; } | sha256sum | cut -c1-16)
+          grep -m1 "^flags" /proc/cpuinfo || true; echo "$jobs"
+          cat solver/tools/make_wisdom.cpp solver/cmc/grid/ColumnBlockPlans.hpp; } | sha256sum | cut -c1-16)
   wisdom_cache="${XDG_CACHE_HOME:-$HOME/.cache}/cmc/builtin-wisdom-$key.cpp"
 fi
 if [ -f build/CMakeCache.txt ]; then

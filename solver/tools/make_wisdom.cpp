@@ -13,9 +13,13 @@
 // r2c and c2r on FFTW-aligned arrays, square 2-D grids of 2^k points per side (the
 // periodic grids and the zero-padded free-boundary grids of the case files) and 1-D
 // lines, with the thread counts cmc uses (one below 2^16 points, else each of 1, 2 and
-// the hardware's).
+// the hardware's); and the column transforms of RowColumnFourier (grid/RowColumnFourier.hpp,
+// the Polonsky-Keer iteration's fused transform), whose rows are the 1-D lines, on one
+// thread, for the same square grids.
 //
 // usage: cmc_make_wisdom OUTPUT.cpp [max points per side, default 4096]
+#include "cmc/grid/ColumnBlockPlans.hpp"
+
 #include <fftw3.h>
 
 #include <algorithm>
@@ -41,6 +45,19 @@ void plan_pair(int nx, int ny, int threads) {
   fftw_free(c);
 }
 
+// RowColumnFourier's plans for an nx x ny grid: its rows (1-D lines, one thread), and its
+// column blocks, full and the last one.
+void plan_column_blocks(int nx, int ny) {
+  plan_pair(nx, 1, 1);
+  const int nq = nx / 2 + 1, full = std::min(nq, cmc::detail::kColumnBlock);
+  const int last = nq - (nq - 1) / cmc::detail::kColumnBlock * cmc::detail::kColumnBlock;
+  fftw_complex* blk = fftw_alloc_complex(std::size_t(cmc::detail::kColumnBlock) * std::size_t(ny));
+  fftw_plan_with_nthreads(1);
+  for (int width : {full, last})
+    for (int sign : {FFTW_FORWARD, FFTW_BACKWARD}) fftw_destroy_plan(cmc::detail::plan_column_block(ny, width, blk, sign, FFTW_MEASURE));
+  fftw_free(blk);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -58,11 +75,13 @@ int main(int argc, char** argv) {
     for (int t : thread_counts) plan_pair(nx, ny, t);
   };
   for (int n = 8; n <= max_side; n *= 2) plan_all(n, n);
+  for (int n = 8; n <= max_side; n *= 2) plan_column_blocks(n, n);
   for (int n = 64; n <= 65536; n *= 2) plan_all(n, 1);
   char* w = fftw_export_wisdom_to_string();
   std::ofstream out(argv[1]);
   out << "// Generated at build time by solver/tools/make_wisdom.cpp: FFTW wisdom (FFTW_MEASURE)\n"
-         "// for square grids up to " << max_side << " points per side and 1-D lines up to 65536.\n"
+         "// for square grids up to " << max_side << " points per side (and their column blocks) and\n"
+         "// 1-D lines up to 65536.\n"
          "namespace cmc::detail {\nextern const char* const kBuiltinWisdom;\n"
          "const char* const kBuiltinWisdom = R\"cmcwisdom(" << w << ")cmcwisdom\";\n}\n";
   fftw_free(w);

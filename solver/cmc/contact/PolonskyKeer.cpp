@@ -54,10 +54,12 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
     end = pk::solve_on_device(device_, hs_, h_, opt_, h_scale_, target, st, start, res);
   } else {
     if (!work_) work_ = std::make_unique<Work>();
-    pk::Host host(hs_, h_, st, *work_, start.warm, start.precondition);
-    pk::Run<pk::Host> run(host, opt_, h_scale_, target, start);
-    run.run(res);
-    end = {run.sigma(), run.delta(), run.failure};
+    {  // the backend counts its transforms when it goes, before its work arrays do
+      pk::Host host(hs_, h_, st, *work_, start.warm, start.precondition, opt_.fused_sweeps);
+      pk::Run<pk::Host> run(host, opt_, h_scale_, target, start);
+      run.run(res);
+      end = {run.sigma(), run.delta(), run.failure};
+    }
     if (!opt_.keep_work) work_.reset();
   }
   // ---- the solved state. The reported gap is the solution's: zero where pressure is

@@ -57,6 +57,11 @@ class PolonskyKeer {
     // heights and a warm start go up at its start, p and u come down at its end, and the
     // solved state is made from them on the host as on the CPU.
     Backend backend = Backend::Cpu;
+    // CPU, periodic grid held by one process: run the iteration's passes inside the
+    // transforms' sweeps (grid/RowColumnFourier.hpp; issue 11). Off: the passes and the
+    // 2-D transforms one after the other (what a free boundary or a distributed grid does
+    // always). Both give the same iterates up to round-off.
+    bool fused_sweeps = true;
   };
 
   PolonskyKeer(HalfSpace& half_space, const Field& heights, Options options);

@@ -62,6 +62,23 @@ struct PolonskyKeer::Device : pk::Fields {
     });
     fft.inverse(out, z);
   }
+  // The combined operations, their parts one after the other (kernels and cuFFT calls).
+  template <class Acc, class F>
+  Acc direction_and_curvature(const std::uint8_t* mask, F f, double& curvature) {
+    return pk::compose::direction_and_curvature<Acc>(*this, mask, f, curvature);
+  }
+  template <class Acc, class S, class F>
+  Acc step_and_gap_sums(S step, const std::uint8_t* mask, double level, F f) {
+    return pk::compose::step_and_gap_sums<Acc>(*this, step, mask, level, f);
+  }
+  template <class Acc, class S, class F>
+  Acc pressure_and_gap_sums(S step, const std::uint8_t* mask, double level, F f) {
+    return pk::compose::pressure_and_gap_sums<Acc>(*this, step, mask, level, f);
+  }
+  template <class Acc, class Fill, class F>
+  Acc stiffness_and_sums(Fill fill, const std::uint8_t* mask, F f) {
+    return pk::compose::stiffness_and_sums<Acc>(*this, fill, mask, f);
+  }
   // Σ_q weight(q) mult(q) |s_q|² over the r2c half-spectrum (HalfSpace::quadratic_form).
   double quadratic_form(const double* s, const double* mult) {
     const int cols = nx / 2 + 1, nxx = nx;
@@ -136,7 +153,7 @@ pk::End pk::solve_on_device(std::unique_ptr<PolonskyKeer::Device, PolonskyKeer::
   st.displacement.resize(d.n);
   d.P.download(st.pressure.data(), d.n);
   d.W.download(st.displacement.data(), d.n);
-  hs.count_device_transforms(d.fft.forwards - f0, d.fft.inverses - i0, d.fft.seconds - s0);
+  hs.count_transforms(d.fft.forwards - f0, d.fft.inverses - i0, d.fft.seconds - s0);
   if (cuda::profile().on) {
     const cuda::Profile& pr = cuda::profile();
     std::fprintf(stderr,

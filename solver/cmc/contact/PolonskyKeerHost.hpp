@@ -6,9 +6,11 @@
 
 #include "cmc/contact/PolonskyKeerRun.hpp"
 #include "cmc/grid/Grid.hpp"
+#include "cmc/grid/RowColumnFourier.hpp"
 
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <vector>
 
 namespace cmc {
@@ -58,13 +60,30 @@ void for_each_in_or_below(const std::uint8_t* m, const double* w, double level, 
   for (; i < e; ++i) f(i);
 }
 
+// How the CPU backend visits the points of a pass: the block scans above. (A test visits
+// them point by point instead: tests/test_polonsky_keer.cpp.)
+struct BlockVisit {
+  template <class F>
+  static void in(const std::uint8_t* m, std::size_t b, std::size_t e, F&& f) {
+    for_each_in(m, b, e, f);
+  }
+  template <class F>
+  static void in_or_below(const std::uint8_t* m, const double* w, double level, std::size_t b, std::size_t e, F&& f) {
+    for_each_in_or_below(m, w, level, b, e, f);
+  }
+};
+
 }  // namespace pk
 
 // A solve's work arrays (PolonskyKeer::Options::keep_work keeps them between solves).
+// Fused sweeps (a periodic grid held by one process): the row-column transform and the
+// compliance in its layout; the spectra are then in that layout too.
 struct PolonskyKeer::Work {
   Spectrum p_hat, h_hat;
   Field t, z;
   std::vector<std::uint8_t> ic;
+  std::unique_ptr<RowColumnFourier> rc;
+  Field ker;
 };
 
 namespace pk {
@@ -73,17 +92,30 @@ namespace pk {
 // the operator's FFTW transforms, and OpenMP passes that visit the contact set only (the
 // block scans above). The pressure and w = h + u are the state's pressure and
 // displacement fields, so the solve works in place.
-struct Host : Fields {
+//
+// On a periodic grid held by one process (and unless Options::fused_sweeps is off) the
+// transforms are RowColumnFourier's, and the combined operations run their passes inside
+// its sweeps: a pass over the points of a row next to that row's transform, a pass over
+// modes between a block's column transforms (issue 11). Elsewhere (a free boundary, a
+// distributed grid) they are the passes and HalfSpace's transforms one after the other.
+template <class Visit>
+struct HostOf : Fields {
   HalfSpace& hs;
   Field &P, &W;
   const Field& H;
   PolonskyKeer::Work& wk;
+  RowColumnFourier* rc = nullptr;  // fused sweeps: the transform; else nullptr
+  std::size_t nx = 0;
+  Complex* spec = nullptr;         // the scratch spectrum (`out`)
+  long f0 = 0, i0 = 0;             // rc's counts and seconds when the solve began
+  double s0 = 0.0;
 
-  Host(HalfSpace& half_space, const Field& heights, ContactState& st, PolonskyKeer::Work& work, bool warm,
-       bool precondition)
+  HostOf(HalfSpace& half_space, const Field& heights, ContactState& st, PolonskyKeer::Work& work, bool warm,
+         bool precondition, bool fuse = true)
       : hs(half_space), P(st.pressure), W(st.displacement), H(heights), wk(work) {
     n = heights.size(), nspec = half_space.spectrum_size();
     points = double(half_space.grid().points()), transform_points = double(half_space.transform_points());
+    nx = std::size_t(half_space.grid().nx);
     if (!warm) P.assign(n, 0.0);
     W.resize(n);
     wk.t.assign(n, 0.0);
@@ -93,9 +125,30 @@ struct Host : Fields {
     p = P.data(), w = W.data(), t = wk.t.data(), z = wk.z.data(), m = wk.ic.data(), h = H.data();
     p_hat = reinterpret_cast<double*>(wk.p_hat.data());
     h_hat = reinterpret_cast<double*>(wk.h_hat.data());
-    out = reinterpret_cast<double*>(hs.spectrum().data());
+    spec = hs.spectrum().data();
+    out = reinterpret_cast<double*>(spec);
     ker = hs.compliance().data();
+    const Grid& g = half_space.grid();
+    if (fuse && half_space.periodic() && !g.split() && g.ny > 1) {
+      if (!wk.rc || wk.rc->nx() != g.nx || wk.rc->ny() != g.ny) {
+        wk.rc = std::make_unique<RowColumnFourier>(g.nx, g.ny);
+        wk.ker.resize(nspec);
+        wk.rc->reorder(hs.compliance().data(), wk.ker.data());
+      }
+      rc = wk.rc.get();
+      ker = wk.ker.data();
+      f0 = rc->forward_count(), i0 = rc->inverse_count(), s0 = rc->seconds();
+    } else {
+      wk.rc.reset();
+      wk.ker = Field();
+    }
   }
+  // The fused sweeps' transforms count as the operator's (fft_pairs(), fft_seconds()).
+  ~HostOf() {
+    if (rc) hs.count_transforms(rc->forward_count() - f0, rc->inverse_count() - i0, rc->seconds() - s0);
+  }
+  HostOf(const HostOf&) = delete;
+  HostOf& operator=(const HostOf&) = delete;
 
   template <class F>
   void all(std::size_t k, F f) {
@@ -109,7 +162,7 @@ struct Host : Fields {
     // compiler must assume the field writes may reach it).
     return Grid::parallel_reduce<Acc>(k, [&](std::size_t b, std::size_t e, Acc& acc) {
       Acc local;
-      for_each_in(mask, b, e, [&](std::size_t i) { f(i, local); });
+      Visit::in(mask, b, e, [&](std::size_t i) { f(i, local); });
       acc.merge(local);
     });
   }
@@ -117,21 +170,112 @@ struct Host : Fields {
   Acc reduce_in_or_below(const std::uint8_t* mask, const double* v, double level, std::size_t k, F f) {
     return Grid::parallel_reduce<Acc>(k, [&](std::size_t b, std::size_t e, Acc& acc) {
       Acc local;
-      for_each_in_or_below(mask, v, level, b, e, [&](std::size_t i) { f(i, local); });
+      Visit::in_or_below(mask, v, level, b, e, [&](std::size_t i) { f(i, local); });
       acc.merge(local);
     });
   }
   double sum(const double* v) const { return Grid::sum({v, n}); }
 
-  void forward_p() { hs.forward(P, wk.p_hat); }
-  void forward_h() { hs.forward(H, wk.h_hat); }
+  using None = RowColumnFourier::None;
+  static constexpr auto no_row_pass = [](std::size_t, None&) {};
+  static constexpr auto no_mode_pass = [](const RowColumnFourier::Block&, None&) {};
+  void forward_into(const double* f, Complex* s) {
+    rc->forward_rows<None>(f, s, no_row_pass);
+    rc->columns<None>(s, RowColumnFourier::kForward, no_mode_pass);
+  }
+  void forward_p() {
+    if (!rc) return hs.forward(P, wk.p_hat);
+    forward_into(p, wk.p_hat.data());
+  }
+  void forward_h() {
+    if (!rc) return hs.forward(H, wk.h_hat);
+    forward_into(h, wk.h_hat.data());
+  }
+  // Unfused only (the combined operations below use them when rc is null).
   double curvature_t() {
     hs.forward(wk.t);
     return hs.quadratic_form(hs.spectrum(), hs.compliance());
   }
   void inverse_w() { hs.inverse(W); }
   void stiffness_z() { hs.apply(z, z, hs.stiffness()); }
+
+  // ---- the combined operations (PolonskyKeerRun.hpp)
+  template <class Acc, class F>
+  Acc direction_and_curvature(const std::uint8_t* mask, F f, double& curvature) {
+    if (!rc) return compose::direction_and_curvature<Acc>(*this, mask, f, curvature);
+    const std::size_t nxx = nx;
+    const Acc a = rc->forward_rows<Acc>(t, spec, [&](std::size_t j, Acc& acc) {
+      Visit::in(mask, j * nxx, (j + 1) * nxx, [&](std::size_t i) { f(i, acc); });
+    });
+    // <t, G t> = Σ_q weight(q) G(q) |t̂_q|² (HalfSpace::quadratic_form), block by block.
+    const double* k = ker;
+    const Complex* s = spec;
+    const int nxi = int(nx);
+    curvature = rc->columns<SumReduction>(spec, RowColumnFourier::kForward, [&](const RowColumnFourier::Block& B, SumReduction& acc) {
+                    double wgt[RowColumnFourier::kWidth];
+                    for (int c = 0; c < B.width; ++c) {
+                      const int iqx = B.iqx0 + c;
+                      wgt[c] = (iqx == 0 || 2 * iqx == nxi) ? 1.0 : 2.0;
+                    }
+                    double d = 0.0;
+                    for (std::size_t r = B.begin; r < B.end; r += std::size_t(B.width))
+                      for (int c = 0; c < B.width; ++c) d += wgt[c] * k[r + c] * std::norm(s[r + c]);
+                    acc.v += d;
+                  }).v;
+    return a;
+  }
+  template <class Acc, class S, class F>
+  Acc step_and_gap_sums(S step, const std::uint8_t* mask, double level, F f) {
+    if (!rc) return compose::step_and_gap_sums<Acc>(*this, step, mask, level, f);
+    rc->columns<None>(spec, RowColumnFourier::kInverse, [&](const RowColumnFourier::Block& B, None&) {
+      for (std::size_t k = B.begin; k < B.end; ++k) step(k);
+    });
+    return inverse_and_gap_sums<Acc>(mask, level, f);
+  }
+  template <class Acc, class S, class F>
+  Acc pressure_and_gap_sums(S step, const std::uint8_t* mask, double level, F f) {
+    if (!rc) return compose::pressure_and_gap_sums<Acc>(*this, step, mask, level, f);
+    // p's rows, then per block: p̂'s column transforms, the step (p̂ -> out), out's inverse.
+    Complex* ph = wk.p_hat.data();
+    rc->forward_rows<None>(p, ph, no_row_pass);
+    rc->columns<None>(
+        ph, RowColumnFourier::kForward | RowColumnFourier::kInverse,
+        [&](const RowColumnFourier::Block& B, None&) {
+          for (std::size_t k = B.begin; k < B.end; ++k) step(k);
+        },
+        spec);
+    return inverse_and_gap_sums<Acc>(mask, level, f);
+  }
+  template <class Acc, class F>
+  Acc inverse_and_gap_sums(const std::uint8_t* mask, double level, F f) {
+    const std::size_t nxx = nx;
+    const double* wv = w;
+    return rc->inverse_rows<Acc>(spec, w, [&](std::size_t j, Acc& acc) {
+      Visit::in_or_below(mask, wv, level, j * nxx, (j + 1) * nxx, [&](std::size_t i) { f(i, acc); });
+    });
+  }
+  // The stiffness is taken from the compliance, (1/N)² / G = E*|q|/(2N), 0 at q = 0, as the
+  // GPU backend does (one multiplier less to hold and to stream).
+  template <class Acc, class Fill, class F>
+  Acc stiffness_and_sums(Fill fill, const std::uint8_t* mask, F f) {
+    if (!rc) return compose::stiffness_and_sums<Acc>(*this, fill, mask, f);
+    const std::size_t nxx = nx;
+    rc->forward_rows<None>(z, spec, [&](std::size_t j, None&) {
+      for (std::size_t i = j * nxx; i < (j + 1) * nxx; ++i) fill(i);
+    });
+    const double* k = ker;
+    Complex* s = spec;
+    const double nn = 1.0 / (transform_points * transform_points);
+    rc->columns<None>(spec, RowColumnFourier::kForward | RowColumnFourier::kInverse,
+                      [&](const RowColumnFourier::Block& B, None&) {
+                        for (std::size_t q = B.begin; q < B.end; ++q) s[q] *= k[q] > 0.0 ? nn / k[q] : 0.0;
+                      });
+    return rc->inverse_rows<Acc>(spec, z, [&](std::size_t j, Acc& acc) {
+      Visit::in(mask, j * nxx, (j + 1) * nxx, [&](std::size_t i) { f(i, acc); });
+    });
+  }
 };
+using Host = HostOf<BlockVisit>;
 
 }  // namespace pk
 

@@ -22,9 +22,23 @@
 //                                     too, so f must be a no-op there
 //   sum(v)                            Σ v over the whole grid
 //   forward_p(), forward_h()          p_hat = FFT(p), h_hat = FFT(h) (unnormalised)
-//   curvature_t()                     out = FFT(t); returns <t, G t>
-//   inverse_w()                       w = inverse FFT of out
-//   stiffness_z()                     z = K z (one FFT pair)
+//   three combined operations, each a pass, a transform and a pass; a backend may run
+//   them one after the other (compose:: below) or the passes inside the transforms'
+//   sweeps (the CPU's, PolonskyKeerHost.hpp). The spectra's layout is the backend's: Run
+//   only touches modes through mode passes, which treat every mode alike.
+//   direction_and_curvature<Acc>(m, f, c)
+//                                     f(i, acc) for i in the mask (it writes t), then
+//                                     out = FFT(t) and c = <t, G t>
+//   step_and_gap_sums<Acc>(s, m, level, f)
+//                                     s(k) for every mode k, then w = inverse FFT of out,
+//                                     then f(i, acc) as reduce_in_or_below(m, w, level)
+//   pressure_and_gap_sums<Acc>(s, m, level, f)
+//                                     p_hat = FFT(p), then as step_and_gap_sums
+//   stiffness_and_sums<Acc>(fill, m, f)
+//                                     fill(i) for every i (it writes z), z = K z (one FFT
+//                                     pair), then f(i, acc) for i in the mask
+//   and, for compose::, curvature_t() (out = FFT(t); returns <t, G t>), inverse_w()
+//   (w = inverse FFT of out) and stiffness_z() (z = K z).
 #pragma once
 
 #include "cmc/contact/PolonskyKeer.hpp"
@@ -60,6 +74,54 @@ struct StepSums {
   bool changed = false;
   CMC_HD void merge(const StepSums& o) { psum += o.psum, changed = changed || o.changed; }
 };
+
+// The pass of step (a) that gap_sums() runs: the sums of GapSums for the points in the
+// contact set or overlapping (w < c). A functor, so that the same body can run inside a
+// backend's inverse transform (Run::step) and on its own.
+struct GapBody {
+  const double *w, *t;
+  const std::uint8_t* m;
+  double c;
+  CMC_HD void operator()(std::size_t i, GapSums& s) const {
+    const double x = w[i] - c;
+    if (m[i]) {
+      s.s1 += x;
+      s.s2 += x * x;
+      s.nc += 1.0;
+      s.tsum += t[i];
+    } else if (x < 0.0) {
+      s.ol += x * x;
+      s.nol += 1.0;
+    }
+  }
+};
+
+// The combined operations of a backend that runs their parts one after the other.
+namespace compose {
+template <class Acc, class B, class F>
+Acc direction_and_curvature(B& b, const std::uint8_t* m, F f, double& curvature) {
+  const Acc a = b.template reduce_in<Acc>(m, b.n, f);
+  curvature = b.curvature_t();
+  return a;
+}
+template <class Acc, class B, class S, class F>
+Acc step_and_gap_sums(B& b, S step, const std::uint8_t* m, double level, F f) {
+  b.all(b.nspec, step);
+  b.inverse_w();
+  return b.template reduce_in_or_below<Acc>(m, b.w, level, b.n, f);
+}
+template <class Acc, class B, class S, class F>
+Acc pressure_and_gap_sums(B& b, S step, const std::uint8_t* m, double level, F f) {
+  b.forward_p();
+  return step_and_gap_sums<Acc>(b, step, m, level, f);
+}
+template <class Acc, class B, class Fill, class F>
+Acc stiffness_and_sums(B& b, Fill fill, const std::uint8_t* m, F f) {
+  b.all(b.n, fill);
+  b.stiffness_z();
+  return b.template reduce_in<Acc>(m, b.n, f);
+}
+}  // namespace compose
 
 // The fields and sizes a backend hands Run (see above for each): the CPU's point into the
 // state and its work arrays, the GPU's into device memory.
@@ -112,32 +174,42 @@ class Run {
     b_.all(2 * b_.nspec, [=] CMC_HD(std::size_t k) { hh[k] *= norm; });
   }
   // p̂ = s FFT(p) (one forward) and w = h + G p̂ (one inverse).
-  void set_pressure(double s) {
-    b_.forward_p();
-    step(s, 0.0);
-  }
-  // p̂ ← s (p̂ − τ t̂) and w = h + G p̂ (one inverse). The caller applies the same step to
-  // the real-space p. On the real and imaginary parts as doubles (what std::complex
-  // computes, component by component, for a complex times a real). t̂ is in `out`
-  // (curvature_t() left it there), read before it is overwritten: one spectrum less to
-  // hold and to stream through the caches than a t̂ of its own (issues 11, 16).
-  void step(double s, double tau) {
+  void set_pressure(double s) { step(s, 0.0, true); }
+  // p̂ ← s (p̂ − τ t̂) and w = h + G p̂ (one inverse); from_p: p̂ taken from p first (one
+  // forward, τ = 0). The caller applies the same step to the real-space p. On the real and
+  // imaginary parts as doubles (what std::complex computes, component by component, for a
+  // complex times a real). t̂ is in `out` (the direction's transform left it there), read
+  // before it is overwritten: one spectrum less to hold and to stream through the caches
+  // than a t̂ of its own (issues 11, 16). The next step (a)'s sums come with the inverse
+  // (gap_sums() takes them from there).
+  void step(double s, double tau, bool from_p = false) {
     double *out = b_.out, *ph = b_.p_hat;
     const double *off = b_.h_hat, *ker = b_.ker;
     if (tau != 0.0) {
-      b_.all(b_.nspec, [=] CMC_HD(std::size_t k) {
-        const double re = s * (ph[2 * k] - tau * out[2 * k]), im = s * (ph[2 * k + 1] - tau * out[2 * k + 1]);
-        ph[2 * k] = re, ph[2 * k + 1] = im;
-        out[2 * k] = re * ker[k] + off[2 * k], out[2 * k + 1] = im * ker[k] + off[2 * k + 1];
-      });
+      step_with(
+          [=] CMC_HD(std::size_t k) {
+            const double re = s * (ph[2 * k] - tau * out[2 * k]), im = s * (ph[2 * k + 1] - tau * out[2 * k + 1]);
+            ph[2 * k] = re, ph[2 * k + 1] = im;
+            out[2 * k] = re * ker[k] + off[2 * k], out[2 * k + 1] = im * ker[k] + off[2 * k + 1];
+          },
+          from_p);
     } else {
-      b_.all(b_.nspec, [=] CMC_HD(std::size_t k) {
-        const double re = s * ph[2 * k], im = s * ph[2 * k + 1];
-        ph[2 * k] = re, ph[2 * k + 1] = im;
-        out[2 * k] = re * ker[k] + off[2 * k], out[2 * k + 1] = im * ker[k] + off[2 * k + 1];
-      });
+      step_with(
+          [=] CMC_HD(std::size_t k) {
+            const double re = s * ph[2 * k], im = s * ph[2 * k + 1];
+            ph[2 * k] = re, ph[2 * k + 1] = im;
+            out[2 * k] = re * ker[k] + off[2 * k], out[2 * k + 1] = im * ker[k] + off[2 * k + 1];
+          },
+          from_p);
     }
-    b_.inverse_w();
+  }
+  template <class S>
+  void step_with(S modes, bool from_p) {
+    const GapBody gap{b_.w, b_.t, b_.m, delta_};
+    pending_ = from_p ? b_.template pressure_and_gap_sums<GapSums>(modes, b_.m, delta_, gap)
+                      : b_.template step_and_gap_sums<GapSums>(modes, b_.m, delta_, gap);
+    pending_level_ = delta_;
+    has_pending_ = true;
   }
   void exact() {
     set_pressure(sigma_);
@@ -188,22 +260,12 @@ class Run {
   // (a) gap statistics over Ic = {p > 0} (σ > 0 does not change it), shifted by the
   // previous δ to avoid cancellation; overlap (w < c) elsewhere.
   GapSums gap_sums() {
-    const double c = delta_;
-    const double* w = b_.w;
-    const std::uint8_t* m = b_.m;
-    const double* t = b_.t;
-    return b_.template reduce_in_or_below<GapSums>(m, w, c, b_.n, [=] CMC_HD(std::size_t i, GapSums& s) {
-      const double x = w[i] - c;
-      if (m[i]) {
-        s.s1 += x;
-        s.s2 += x * x;
-        s.nc += 1.0;
-        s.tsum += t[i];
-      } else if (x < 0.0) {
-        s.ol += x * x;
-        s.nol += 1.0;
-      }
-    });
+    if (has_pending_ && pending_level_ == delta_) {  // from the step that made w
+      has_pending_ = false;
+      return pending_;
+    }
+    has_pending_ = false;
+    return b_.template reduce_in_or_below<GapSums>(b_.m, b_.w, delta_, b_.n, GapBody{b_.w, b_.t, b_.m, delta_});
   }
   // The iteration lost its contact set: start again from the geometric overlap. Under
   // displacement control an indenter that overlaps the heights nowhere has p = 0 for its
@@ -226,41 +288,42 @@ class Run {
   // (c) conjugate direction on Ic: t = g + β (t − t̄). Under load control the old direction
   // is made load-neutral on the current Ic (Σ_Ic t = 0), so the step keeps Σ p and the
   // exact line search needs only <t, G t> (PK subtract the Ic-mean of G t instead, which
-  // costs a second transform). Returns Σ g t.
-  double direction(double beta, double tbar) {
+  // costs a second transform). Returns Σ g t; (d) the curvature <t, G t> in `curvature`
+  // (from t's transform, one forward transform).
+  double direction(double beta, double tbar, double& curvature) {
     double* t = b_.t;
     const double* w = b_.w;
     const double d = delta_;
-    return b_.template reduce_in<Sum>(b_.m, b_.n, [=] CMC_HD(std::size_t i, Sum& acc) {
+    return b_.template direction_and_curvature<Sum>(b_.m, [=] CMC_HD(std::size_t i, Sum& acc) {
              const double g = w[i] - d;
              t[i] = g + beta * (t[i] - tbar);
              acc.v += g * t[i];
-           }).v;
+           }, curvature).v;
   }
   // (c) with the stiffness preconditioner: z = P K P g (made load-neutral on Ic under load
   // control), β = Σ g z / (Σ g z)_old, t = z + β (t − t̄). One FFT pair. nc = |Ic| (> 0).
-  // Returns Σ g t.
-  double preconditioned_direction(double tbar, double nc) {
+  // Returns Σ g t, and (d) the curvature as direction() does.
+  double preconditioned_direction(double tbar, double nc, double& curvature) {
     double* z = b_.z;
     double* t = b_.t;
     const double* w = b_.w;
     const std::uint8_t* m = b_.m;
     const double d = delta_;
-    b_.all(b_.n, [=] CMC_HD(std::size_t i) { z[i] = m[i] ? w[i] - d : 0.0; });
-    b_.stiffness_z();
     // One pass for the Ic-mean of z and Σ g z: Σ g (z − z̄) = Σ g z − z̄ Σ g.
-    const GzSums a = b_.template reduce_in<GzSums>(m, b_.n, [=] CMC_HD(std::size_t i, GzSums& s) {
-      const double g = w[i] - d;
-      s.zsum += z[i], s.gz += g * z[i], s.gsum += g;
-    });
+    const GzSums a = b_.template stiffness_and_sums<GzSums>(
+        [=] CMC_HD(std::size_t i) { z[i] = m[i] ? w[i] - d : 0.0; }, m,
+        [=] CMC_HD(std::size_t i, GzSums& s) {
+          const double g = w[i] - d;
+          s.zsum += z[i], s.gz += g * z[i], s.gsum += g;
+        });
     const double zbar = force_ ? a.zsum / nc : 0.0;
     const double gz = a.gz - zbar * a.gsum;
     const double beta = conjugate_ && gz_old_ > 0.0 ? gz / gz_old_ : 0.0;
     gz_old_ = gz;
-    return b_.template reduce_in<Sum>(m, b_.n, [=] CMC_HD(std::size_t i, Sum& acc) {
+    return b_.template direction_and_curvature<Sum>(m, [=] CMC_HD(std::size_t i, Sum& acc) {
              t[i] = (z[i] - zbar) + beta * (t[i] - tbar);
              acc.v += (w[i] - d) * t[i];
-           }).v;
+           }, curvature).v;
   }
   // (e)–(g) pressure step p ← σ p − τ t on Ic, projection onto p ≥ 0, overlapping points
   // join with p = −τ g. Then (h) the load scaling (applied lazily through σ) and the new
@@ -323,6 +386,9 @@ class Run {
   int since_exact_ = 0;      // linear spectral steps since p̂ was last taken from p
   bool conjugate_ = false;   // PK's δ flag: false restarts steepest descent
   double gz_old_ = 1.0;      // Σ_Ic g z of the previous direction
+  GapSums pending_;          // step (a)'s sums, made with the last step's inverse transform
+  double pending_level_ = 0.0;
+  bool has_pending_ = false;
 };
 
 template <class B>
@@ -375,9 +441,8 @@ void Run<B>::run(SolveResult& res) {
     if (beta == 0.0) ++res.diagnostics.restarts;
     G_old = G;
     const double tbar = force_ ? S.tsum / S.nc : 0.0;
-    const double sgt = precondition_ ? preconditioned_direction(tbar, S.nc) : direction(beta, tbar);
-    // (d) curvature along t from its transform alone (one forward transform)
-    const double denom = b_.curvature_t();
+    double denom = 0.0;  // (d) curvature along t, from its transform alone
+    const double sgt = precondition_ ? preconditioned_direction(tbar, S.nc, denom) : direction(beta, tbar, denom);
     double tau;
     if (denom > 0.0 && sgt > 0.0) {
       tau = last_tau_ = sgt / denom;

@@ -104,15 +104,16 @@ class HalfSpace {
   double quadratic_form(std::span<const Complex> s, const Field& multiplier) const;
 
   // FFT pairs done so far by this operator ((forward + inverse transforms) / 2).
-  // Transforms done on a GPU for this operator (a solver's device backend reports them
-  // here) count too.
+  // Transforms done for this operator elsewhere (a solver's device backend, the CPU
+  // backend's fused sweeps: RowColumnFourier) count too.
   double fft_pairs() const {
     return 0.5 * double(fourier_.forward_count() + fourier_.inverse_count() + device_forward_ + device_inverse_);
   }
   // Seconds spent inside those transforms (wall clock).
   double fft_seconds() const { return fourier_.seconds() + device_seconds_; }
-  // Add transforms a device backend did on this operator's grid, and their seconds.
-  void count_device_transforms(long forward, long inverse, double seconds) {
+  // Add transforms done on this operator's grid by another transform object (a device
+  // backend, RowColumnFourier), and their seconds.
+  void count_transforms(long forward, long inverse, double seconds) {
     device_forward_ += forward, device_inverse_ += inverse, device_seconds_ += seconds;
   }
   // Seconds of one FFT pair (forward + inverse on the transform grid), timed here and now:

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <mutex>
 #include <new>
@@ -243,34 +244,27 @@ void Fourier::make_local() {
   const int nx = nx_, ny = ny_;
   layout_ = SpectrumLayout{ny, nx / 2 + 1, 0, false};
   spec_.resize(spectrum_size());
-  {
-    std::lock_guard lock(planner_mutex);
-    init_fftw();
-    Field scratch(real_size());
-    // Threads only pay on large transforms: on small (e.g. 1-D) ones they cost 3-8x.
-    fftw_plan_with_nthreads(real_size() < (std::size_t(1) << 16) ? 1 : thread_count());
-    auto* c = reinterpret_cast<fftw_complex*>(spec_.data());
-    const Planner p = planner();
-    bool ok = false;
-    if (p == Planner::Builtin) {
-      ok = make_plans(nx, ny, scratch.data(), c, FFTW_MEASURE | FFTW_WISDOM_ONLY, plan_forward_, plan_inverse_);
-      plan_source_ = "built-in wisdom";
-      if (!ok) {
-        plan_forward_.reset(), plan_inverse_.reset();
-        plan_source_ = "estimate";
-      }
-    }
-    if (!ok) {
-      const unsigned flags = p == Planner::Measure ? FFTW_MEASURE : p == Planner::Patient ? FFTW_PATIENT : FFTW_ESTIMATE;
-      if (p == Planner::Measure) plan_source_ = "measure";
-      if (p == Planner::Patient) plan_source_ = "patient";
-      if (p == Planner::Estimate) plan_source_ = "estimate";
-      ok = make_plans(nx, ny, scratch.data(), c, flags, plan_forward_, plan_inverse_);
-    }
-    if (!ok) throw std::runtime_error("FFTW could not plan a transform");
-  }
+  Field scratch(real_size());
+  auto* c = reinterpret_cast<fftw_complex*>(spec_.data());
+  // Threads only pay on large transforms: on small (e.g. 1-D) ones they cost 3-8x.
+  plan_source_ = detail::plan_under_policy(real_size() < (std::size_t(1) << 16) ? 1 : thread_count(), [&](unsigned flags) {
+    return make_plans(nx, ny, scratch.data(), c, flags, plan_forward_, plan_inverse_);
+  });
   save_fftw_wisdom();
 }
+
+namespace detail {
+const char* plan_under_policy(int threads, const std::function<bool(unsigned)>& make) {
+  std::lock_guard lock(planner_mutex);
+  init_fftw();
+  fftw_plan_with_nthreads(threads);
+  const Planner p = planner();
+  if (p == Planner::Builtin && make(FFTW_MEASURE | FFTW_WISDOM_ONLY)) return "built-in wisdom";
+  const unsigned flags = p == Planner::Measure ? FFTW_MEASURE : p == Planner::Patient ? FFTW_PATIENT : FFTW_ESTIMATE;
+  if (!make(flags)) throw std::runtime_error("FFTW could not plan a transform");
+  return p == Planner::Measure ? "measure" : p == Planner::Patient ? "patient" : "estimate";
+}
+}  // namespace detail
 
 void FftwPlanDeleter::operator()(void* plan) const noexcept {
   std::lock_guard lock(planner_mutex);

@@ -18,6 +18,7 @@
 #include <type_traits>
 #include <cstdint>
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -248,6 +249,12 @@ struct SumReduction {
 };
 
 namespace detail {
+// Plans made under the FFTW planner's lock and the run's policy ($CMC_FFTW_PLANNER, see
+// Fourier): make(flags) makes them (plans it already holds are replaced) and returns
+// whether FFTW made them all; by default it is asked with FFTW_MEASURE | FFTW_WISDOM_ONLY
+// (the built-in wisdom) and then with FFTW_ESTIMATE. `threads`: FFTW's threads for them.
+// Returns where the plans came from, in Fourier::plan_source()'s words; throws if none.
+const char* plan_under_policy(int threads, const std::function<bool(unsigned)>& make);
 int omp_threads_for(std::size_t work);  // 1 below Grid::parallel_min, else thread_count()
 int omp_thread_id();
 int omp_thread_total();

@@ -708,8 +708,10 @@ MemoryEstimate estimate_memory(const Case& c) {
     // Polonsky-Keer, within a solve: the search direction (and the preconditioned gap, on
     // a periodic grid), the contact set (bytes), and the spectra of the pressure and the
     // heights (the direction's is the half-space's scratch spectrum, counted above).
+    // A periodic grid held by one process runs the fused sweeps (grid/RowColumnFourier.hpp):
+    // the compliance once more, in the transform's layout (its row buffers are a few rows).
     solve_grid += 1.0 + (periodic && c.solver.precondition ? 1.0 : 0.0) + 1.0 / 8.0;
-    solve_transform += 2.0 * sp / m;
+    solve_transform += 2.0 * sp / m + (periodic && memory_split().ranks == 1 ? sp / 2.0 / m : 0.0);
   }
   if (c.solver.kind == SolverKind::QuasiStatic) {
     // QuasiStaticAdhesion: K's unit response and its set-up impulse on the transform grid

@@ -1,0 +1,148 @@
+#include "cmc/grid/RowColumnFourier.hpp"
+
+#include "cmc/grid/ColumnBlockPlans.hpp"
+
+#include <fftw3.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <cstring>
+#include <stdexcept>
+
+namespace cmc {
+
+static_assert(RowColumnFourier::kWidth == detail::kColumnBlock);
+
+// The row plans are FFTW's 1-D r2c and c2r of length nx (out of place, aligned), the same
+// transforms a 1-D Fourier plans; the column plans those of ColumnBlockPlans.hpp. One set
+// serves every thread (FFTW's new-array execute functions are thread safe); each thread
+// has a row of reals and a row of modes of its own.
+struct RowColumnFourier::Plans {
+  FftwPlan row_r2c, row_c2r;
+  FftwPlan col_forward, col_inverse;            // blocks of kColumnBlock columns
+  FftwPlan last_forward, last_inverse;          // the last block (its own width)
+  std::vector<Field> real_rows;                 // one per thread
+  std::vector<Spectrum> mode_rows;              // kWidth rows per thread
+};
+
+RowColumnFourier::RowColumnFourier(int nx, int ny) : nx_(nx), ny_(ny), nq_(nx / 2 + 1) {
+  if (nx <= 0 || ny <= 1) throw std::invalid_argument("RowColumnFourier: needs a two-dimensional grid");
+  blocks_ = (nq_ + detail::kColumnBlock - 1) / detail::kColumnBlock;
+  plans_ = std::make_unique<Plans>();
+  Plans& P = *plans_;
+  const int threads = std::max(1, thread_count());
+  P.real_rows.assign(std::size_t(threads), Field(std::size_t(nx)));
+  // A group of kWidth rows of modes per thread, each row padded to a multiple of 4 modes
+  // (64 bytes) so that every row has the planning row's alignment.
+  ldq_ = (std::size_t(nq_) + 3) / 4 * 4;
+  P.mode_rows.assign(std::size_t(threads), Spectrum(std::size_t(kWidth) * ldq_));
+  Spectrum scratch(std::size_t(detail::kColumnBlock) * std::size_t(ny));
+  auto* r = P.real_rows[0].data();
+  auto* c = reinterpret_cast<fftw_complex*>(P.mode_rows[0].data());
+  auto* blk = reinterpret_cast<fftw_complex*>(scratch.data());
+  const int full = std::min(nq_, int(detail::kColumnBlock)), last = block(blocks_ - 1).width;
+  // Rows and columns planned apart: a grid the build did not plan (e.g. 8192² in the default
+  // build) still gets its rows, 1-D lines up to 65536, from the built-in wisdom.
+  detail::plan_under_policy(1, [&](unsigned flags) {
+    P.row_r2c.reset(fftw_plan_dft_r2c_1d(nx, r, c, flags));
+    P.row_c2r.reset(fftw_plan_dft_c2r_1d(nx, c, r, flags));
+    return P.row_r2c && P.row_c2r;
+  });
+  detail::plan_under_policy(1, [&](unsigned flags) {
+    P.col_forward.reset(detail::plan_column_block(ny, full, blk, FFTW_FORWARD, flags));
+    P.col_inverse.reset(detail::plan_column_block(ny, full, blk, FFTW_BACKWARD, flags));
+    P.last_forward.reset(detail::plan_column_block(ny, last, blk, FFTW_FORWARD, flags));
+    P.last_inverse.reset(detail::plan_column_block(ny, last, blk, FFTW_BACKWARD, flags));
+    return P.col_forward && P.col_inverse && P.last_forward && P.last_inverse;
+  });
+  save_fftw_wisdom();
+}
+
+RowColumnFourier::~RowColumnFourier() = default;
+
+RowColumnFourier::Block RowColumnFourier::block(int b) const {
+  const int iqx0 = b * detail::kColumnBlock;
+  const int width = std::min(int(detail::kColumnBlock), nq_ - iqx0);
+  const std::size_t begin = std::size_t(iqx0) * std::size_t(ny_);
+  return {begin, begin + std::size_t(width) * std::size_t(ny_), iqx0, width};
+}
+
+std::size_t RowColumnFourier::index(int iqx, int iqy) const {
+  const Block B = block(iqx / detail::kColumnBlock);
+  return B.begin + std::size_t(iqy) * std::size_t(B.width) + std::size_t(iqx - B.iqx0);
+}
+
+void RowColumnFourier::reorder(const double* rows, double* blocks) const {
+  for (int b = 0; b < blocks_; ++b) {
+    const Block B = block(b);
+    for (int j = 0; j < ny_; ++j)
+      std::copy_n(rows + std::size_t(j) * std::size_t(nq_) + std::size_t(B.iqx0), B.width,
+                  blocks + B.begin + std::size_t(j) * std::size_t(B.width));
+  }
+}
+
+int RowColumnFourier::thread_id() { return omp_get_thread_num(); }
+
+// A row that does not share the planning arrays' alignment (nx not a multiple of the SIMD
+// width) goes through the thread's aligned row: FFTW's new-array functions need it.
+void RowColumnFourier::row_forward(int thread, const double* row, int g) {
+  Plans& P = *plans_;
+  double* r = const_cast<double*>(row);
+  if (fftw_alignment_of(r) != fftw_alignment_of(P.real_rows[0].data())) {
+    r = P.real_rows[std::size_t(thread)].data();
+    std::copy_n(row, nx_, r);
+  }
+  Complex* c = P.mode_rows[std::size_t(thread)].data() + std::size_t(g) * ldq_;
+  fftw_execute_dft_r2c(static_cast<fftw_plan>(P.row_r2c.get()), r, reinterpret_cast<fftw_complex*>(c));
+}
+
+void RowColumnFourier::row_inverse(int thread, int g, double* row) {
+  Plans& P = *plans_;
+  Complex* c = P.mode_rows[std::size_t(thread)].data() + std::size_t(g) * ldq_;
+  const bool aligned = fftw_alignment_of(row) == fftw_alignment_of(P.real_rows[0].data());
+  double* r = aligned ? row : P.real_rows[std::size_t(thread)].data();
+  fftw_execute_dft_c2r(static_cast<fftw_plan>(P.row_c2r.get()), reinterpret_cast<fftw_complex*>(c), r);
+  if (!aligned) std::copy_n(r, nx_, row);
+}
+
+// The modes of rows [j, j + count) (count <= kWidth), held in the thread's group of rows,
+// to (from) their blocks: in each block they are count * width contiguous modes, so a
+// group writes (reads) whole runs of memory rather than 256 bytes a row and block.
+void RowColumnFourier::scatter(int thread, Complex* s, int j, int count) const {
+  const Complex* rows = plans_->mode_rows[std::size_t(thread)].data();
+  for (int b = 0; b < blocks_; ++b) {
+    const Block B = block(b);
+    Complex* dst = s + B.begin + std::size_t(j) * std::size_t(B.width);
+    for (int r = 0; r < count; ++r, dst += B.width) {
+      const Complex* src = rows + std::size_t(r) * ldq_ + std::size_t(B.iqx0);
+      if (B.width == kWidth)
+        for (int c = 0; c < kWidth; ++c) dst[c] = src[c];
+      else
+        std::copy_n(src, B.width, dst);
+    }
+  }
+}
+void RowColumnFourier::gather(int thread, const Complex* s, int j, int count) const {
+  Complex* rows = plans_->mode_rows[std::size_t(thread)].data();
+  for (int b = 0; b < blocks_; ++b) {
+    const Block B = block(b);
+    const Complex* src = s + B.begin + std::size_t(j) * std::size_t(B.width);
+    for (int r = 0; r < count; ++r, src += B.width) {
+      Complex* dst = rows + std::size_t(r) * ldq_ + std::size_t(B.iqx0);
+      if (B.width == kWidth)
+        for (int c = 0; c < kWidth; ++c) dst[c] = src[c];
+      else
+        std::copy_n(src, B.width, dst);
+    }
+  }
+}
+
+void RowColumnFourier::column_transforms(Complex* s, int b, bool forward) {
+  const Plans& P = *plans_;
+  const bool last = b == blocks_ - 1 && block(b).width != std::min(int(detail::kColumnBlock), nq_);
+  const FftwPlan& plan = forward ? (last ? P.last_forward : P.col_forward) : (last ? P.last_inverse : P.col_inverse);
+  auto* blk = reinterpret_cast<fftw_complex*>(s + block(b).begin);
+  fftw_execute_dft(static_cast<fftw_plan>(plan.get()), blk, blk);
+}
+
+}  // namespace cmc
