@@ -96,6 +96,10 @@ class RowColumnFourier {
   void scatter(int thread, Complex* s, int j, int count) const;
   void gather(int thread, const Complex* s, int j, int count) const;
   std::size_t work() const { return std::size_t(nx_) * std::size_t(ny_); }
+  // group(thread, j, j_end, acc) for the groups of up to kWidth rows [j, j_end) of each
+  // thread's contiguous range of rows, partial results merged in thread order.
+  template <class Acc, class Group>
+  Acc row_groups(Group&& group);
   static int thread_id();
 
   // Adds a sweep's wall time to seconds_.
@@ -113,26 +117,30 @@ class RowColumnFourier {
   double seconds_ = 0.0;
 };
 
-template <class Acc, class Pass>
-Acc RowColumnFourier::forward_rows(const double* f, Complex* s, Pass&& pass) {
+template <class Acc, class Group>
+Acc RowColumnFourier::row_groups(Group&& group) {
   const Timer timer{seconds_};
-  const std::size_t nx = std::size_t(nx_);
   return Grid::parallel_reduce<Acc>(
       std::size_t(ny_),
       [&](std::size_t j0, std::size_t j1, Acc& acc) {
         const int t = thread_id();
         Acc local;
-        for (std::size_t j = j0; j < j1; j += kWidth) {
-          const std::size_t g1 = std::min(j1, j + kWidth);
-          for (std::size_t i = j; i < g1; ++i) {
-            pass(i, local);
-            row_forward(t, f + i * nx, int(i - j));
-          }
-          scatter(t, s, int(j), int(g1 - j));
-        }
+        for (std::size_t j = j0; j < j1; j += kWidth) group(t, j, std::min(j1, j + kWidth), local);
         acc.merge(local);
       },
       work());
+}
+
+template <class Acc, class Pass>
+Acc RowColumnFourier::forward_rows(const double* f, Complex* s, Pass&& pass) {
+  const std::size_t nx = std::size_t(nx_);
+  return row_groups<Acc>([&](int t, std::size_t j, std::size_t g1, Acc& local) {
+    for (std::size_t i = j; i < g1; ++i) {
+      pass(i, local);
+      row_forward(t, f + i * nx, int(i - j));
+    }
+    scatter(t, s, int(j), int(g1 - j));
+  });
 }
 
 template <class Acc, class Pass>
@@ -158,24 +166,14 @@ Acc RowColumnFourier::columns(Complex* s, int what, Pass&& pass, Complex* invers
 
 template <class Acc, class Pass>
 Acc RowColumnFourier::inverse_rows(const Complex* s, double* f, Pass&& pass) {
-  const Timer timer{seconds_};
   const std::size_t nx = std::size_t(nx_);
-  return Grid::parallel_reduce<Acc>(
-      std::size_t(ny_),
-      [&](std::size_t j0, std::size_t j1, Acc& acc) {
-        const int t = thread_id();
-        Acc local;
-        for (std::size_t j = j0; j < j1; j += kWidth) {
-          const std::size_t g1 = std::min(j1, j + kWidth);
-          gather(t, s, int(j), int(g1 - j));
-          for (std::size_t i = j; i < g1; ++i) {
-            row_inverse(t, int(i - j), f + i * nx);
-            pass(i, local);
-          }
-        }
-        acc.merge(local);
-      },
-      work());
+  return row_groups<Acc>([&](int t, std::size_t j, std::size_t g1, Acc& local) {
+    gather(t, s, int(j), int(g1 - j));
+    for (std::size_t i = j; i < g1; ++i) {
+      row_inverse(t, int(i - j), f + i * nx);
+      pass(i, local);
+    }
+  });
 }
 
 }  // namespace cmc
