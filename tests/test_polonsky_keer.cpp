@@ -285,10 +285,10 @@ TEST(PolonskyKeer, JustTouchingIndenterIsNoContact) {
 // iteration's transforms and passes are scheduled: the same iterates up to round-off. On a
 // 256² surface (2 threads where the machine has them) with load and displacement control,
 // preconditioned and plain, both solved to a residual of 1e-10 of the rms height: the same
-// iterations and contact set; the mean gaps within twice that tolerance of the rms height
-// (each solution's gaps on the contact set are within it of zero; measured: 1.6e-13 of the
-// rms height), and the pressures within 1e-9 of the peak (measured: 1.2e-10 at most, plain
-// under displacement control; 5e-15 preconditioned).
+// contact set and nearly the same iterations; the mean gaps within twice that tolerance of
+// the rms height (each solution's gaps on the contact set are within it of zero; measured:
+// 1.6e-13 of the rms height), and the pressures within 1e-9 of the peak (measured: 1.2e-10
+// at most, plain under displacement control; 5e-15 preconditioned).
 TEST(PolonskyKeer, FusedSweepsGiveTheSameSolution) {
   const auto surf = rough_surface(256, 11);
   PeriodicHalfSpace hs(surf.map.grid, 1.0);
@@ -310,8 +310,10 @@ TEST(PolonskyKeer, FusedSweepsGiveTheSameSolution) {
         r[fused] = pk.solve(target, st[fused]);
         ASSERT_TRUE(r[fused].converged) << r[fused].message;
       }
-      EXPECT_EQ(r[0].iterations, r[1].iterations);
-      EXPECT_DOUBLE_EQ(r[0].fft_pairs, r[1].fft_pairs);
+      // Round-off can decide whether a point at the edge of the contact set is clipped in a
+      // step (seen in the sanitizer build, -O1: one projected step more, 0.5 FFT pairs), so
+      // the paths may differ by a restart or two; not by a tenth of the iterations.
+      EXPECT_LE(std::abs(r[0].iterations - r[1].iterations), std::max(2, r[0].iterations / 10));
       const double peak = Grid::max(st[0].pressure);
       double dp = 0.0;
       std::size_t set_differs = 0;
