@@ -200,23 +200,30 @@ struct HostOf : Fields {
   void stiffness_z() { hs.apply(z, z, hs.stiffness()); }
 
   // ---- the combined operations (PolonskyKeerRun.hpp)
+  // A pass over row j's points of the mask (or below the level), as a row pass of a sweep.
+  template <class Acc, class F>
+  auto in_row(const std::uint8_t* mask, F& f) const {
+    return [mask, &f, nxx = nx](std::size_t j, Acc& acc) {
+      Visit::in(mask, j * nxx, (j + 1) * nxx, [&](std::size_t i) { f(i, acc); });
+    };
+  }
+  template <class Acc, class F>
+  auto in_or_below_row(const std::uint8_t* mask, double level, F& f) const {
+    return [mask, level, &f, wv = w, nxx = nx](std::size_t j, Acc& acc) {
+      Visit::in_or_below(mask, wv, level, j * nxx, (j + 1) * nxx, [&](std::size_t i) { f(i, acc); });
+    };
+  }
   template <class Acc, class F>
   Acc direction_and_curvature(const std::uint8_t* mask, F f, double& curvature) {
     if (!rc) return compose::direction_and_curvature<Acc>(*this, mask, f, curvature);
-    const std::size_t nxx = nx;
-    const Acc a = rc->forward_rows<Acc>(t, spec, [&](std::size_t j, Acc& acc) {
-      Visit::in(mask, j * nxx, (j + 1) * nxx, [&](std::size_t i) { f(i, acc); });
-    });
+    const Acc a = rc->forward_rows<Acc>(t, spec, in_row<Acc>(mask, f));
     // <t, G t> = Σ_q weight(q) G(q) |t̂_q|² (HalfSpace::quadratic_form), block by block.
     const double* k = ker;
     const Complex* s = spec;
     const int nxi = int(nx);
     curvature = rc->columns<SumReduction>(spec, RowColumnFourier::kForward, [&](const RowColumnFourier::Block& B, SumReduction& acc) {
                     double wgt[RowColumnFourier::kWidth];
-                    for (int c = 0; c < B.width; ++c) {
-                      const int iqx = B.iqx0 + c;
-                      wgt[c] = (iqx == 0 || 2 * iqx == nxi) ? 1.0 : 2.0;
-                    }
+                    for (int c = 0; c < B.width; ++c) wgt[c] = r2c_mode_weight(B.iqx0 + c, nxi);
                     double d = 0.0;
                     for (std::size_t r = B.begin; r < B.end; r += std::size_t(B.width))
                       for (int c = 0; c < B.width; ++c) d += wgt[c] * k[r + c] * std::norm(s[r + c]);
@@ -248,11 +255,7 @@ struct HostOf : Fields {
   }
   template <class Acc, class F>
   Acc inverse_and_gap_sums(const std::uint8_t* mask, double level, F f) {
-    const std::size_t nxx = nx;
-    const double* wv = w;
-    return rc->inverse_rows<Acc>(spec, w, [&](std::size_t j, Acc& acc) {
-      Visit::in_or_below(mask, wv, level, j * nxx, (j + 1) * nxx, [&](std::size_t i) { f(i, acc); });
-    });
+    return rc->inverse_rows<Acc>(spec, w, in_or_below_row<Acc>(mask, level, f));
   }
   // The stiffness is taken from the compliance, (1/N)² / G = E*|q|/(2N), 0 at q = 0, as the
   // GPU backend does (one multiplier less to hold and to stream).
@@ -270,9 +273,7 @@ struct HostOf : Fields {
                       [&](const RowColumnFourier::Block& B, None&) {
                         for (std::size_t q = B.begin; q < B.end; ++q) s[q] *= k[q] > 0.0 ? nn / k[q] : 0.0;
                       });
-    return rc->inverse_rows<Acc>(spec, z, [&](std::size_t j, Acc& acc) {
-      Visit::in(mask, j * nxx, (j + 1) * nxx, [&](std::size_t i) { f(i, acc); });
-    });
+    return rc->inverse_rows<Acc>(spec, z, in_row<Acc>(mask, f));
   }
 };
 using Host = HostOf<BlockVisit>;

@@ -14,7 +14,6 @@ namespace cmc {
 namespace {
 // Weight of r2c mode column ix in a sum over the full (Hermitian) spectrum of a transform
 // nx points wide: interior columns stand for a ±q pair.
-double mode_weight(int ix, int nx) { return (ix == 0 || 2 * ix == nx) ? 1.0 : 2.0; }
 }  // namespace
 
 Grid HalfSpace::checked(const Grid& g, double estar, Boundary b) {
@@ -132,7 +131,7 @@ double HalfSpace::apply(const double* in, double* out, const Field& mul) {
           double rs = 0.0;
           for (int c = 0; c < L.cols; ++c) {
             const std::size_t k = row + c;
-            rs += mode_weight(L.iqx(int(r), c), mx) * m[k] * std::norm(s[k]);
+            rs += r2c_mode_weight(L.iqx(int(r), c), mx) * m[k] * std::norm(s[k]);
             s[k] *= m[k];
           }
           a.v += rs;
@@ -149,7 +148,7 @@ double HalfSpace::spectral_sum(const Complex* s, const double* mul, std::size_t 
   double d = 0.0;
   for (std::size_t r = r0; r < r1; ++r) {
     const std::size_t row = r * L.cols;
-    for (int c = 0; c < L.cols; ++c) d += mode_weight(L.iqx(int(r), c), mx_) * mul[row + c] * std::norm(s[row + c]);
+    for (int c = 0; c < L.cols; ++c) d += r2c_mode_weight(L.iqx(int(r), c), mx_) * mul[row + c] * std::norm(s[row + c]);
   }
   return d;
 }

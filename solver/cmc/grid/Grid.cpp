@@ -271,23 +271,9 @@ void FftwPlanDeleter::operator()(void* plan) const noexcept {
   fftw_destroy_plan(static_cast<fftw_plan>(plan));
 }
 
-namespace {
-// Adds the wall time of its scope to a counter (the transforms' share of a solve).
-class ScopeTimer {
- public:
-  explicit ScopeTimer(double& total) : total_(total), t0_(std::chrono::steady_clock::now()) {}
-  ~ScopeTimer() { total_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count(); }
-  ScopeTimer(const ScopeTimer&) = delete;
-  ScopeTimer& operator=(const ScopeTimer&) = delete;
-
- private:
-  double& total_;
-  std::chrono::steady_clock::time_point t0_;
-};
-}  // namespace
 
 void Fourier::forward(const double* in, Complex* out) {
-  const ScopeTimer timer(seconds_);
+  const detail::ScopeTimer timer(seconds_);
   if (distributed_) {
 #ifdef CMC_MPI
     const std::size_t nx = std::size_t(nx_), stride = 2 * std::size_t(nx_ / 2 + 1);
@@ -304,7 +290,7 @@ void Fourier::forward(const double* in, Complex* out) {
   ++n_forward_;
 }
 void Fourier::inverse(Complex* in, double* out) {
-  const ScopeTimer timer(seconds_);
+  const detail::ScopeTimer timer(seconds_);
   if (distributed_) {
 #ifdef CMC_MPI
     if (in != spec_.data()) std::copy_n(in, spectrum_size(), spec_.data());

@@ -13,6 +13,7 @@
 // of E* (see Units.hpp for the single place where SI is converted).
 #pragma once
 
+#include <chrono>
 #include <complex>
 #include <cstring>
 #include <type_traits>
@@ -122,6 +123,11 @@ struct SpectrumLayout {
     return r >= 0 && r < rows ? long(r) * cols + c : -1;
   }
 };
+
+// The weight of r2c mode iqx (of nx/2 + 1) in a sum over the whole spectrum: the modes
+// iqx = 0 and, for even nx, iqx = nx/2 stand for themselves, every other one for itself and
+// its conjugate, so Σ over the full spectrum = Σ over the half with these weights.
+inline double r2c_mode_weight(int iqx, int nx) { return (iqx == 0 || 2 * iqx == nx) ? 1.0 : 2.0; }
 
 // Real-to-complex and complex-to-real transforms of one grid shape, planned once and
 // reused for every call. By default ($CMC_FFTW_PLANNER unset or "builtin") the plans come
@@ -249,6 +255,18 @@ struct SumReduction {
 };
 
 namespace detail {
+// Adds the wall time of its scope to a counter (the transforms' share of a solve).
+class ScopeTimer {
+ public:
+  explicit ScopeTimer(double& total) : total_(total), t0_(std::chrono::steady_clock::now()) {}
+  ~ScopeTimer() { total_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count(); }
+  ScopeTimer(const ScopeTimer&) = delete;
+  ScopeTimer& operator=(const ScopeTimer&) = delete;
+
+ private:
+  double& total_;
+  std::chrono::steady_clock::time_point t0_;
+};
 // Plans made under the FFTW planner's lock and the run's policy ($CMC_FFTW_PLANNER, see
 // Fourier): make(flags) makes them (plans it already holds are replaced) and returns
 // whether FFTW made them all; by default it is asked with FFTW_MEASURE | FFTW_WISDOM_ONLY

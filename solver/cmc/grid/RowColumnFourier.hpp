@@ -37,7 +37,6 @@
 #include "cmc/grid/Grid.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cstddef>
 #include <vector>
 
@@ -102,12 +101,6 @@ class RowColumnFourier {
   Acc row_groups(Group&& group);
   static int thread_id();
 
-  // Adds a sweep's wall time to seconds_.
-  struct Timer {
-    double& total;
-    std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
-    ~Timer() { total += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); }
-  };
 
   int nx_, ny_, nq_, blocks_;
   std::size_t ldq_ = 0;  // modes per row of a thread's group (nq padded)
@@ -119,7 +112,7 @@ class RowColumnFourier {
 
 template <class Acc, class Group>
 Acc RowColumnFourier::row_groups(Group&& group) {
-  const Timer timer{seconds_};
+  const detail::ScopeTimer timer(seconds_);
   return Grid::parallel_reduce<Acc>(
       std::size_t(ny_),
       [&](std::size_t j0, std::size_t j1, Acc& acc) {
@@ -146,7 +139,7 @@ Acc RowColumnFourier::forward_rows(const double* f, Complex* s, Pass&& pass) {
 template <class Acc, class Pass>
 Acc RowColumnFourier::columns(Complex* s, int what, Pass&& pass, Complex* inverse_of) {
   Complex* si = inverse_of ? inverse_of : s;
-  const Timer timer{seconds_};
+  const detail::ScopeTimer timer(seconds_);
   const Acc acc = Grid::parallel_reduce<Acc>(
       std::size_t(blocks_),
       [&](std::size_t b0, std::size_t b1, Acc& part) {
