@@ -34,12 +34,13 @@ TEST(RowColumnFourier, SameModesAsTheTwoDimensionalTransform) {
     std::vector<int> rows_seen(ny, 0);
     rc.forward_rows<None>(f.data(), s.data(), [&](std::size_t j, None&) { ++rows_seen[j]; });
     for (int j = 0; j < ny; ++j) EXPECT_EQ(rows_seen[j], 1) << "the row pass visits every row once";
-    std::size_t modes_seen = 0;
-    rc.columns<None>(s.data(), RowColumnFourier::kForward, [&](const RowColumnFourier::Block& B, None&) {
-      EXPECT_EQ(B.end - B.begin, std::size_t(B.width) * std::size_t(ny));
-      modes_seen += B.end - B.begin;
-    });
-    EXPECT_EQ(modes_seen, rc.spectrum_size());
+    // The blocks may run on several threads: their mode counts travel in the sweep's partials.
+    const double modes_seen = rc.columns<SumReduction>(s.data(), RowColumnFourier::kForward,
+                                                       [&](const RowColumnFourier::Block& B, SumReduction& acc) {
+                                                         EXPECT_EQ(B.end - B.begin, std::size_t(B.width) * std::size_t(ny));
+                                                         acc.v += double(B.end - B.begin);
+                                                       }).v;
+    EXPECT_EQ(modes_seen, double(rc.spectrum_size()));
     const auto spec = ref.spectrum();
     double peak = 0.0, err = 0.0;
     for (int iqy = 0; iqy < ny; ++iqy)
@@ -95,4 +96,16 @@ TEST(RowColumnFourier, SweepsReduceTheSameOnARerun) {
   const auto a = run(), b = run();
   EXPECT_EQ(a.first, b.first);
   EXPECT_EQ(a.second, b.second);
+}
+
+// A grid it cannot transform (a line, no points) is refused with a message that says why.
+TEST(RowColumnFourier, RefusesALineOrAnEmptyGrid) {
+  for (auto [nx, ny] : std::vector<std::pair<int, int>>{{64, 1}, {0, 8}, {8, 0}}) {
+    try {
+      RowColumnFourier rc(nx, ny);
+      ADD_FAILURE() << nx << " x " << ny << " was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("two-dimensional"), std::string::npos) << e.what();
+    }
+  }
 }
