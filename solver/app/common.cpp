@@ -77,8 +77,11 @@ void print_memory_plan(const Case& c, bool quiet) {
     const bool pre = c.solver.precondition;
     std::string why;
     const std::string dev = cuda::available(&why) ? cuda::device_description() : "none: " + why;
-    std::fprintf(stderr, "%s: Polonsky-Keer's fields on the GPU: about %s of device memory (GPU: %s)\n", c.name.c_str(),
-                 memory_text(double(cuda::polonsky_keer_bytes(c.grid.nx, c.grid.ny, pre))).c_str(), dev.c_str());
+    const bool qs = c.solver.kind == SolverKind::QuasiStatic;
+    const std::size_t bytes = qs ? cuda::quasi_static_bytes(c.grid.nx, c.grid.ny, pre)
+                                 : cuda::polonsky_keer_bytes(c.grid.nx, c.grid.ny, pre);
+    std::fprintf(stderr, "%s: %s fields on the GPU: about %s of device memory (GPU: %s)\n", c.name.c_str(),
+                 qs ? "the quasi-static solver's" : "Polonsky-Keer's", memory_text(double(bytes)).c_str(), dev.c_str());
   }
 }
 

@@ -14,6 +14,7 @@
 // QuasiStaticAdhesion.hpp measured that spread at 512²: a_r 0.0381279 against 0.0381317
 // between tension tolerances 1e-3 and 1e-5 (1.0e-4 relative), the mean gap 4e-7. The
 // bounds below are twice those.
+#include "cmc/contact/QuasiStaticAdhesion.hpp"
 #include "cmc/grid/Backend.hpp"
 #include "cmc/input/Case.hpp"
 #include "cmc/run/Driver.hpp"
@@ -147,6 +148,78 @@ TEST(GpuBackend, RerunGivesTheSameBits) {
       EXPECT_EQ(a.steps[k].energy, b.steps[k].energy) << file;
     }
   }
+}
+
+// The quasi-static solver's outer step on the device (contact/QuasiStaticDevice.cu): a solve
+// interrupted after its second outer step (the checkpoint's fields copied down through
+// OuterPoint::fetch, as the writer does) and continued from there, as a resumed run does,
+// gives the uninterrupted solve's bits (the GPU's reductions and rounds are in a fixed
+// order). Added 2026-11-26 evening with the outer step on the device: not yet run on a GPU.
+TEST(GpuBackend, QuasiStaticContinuesFromAnOuterStep) {
+  SKIP_WITHOUT_GPU();
+  const Case c = load_case(case_path("challenge/reference-load.toml"), {"grid.n=512", "grid.backend=cuda"});
+  Scene s = build_scene(c);
+  const auto& adh = std::get<ExponentialAdhesion>(s.interaction);
+  QuasiStaticAdhesion::Options o;
+  o.tolerance = c.solver.tolerance;
+  o.backend = Backend::Cuda;
+  ContactState whole;
+  const SolveResult a = QuasiStaticAdhesion(*s.half_space, s.topography.heights, adh, o).solve(s.targets[0], whole);
+  ASSERT_TRUE(a.converged) << a.message;
+  ASSERT_GT(a.diagnostics.outer_iterations, 3);
+  OuterPoint kept;
+  QuasiStaticAdhesion::Options stop = o;
+  stop.on_outer = [&](const OuterPoint& at) {
+    if (at.outer != 2) return;
+    ASSERT_TRUE(at.fetch) << "the fields live on the device";
+    at.fetch();
+    kept.outer = at.outer, kept.tension = at.tension, kept.inner = at.inner, kept.so_far = at.so_far;
+  };
+  stop.max_outer = 3;  // on_outer follows outer steps 1 and 2 (not the last)
+  ContactState first;
+  QuasiStaticAdhesion(*s.half_space, s.topography.heights, adh, stop).solve(s.targets[0], first);
+  ASSERT_EQ(kept.outer, 2);
+  ContactState rest;
+  const SolveResult b = QuasiStaticAdhesion(*s.half_space, s.topography.heights, adh, o).solve(s.targets[0], rest, &kept);
+  ASSERT_TRUE(b.converged) << b.message;
+  EXPECT_EQ(a.iterations, b.iterations);
+  EXPECT_EQ(a.diagnostics.outer_iterations, b.diagnostics.outer_iterations);
+  EXPECT_EQ(whole.penetration, rest.penetration);
+  for (std::size_t i = 0; i < whole.gap.size(); ++i) {
+    ASSERT_EQ(whole.gap[i], rest.gap[i]) << "point " << i;
+    ASSERT_EQ(whole.pressure[i], rest.pressure[i]) << "point " << i;
+  }
+}
+
+// The outer step on the device against the first GPU path (Polonsky-Keer on the device, the
+// outer step on the host, Options::outer_on_device off) with the cascade in rounds on both:
+// the same algorithm, so only round-off differs (device against host exponentials, the
+// order of the sums). On the resolved line of JohnsonSinusoidLoading: the same points in
+// contact, and the mean pressure on the scale the outer iteration stops at,
+// tension_tolerance x w/ρ (round-off may end one path an outer step before the other).
+TEST(GpuBackend, QuasiStaticOuterStepOnTheDeviceOrTheHost) {
+  SKIP_WITHOUT_GPU();
+  const Case c = load_case(case_path("validation/johnson-alpha03-loading.toml"), {"grid.backend=cuda"});
+  std::vector<ContactState> end(2);
+  double scale = 0.0;  // tension_tolerance x w/ρ, reduced
+  for (int k = 0; k < 2; ++k) {
+    Scene s = build_scene(c);
+    const auto& adh = std::get<ExponentialAdhesion>(s.interaction);
+    scale = c.solver.tension_tolerance * adh.peak_tension();
+    QuasiStaticAdhesion::Options o;
+    o.tolerance = c.solver.tolerance;
+    o.backend = Backend::Cuda;
+    o.cascade_rounds = true;
+    o.outer_on_device = k == 0;
+    QuasiStaticAdhesion qs(*s.half_space, s.topography.heights, adh, o);
+    for (const Target& t : s.targets) {
+      const SolveResult r = qs.solve(t, end[std::size_t(k)]);
+      ASSERT_TRUE(r.converged) << (k == 0 ? "device: " : "host: ") << r.message;
+    }
+  }
+  EXPECT_NEAR(end[0].mean_pressure, end[1].mean_pressure, scale);
+  EXPECT_EQ(Grid::count_if(end[0].gap, [](double g) { return g <= 0.0; }),
+            Grid::count_if(end[1].gap, [](double g) { return g <= 0.0; }));
 }
 
 // What the CUDA backend does not run is refused by the case parser, naming the key.

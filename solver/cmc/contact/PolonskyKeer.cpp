@@ -20,16 +20,20 @@ pk::End pk::solve_on_device(std::unique_ptr<PolonskyKeer::Device, PolonskyKeer::
 }
 #endif
 
-PolonskyKeer::PolonskyKeer(HalfSpace& hs, const Field& heights, Options o) : hs_(hs), h_(heights), opt_(std::move(o)) {
+PolonskyKeer::PolonskyKeer(HalfSpace& hs, const Field& heights, Options o)
+    : hs_(hs), h_(heights), opt_(std::move(o)), h_scale_(residual_scale(heights)) {
   if (heights.size() != hs.grid().size()) throw std::invalid_argument("PolonskyKeer: heights do not match the grid");
+}
+
+double PolonskyKeer::residual_scale(const Field& heights) {
   const double hm = Grid::mean(heights);
   const double var = Grid::parallel_reduce<SumReduction>(heights.size(), [&](std::size_t b, std::size_t e, SumReduction& acc) {
                        double s = 0.0;
                        for (std::size_t i = b; i < e; ++i) s += (heights[i] - hm) * (heights[i] - hm);
                        acc.v += s;
                      }).v;
-  h_scale_ = std::sqrt(var / double(hs.grid().points()));
-  if (!(h_scale_ > 0.0)) h_scale_ = 1.0;
+  const double scale = std::sqrt(var / double(Grid::total(heights.size())));
+  return scale > 0.0 ? scale : 1.0;
 }
 
 PolonskyKeer::~PolonskyKeer() = default;
@@ -42,13 +46,8 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
     return finish(false, "Polonsky-Keer needs a non-negative mean pressure (no adhesion in a hard-wall solve)");
 
   const std::size_t n = h_.size();
-  const bool force = target.control == Control::MeanPressure;
-  pk::Start start;
-  start.warm = st.pressure.size() == n && Grid::sum(st.pressure) > 0.0;
-  start.delta = force ? st.penetration : target.value;
-  start.precondition = opt_.precondition && hs_.periodic();
-  start.overlap_k = hs_.contact_modulus() * std::numbers::pi / hs_.grid().lx;  // E* π / L
-  start.longest_compliance = hs_.grid().lx / (std::numbers::pi * hs_.contact_modulus());
+  const pk::Start start = pk::make_start(hs_, target, st.pressure.size() == n && Grid::sum(st.pressure) > 0.0,
+                                         st.penetration, opt_.precondition);
   pk::End end;
   if (opt_.backend == Backend::Cuda) {
     end = pk::solve_on_device(device_, hs_, h_, opt_, h_scale_, target, st, start, res);
@@ -78,14 +77,8 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
   st.penetration = delta;
   st.mean_pressure = Grid::mean(p);
   res.energy = hs_.energy(p, u);
-  const bool ok = end.failure.empty() && res.residual <= opt_.tolerance;
-  std::string msg = end.failure;
-  if (!ok && msg.empty()) {
-    std::ostringstream s;
-    s << "Polonsky-Keer stopped after " << res.iterations << " iterations at residual " << res.residual
-      << " > tolerance " << opt_.tolerance;
-    msg = s.str();
-  }
+  std::string msg;
+  const bool ok = pk::converged(end, res, opt_.tolerance, msg);
   return finish(ok, msg);
 }
 

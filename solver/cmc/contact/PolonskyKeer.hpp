@@ -71,6 +71,8 @@ class PolonskyKeer {
   // Solve for `target`, starting from `state` when it holds a pressure field.
   SolveResult solve(const Target& target, ContactState& state);
   void set_confirm(bool on) { opt_.confirm = on; }
+  // The scale of the residual: the rms height fluctuation of `heights` (1 for a flat one).
+  static double residual_scale(const Field& heights);
   struct Work;    // a solve's work arrays (PolonskyKeer.cpp)
   struct Device;  // the same on the GPU (contact/PolonskyKeerDevice.cu)
   struct DeviceDelete {

@@ -48,6 +48,7 @@
 #include <cstdint>
 #include <memory>
 #include <numbers>
+#include <sstream>
 #include <string>
 
 namespace cmc::pk {
@@ -148,6 +149,32 @@ struct End {
   double sigma = 1.0, delta = 0.0;
   std::string failure;
 };
+
+// The start of a solve on `hs`: warm or not, the previous (load control) or the target
+// (displacement control) penetration, and the half-space's constants.
+inline Start make_start(const HalfSpace& hs, const Target& target, bool warm, double previous_penetration,
+                        bool precondition) {
+  Start s;
+  s.warm = warm;
+  s.delta = target.control == Control::MeanPressure ? previous_penetration : target.value;
+  s.precondition = precondition && hs.periodic();
+  s.overlap_k = hs.contact_modulus() * std::numbers::pi / hs.grid().lx;  // E* π / L
+  s.longest_compliance = hs.grid().lx / (std::numbers::pi * hs.contact_modulus());
+  return s;
+}
+
+// Whether a solve that ended at `end` with `res` converged; if not, `message` says why.
+inline bool converged(const End& end, const SolveResult& res, double tolerance, std::string& message) {
+  message = end.failure;
+  const bool ok = end.failure.empty() && res.residual <= tolerance;
+  if (!ok && message.empty()) {
+    std::ostringstream s;
+    s << "Polonsky-Keer stopped after " << res.iterations << " iterations at residual " << res.residual
+      << " > tolerance " << tolerance;
+    message = s.str();
+  }
+  return ok;
+}
 
 // Every member is public: nvcc's device lambdas may not sit in private member functions.
 template <class B>

@@ -1,5 +1,6 @@
 #include "cmc/contact/QuasiStaticAdhesion.hpp"
 
+#include "cmc/contact/QuasiStaticRun.hpp"
 #include "cmc/grid/Ranks.hpp"
 
 #include <algorithm>
@@ -10,81 +11,6 @@
 namespace cmc {
 
 namespace {
-
-// Newton steps of the jump prediction: from the right on a concave function, each step
-// lands between the root and the previous point, so a few suffice; the cap only guards
-// against a pathological start.
-constexpr int kMaxNewton = 60;
-
-// The next tension of one point (see the header, "Jump prediction"): the tension at the
-// largest x <= g with k (g − x) = A(x) − t, A(x) the adhesive tension of gap x; A(0) when
-// there is no such x (the point jumps into contact). A is the exponential law's, or one
-// of the shape coarse-graining's laws (a linear head to g1, then an exponential tail;
-// Interaction.hpp): convex and decreasing in x either way.
-struct JumpPrediction {
-  double k, w_rho, cutoff, x_peak, a_peak;
-  double g1, kappa;                    // the head: A(x) = w_rho − kappa x for x < g1 (g1 = 0: none)
-  double tail_a, inv_ell, tail_slope;  // the tail: A(x) = tail_a decay(x), −A'(x) = tail_slope decay(x)
-
-  JumpPrediction(double self_stiffness, const ExponentialAdhesion& a)
-      : k(self_stiffness), w_rho(a.peak_tension()), cutoff(a.cutoff()), g1(a.head()), kappa(a.head_slope()),
-        tail_a(a.tail_tension()), inv_ell(a.tail_length() > 0.0 ? 1.0 / a.tail_length() : 0.0) {
-    tail_slope = tail_a * inv_ell;
-    // f(x) = k (g − x) − (A(x) − t) is concave with its maximum where A'(x) = −k: in the
-    // tail when the law is steeper than k at contact, else at 0 (a head no steeper than
-    // k: f' < 0 everywhere); at g1 for a triangle steeper than k.
-    if (g1 > 0.0 && kappa <= k) {
-      x_peak = 0.0;
-    } else if (tail_a > 0.0) {
-      x_peak = std::max(0.0, g1 + a.tail_length() * std::log(tail_a / (k * a.tail_length())));
-    } else {
-      x_peak = g1;
-    }
-    a_peak = tension(x_peak);
-  }
-  bool in_head(double x) const { return g1 > 0.0 && x < g1; }
-  // exp(−(x − g1)/ℓ) in the tail, 0 beyond the cutoff, 1 in the head (unused there): what
-  // the cascade keeps per point, so that a tension and its slope cost one exponential.
-  double decay(double x) const {
-    if (x >= cutoff) return 0.0;
-    return in_head(x) ? 1.0 : std::exp(-(x - g1) * inv_ell);
-  }
-  double tension(double x, double e) const { return in_head(x) ? w_rho - kappa * x : tail_a * e; }
-  double tension(double x) const { return tension(x, decay(x)); }
-  double slope(double x, double e) const {  // −A'(x)
-    if (x >= cutoff) return 0.0;
-    return in_head(x) ? kappa : tail_slope * e;
-  }
-
-  // The predicted gap of a point at gap g under tension t, with the extra pull c (the
-  // change of the elastic force from neighbours that moved; c >= 0 pulls in): the largest
-  // x <= g with k (g − x) = A(x) − t + c, or 0 (into contact) if there is none. Returns g
-  // itself when the point is not pulled further in. `eg` is decay(g), which the caller
-  // keeps per point (the cascade asks again for the same g with a larger c).
-  double gap(double g, double eg, double t, double c) const {
-    if (g <= 0.0) return 0.0;
-    if (g >= cutoff && c <= 0.0) return g;
-    // f(x) = k (g − x) − (A(x) − t + c), from e = decay(x): one exponential per Newton
-    // step, shared by f and f'.
-    auto f = [&](double x, double ax) { return k * (g - x) - (ax - t + c); };
-    double e = eg, fx = f(g, tension(g, e));
-    if (fx >= 0.0) return g;
-    if (x_peak >= g || f(x_peak, a_peak) < 0.0) return 0.0;  // no equilibrium below g: into contact
-    double x = g;
-    for (int i = 0; i < kMaxNewton; ++i) {
-      if (i > 0) {
-        e = decay(x);
-        fx = f(x, tension(x, e));
-      }
-      if (fx >= 0.0) break;
-      const double fp = -k + slope(x, e);  // < 0 on (x_peak, g]
-      const double nx = x - fx / fp;
-      if (!(nx < x) || nx <= x_peak) break;  // round-off floor reached
-      x = nx;
-    }
-    return x;
-  }
-};
 
 // Jumps that trigger jumps, within one outer step: a point that closes its gap by Δ pulls
 // its neighbour m with the extra force K_mi Δ (K_mi < 0 off the diagonal), which may make
@@ -112,37 +38,21 @@ struct JumpPrediction {
 // pairs, a_r 0.0295022 against 0.0295014 (3 points of 4.2 million) and the mean gap
 // within 5e-7. Within 2 points: 10 outer steps, 8 s of queue. A larger move floor (1e-2,
 // 1e-1 ρ) costs outer steps (1024²: 9 and 12 instead of 6).
-constexpr int kRadius = 1;
-constexpr int kSide = 2 * kRadius + 1;
-constexpr double kMoveFloor = 1e-3;  // in ρ (w / peak tension): smaller predicted moves are not propagated
-
+// (kRadius, kMoveFloor and the stencil: QuasiStaticParts.hpp.)
+using qs::kRadius;
+using qs::kSide;
 class Cascade {
  public:
   // `k_near`: K at the offsets (dx, dy) of the stencil, entry (dy + kRadius) (2 kRadius + 1)
   // + dx + kRadius (QuasiStaticAdhesion's constructor reads them off K's unit response).
   Cascade(const HalfSpace& hs, const std::vector<double>& k_near)
       : nx_(hs.grid().nx), ny_(hs.grid().ny), y0_(hs.grid().y0), rows_(hs.grid().rows()), periodic_(hs.periodic()) {
-    // Each neighbour once. Where a periodic grid is narrower than the stencil (a line, ny =
-    // 1; or 2 points across) offsets alias: the rows above and below a line are the line
-    // itself, and (0, ±1) is the point itself. K's entry at the aliased offset already holds
-    // every image, so a neighbour counted twice is pulled twice (a line's x-neighbours three
-    // times), and the cascade predicts jumps that the next solve undoes: it cycled.
-    std::vector<std::pair<int, int>> seen;
-    for (int dy = -kRadius; dy <= kRadius; ++dy)
-      for (int dx = -kRadius; dx <= kRadius; ++dx) {
-        if (periodic_) {
-          const std::pair<int, int> at{wrap(dx, nx_), wrap(dy, ny_)};
-          if (at == std::pair<int, int>{0, 0} || std::find(seen.begin(), seen.end(), at) != seen.end()) continue;
-          seen.push_back(at);
-        } else if (dx == 0 && dy == 0) {
-          continue;
-        }
-        stencil_.push_back({dx, dy, k_near[std::size_t((dy + kRadius) * kSide + dx + kRadius)]});
-      }
+    const qs::Stencil st = qs::make_stencil(nx_, ny_, periodic_, k_near);
+    for (int k = 0; k < st.count; ++k) stencil_.push_back({st.dx[k], st.dy[k], st.k[k]});
   }
 
   // x: on exit the predicted gaps. Returns the number of points moved (on this rank).
-  long run(const Field& g, const Field& t, const JumpPrediction& jp, Field& x, double move_floor) {
+  long run(const Field& g, const Field& t, const qs::JumpPrediction& jp, Field& x, double move_floor) {
     const std::size_t n = g.size();
     pull_.resize(n);
     applied_.resize(n);
@@ -217,11 +127,7 @@ class Cascade {
     int dx, dy;
     double k;
   };
-  // j in [−kRadius, n + kRadius) to [0, n); one add where n > kRadius (no division).
-  static int wrap(int j, int n) {
-    if (n > kRadius) return j < 0 ? j + n : (j >= n ? j - n : j);
-    return ((j % n) + n) % n;
-  }
+  static int wrap(int j, int n) { return qs::wrap(j, n); }
   int nx_, ny_, y0_, rows_;  // the whole grid, and this rank's rows [y0_, y0_ + rows_)
   bool periodic_;
   std::vector<Entry> stencil_;
@@ -232,9 +138,131 @@ class Cascade {
   std::vector<double> out_pull_;         // ... and their amounts
 };
 
-struct MaxReduction {
-  double v = 0.0;
-  void merge(const MaxReduction& o) { v = std::max(v, o.v); }
+// The CPU backend of the outer iteration (QuasiStaticRun.hpp): host fields, any boundary
+// and any number of processes, the cascade as a queue (or, with Options::cascade_rounds on
+// a periodic grid held by one process, in the GPU's rounds). Polonsky-Keer runs on its own
+// backend (Options::backend: the CPU, or the GPU with the outer step here).
+class HostSteps {
+ public:
+  HostSteps(HalfSpace& hs, const Field& h, const std::vector<double>& k_near, const QuasiStaticAdhesion::Options& o)
+      : n(h.size()), hs_(hs), h_(h), opt_(o), hp_(h), gt_(n, 0.0), predicted_(n, 0.0), cascade_(hs, k_near),
+        pk_(hs, hp_, pk_options()) {  // the residual scale of Polonsky-Keer is that of h (hp == h here)
+    if (o.cascade_rounds) {
+      if (!hs.periodic() || hs.grid().split())
+        throw std::invalid_argument("QuasiStaticAdhesion: cascade_rounds needs a periodic grid held by one process");
+      stencil_ = qs::make_stencil(hs.grid().nx, hs.grid().ny, true, k_near);
+    }
+  }
+  const std::size_t n;
+
+  template <class F>
+  void all(std::size_t k, F f) {
+    Grid::parallel_for(k, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i) f(i);
+    });
+  }
+  template <class Acc, class F>
+  Acc reduce(std::size_t k, F f) {
+    return Grid::parallel_reduce<Acc>(k, [&](std::size_t b, std::size_t e, Acc& acc) {
+      for (std::size_t i = b; i < e; ++i) f(i, acc);
+    });
+  }
+
+  // The tension and Polonsky-Keer's state live in the loop's OuterPoint (what on_outer is
+  // shown, without copies).
+  void bind(OuterPoint& at) { at_ = &at; }
+  void start_cold() { at_->tension.assign(n, 0.0); }
+  // The state's fields move into the solve's (and back at the end): no second copy.
+  void start_warm(Field&& t, ContactState& st) {
+    at_->tension = std::move(t);
+    at_->inner.pressure = std::move(st.pressure);
+    at_->inner.displacement = std::move(st.displacement);
+    at_->inner.gap = std::move(st.gap);  // its buffer: Polonsky-Keer overwrites it
+    at_->inner.penetration = st.penetration;
+  }
+  void start_from(OuterPoint& from) {
+    at_->tension = std::move(from.tension);
+    at_->inner = std::move(from.inner);
+  }
+  void shift_heights() {
+    hs_.displacement(at_->tension, gt_);
+    const double *h = h_.data(), *gt = gt_.data();
+    double* hp = hp_.data();
+    all(n, [=](std::size_t i) { hp[i] = h[i] - gt[i]; });
+  }
+  double mean_tension() const { return Grid::mean(at_->tension); }
+  SolveResult inner(const Target& tk, bool confirm, int outer, int iterations_before) {
+    outer_ = outer, before_ = iterations_before;
+    pk_.set_confirm(confirm);
+    return pk_.solve(tk, at_->inner);
+  }
+  void predict(const qs::JumpPrediction& jump, double floor) {
+    x_ = predicted_.data();
+    if (!opt_.predict_jumps) {
+      predicted_ = at_->inner.gap;
+    } else if (opt_.cascade_rounds) {
+      if (round_a_.size() != n) round_a_.assign(n, 0.0), round_x_.assign(n, 0.0), round_b_.assign(n, 0.0);
+      int rounds = 0;
+      x_ = qs::cascade_rounds(*this, n, g(), t(), jump, stencil_, hs_.grid().nx, hs_.grid().ny, floor,
+                              predicted_.data(), round_a_.data(), round_x_.data(), round_b_.data(), rounds);
+    } else {
+      cascade_.run(at_->inner.gap, at_->tension, jump, predicted_, floor);
+    }
+  }
+  double* t() { return at_->tension.data(); }
+  const double* g() const { return at_->inner.gap.data(); }
+  const double* x() const { return x_; }
+  double* p() { return at_->inner.pressure.data(); }
+  void outer_point(OuterPoint&) {}  // the fields are the solver's own, not copies
+  bool solved() const { return !at_->inner.empty(); }
+  // Total pressure p − t, displacement G (p − t): t and gt are those of the last
+  // Polonsky-Keer solve, so the fields are consistent.
+  void end(ContactState& st) {
+    st.pressure = std::move(at_->inner.pressure);
+    st.displacement = std::move(at_->inner.displacement);
+    double* sp = st.pressure.data();
+    double* su = st.displacement.data();
+    const double *t = at_->tension.data(), *gt = gt_.data();
+    all(n, [=](std::size_t i) {
+      sp[i] -= t[i];
+      su[i] -= gt[i];
+    });
+    st.gap = std::move(at_->inner.gap);
+    st.penetration = at_->inner.penetration;
+  }
+
+ private:
+  PolonskyKeer::Options pk_options() {
+    const QuasiStaticAdhesion::Options& o = opt_;
+    PolonskyKeer::Options po;
+    if (o.progress) {
+      po.progress = [this](const ProgressPoint& p) { opt_.progress({before_ + p.iteration, p.residual, outer_ + 1, true}); };
+      po.progress_every = o.progress_every;
+    }
+    po.tolerance = o.tolerance;
+    po.max_iterations = o.max_iterations;
+    po.recompute_every = o.recompute_every;
+    po.precondition = o.precondition;
+    po.backend = o.backend;
+    po.keep_work = true;  // one solve an outer step: the same arrays each time
+    // Each outer solve starts from the exact u of its pressure (Polonsky-Keer's first step),
+    // so only the last one needs Polonsky-Keer's confirmation on an exact u: the others skip
+    // it, and the converged tension is confirmed by one more solve at the same t (a "confirm"
+    // step, usually 0 iterations: one FFT pair and a half instead of one per outer step).
+    po.confirm = false;
+    return po;
+  }
+  HalfSpace& hs_;
+  const Field& h_;
+  const QuasiStaticAdhesion::Options& opt_;
+  OuterPoint* at_ = nullptr;
+  Field hp_, gt_, predicted_;  // the shifted heights, G t, the predicted gaps
+  Field round_a_, round_x_, round_b_;  // the rounds' other buffers (cascade_rounds only)
+  const double* x_ = nullptr;
+  Cascade cascade_;
+  qs::Stencil stencil_;
+  PolonskyKeer pk_;
+  int outer_ = 0, before_ = 0;
 };
 
 }  // namespace
@@ -262,200 +290,19 @@ QuasiStaticAdhesion::QuasiStaticAdhesion(HalfSpace& hs, const Field& heights, Ex
   if (!(k_self_ > 0.0)) throw std::logic_error("QuasiStaticAdhesion: the half-space's self-stiffness is not positive");
 }
 
+#ifndef CMC_CUDA
+// A build without the CUDA backend: the case parser refuses backend = "cuda" before a solve.
+SolveResult solve_on_device(HalfSpace&, const Field&, const ExponentialAdhesion&, const QuasiStaticAdhesion::Options&,
+                            double, const std::vector<double>&, const Target&, ContactState&, OuterPoint*) {
+  throw std::runtime_error("quasi-static adhesion: this build of cmc has no CUDA backend (configure with -DCMC_CUDA=ON)");
+}
+#endif
+
 SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st, OuterPoint* from) {
-  const SolveClock clock(hs_);
-  SolveResult res;
-  // A continued solve counts the outer steps of the process before it.
-  double pairs_before = 0.0, seconds_before = 0.0, fft_s_before = 0.0;
-  auto finish = [&](bool converged, std::string msg) {
-    clock.finish(res, converged, std::move(msg));
-    res.fft_pairs += pairs_before, res.wall_s += seconds_before, res.fft_s += fft_s_before;
-    return res;
-  };
-  const std::size_t n = h_.size();
-  const JumpPrediction jump(k_self_, adh_);
-  if (target.control == Control::MeanPressure && !(target.value > 0.0))
-    return finish(false, "quasi-static loading from out of contact reaches no contact at a mean pressure <= 0 (the "
-                         "surfaces stay apart); tensile loads are on an unloading path: use [solver] kind = "
-                         "\"adhesive_cg\"");
-
-  // Polonsky-Keer on the shifted heights h − G t (hp), warm-started from its own state.
-  // The tension and Polonsky-Keer's state live in `at`, where the solve stands between
-  // outer steps (what on_outer is shown, without copies).
-  OuterPoint at;
-  if (from) {
-    if (from->tension.size() != n || from->inner.pressure.size() != n || from->outer < 1)
-      throw std::invalid_argument("QuasiStaticAdhesion: the solve to continue does not fit this grid");
-    at = std::move(*from);
-    res.iterations = at.so_far.iterations;
-    res.diagnostics = at.so_far.diagnostics;
-    pairs_before = at.so_far.fft_pairs, seconds_before = at.so_far.wall_s, fft_s_before = at.so_far.fft_s;
-  } else {
-    at.tension.assign(n, 0.0);
-  }
-  Field& t = at.tension;
-  ContactState& inner = at.inner;
-  // The solve's own fields (host memory, issue 16): the shifted heights, G t, the
-  // predicted gaps; the next tension is computed twice from them instead of held.
-  Field hp = h_, gt(n, 0.0), predicted(n, 0.0);
-  Cascade cascade(hs_, k_near_);
-  PolonskyKeer::Options po;
-  po.tolerance = opt_.tolerance;
-  po.max_iterations = opt_.max_iterations;
-  po.recompute_every = opt_.recompute_every;
-  po.precondition = opt_.precondition;
-  po.backend = opt_.backend;
-  po.keep_work = true;  // one solve an outer step: the same arrays each time
-  int outer = from ? at.outer : 0;
-  if (opt_.progress) {
-    po.progress = [&](const ProgressPoint& p) { opt_.progress({res.iterations + p.iteration, p.residual, outer + 1, true}); };
-    po.progress_every = opt_.progress_every;
-  }
-  // Each outer solve starts from the exact u of its pressure (Polonsky-Keer's first step),
-  // so only the last one needs Polonsky-Keer's confirmation on an exact u: the others skip
-  // it, and the converged tension is confirmed by one more solve at the same t (a "confirm"
-  // step, usually 0 iterations: one FFT pair and a half instead of one per outer step).
-  po.confirm = false;
-  PolonskyKeer pk(hs_, hp, po);  // its residual scale is that of h (hp == h here)
-  const bool warm = !from && st.gap.size() == n && st.pressure.size() == n;
-  if (warm) {
-    // Start from the previous (smaller) load's state: its tension, and its repulsive
-    // pressure p + t as Polonsky-Keer's warm start. The state's fields move into the
-    // solve's (and back at the end): the solve holds no second copy of them.
-    const double* g = st.gap.data();
-    Grid::parallel_for(n, [&](std::size_t b, std::size_t e) {
-      for (std::size_t i = b; i < e; ++i) t[i] = jump.tension(g[i]);
-    });
-    double* sp = st.pressure.data();
-    Grid::parallel_for(n, [&](std::size_t b, std::size_t e) {
-      for (std::size_t i = b; i < e; ++i) sp[i] = std::max(0.0, sp[i] + t[i]);
-    });
-    inner.pressure = std::move(st.pressure);
-    inner.displacement = std::move(st.displacement);
-    inner.gap = std::move(st.gap);  // its buffer: Polonsky-Keer overwrites it
-    inner.penetration = st.penetration;
-  } else if (from) {
-    // The state is not read: its fields would only sit beside the solve's.
-    st.pressure = Field(), st.displacement = Field(), st.gap = Field();
-  }
-
-  double residual = 1.0;
-  bool pk_ok = true;
-  std::string pk_message;
-  bool confirming = false;  // this solve repeats the last one (same t) on the exact u
-  for (;; ++outer) {
-    if (!confirming && (outer > 0 || warm)) {
-      hs_.displacement(t, gt);
-      Grid::parallel_for(n, [&](std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i) hp[i] = h_[i] - gt[i];
-      });
-    }
-    Target tk = target;
-    if (target.control == Control::MeanPressure) tk.value = target.value + Grid::mean(t);
-    pk.set_confirm(confirming);
-    const SolveResult r = pk.solve(tk, inner);
-    res.iterations += r.iterations;
-    res.diagnostics += r.diagnostics;
-    if (!r.converged) {
-      pk_ok = false;
-      pk_message = "outer step " + std::to_string(outer) + ": " + r.message;
-      break;
-    }
-    // The next tension (with jump prediction and cascade) and how much it changes.
-    const double* g = inner.gap.data();
-    if (opt_.predict_jumps) {
-      cascade.run(inner.gap, t, jump, predicted, opt_.cascade ? kMoveFloor * adh_.range() : HUGE_VAL);
-    } else {
-      predicted = inner.gap;
-    }
-    const double* x = predicted.data();
-    double* tp = t.data();
-    // The next tension of point i (computed here for the residual, and again below where
-    // it replaces t: one exponential more per point instead of a field).
-    auto next_tension = [&](std::size_t i) { return g[i] <= 0.0 ? jump.w_rho : jump.tension(x[i]); };
-    residual = Grid::parallel_reduce<MaxReduction>(n, [&](std::size_t b, std::size_t e, MaxReduction& acc) {
-                 double m = 0.0;
-                 for (std::size_t i = b; i < e; ++i) m = std::max(m, std::abs(next_tension(i) - tp[i]));
-                 acc.v = std::max(acc.v, m);
-               }).v / adh_.peak_tension();
-    if (opt_.progress) opt_.progress({res.iterations, residual, outer + 1});
-    if (!std::isfinite(residual)) {
-      pk_ok = false;
-      pk_message = "the adhesive tension became non-finite at outer step " + std::to_string(outer);
-      break;
-    }
-    if (residual <= opt_.tension_tolerance) {
-      if (confirming) break;
-      confirming = true;  // not counted against max_outer
-      continue;
-    }
-    if (outer + 1 >= opt_.max_outer) break;
-    confirming = false;
-    // Warm start of the next solve: keep the total pressure p − t of the points in contact,
-    // i.e. raise their repulsion by the change of their tension. The first solve after the
-    // hard-wall one then starts from the hard-wall state itself instead of a rescaled
-    // pressure (measured at 512²: 119 -> 51 iterations for that solve). The same holds
-    // for the points the jump prediction brings into contact (predicted gap 0): they start
-    // with the repulsion t_next − t, which keeps their total pressure −t, instead of 0 (a
-    // point that joins from overlap takes a projected step, and Polonsky-Keer finds its
-    // pressure over many). Only the start changes: each solve is the same convex problem.
-    // Measured on the challenge at 250 kPa (2048², dx = 24 ρ): 222 -> 164 iterations, 517
-    // -> 378 FFT pairs, the same 10 outer steps, a_r within one point of 4.2 million (the
-    // answer at tolerance 1e-7), mean gap within 3e-8 relative; s = 32 on 1024² (dx =
-    // 1.6 ρ): 879 -> 769 iterations, 2032 -> 1714 pairs, the same a_r.
-    double* pr = inner.pressure.data();
-    Grid::parallel_for(n, [&](std::size_t b, std::size_t e) {
-      for (std::size_t i = b; i < e; ++i) {
-        const double tn = next_tension(i);
-        if (pr[i] > 0.0 || x[i] <= 0.0) pr[i] = std::max(0.0, pr[i] + tn - tp[i]);
-        tp[i] = tn;
-      }
-    });
-    if (opt_.on_outer) {
-      at.outer = outer + 1;
-      at.so_far.iterations = res.iterations;
-      at.so_far.diagnostics = res.diagnostics;
-      at.so_far.fft_pairs = pairs_before + clock.pairs();
-      at.so_far.wall_s = seconds_before + clock.seconds();
-      at.so_far.fft_s = fft_s_before + clock.fft_seconds();
-      opt_.on_outer(at);
-    }
-  }
-  res.diagnostics.outer_iterations += outer + 1;
-  res.residual = residual;
-
-  // The solved state: total pressure p − t, displacement G (p − t), the gap of the solve.
-  // (t and gt are those of the last Polonsky-Keer solve, so the fields are consistent.)
-  if (!inner.empty()) {
-    st.pressure = std::move(inner.pressure);
-    st.displacement = std::move(inner.displacement);
-    double* sp = st.pressure.data();
-    double* su = st.displacement.data();
-    Grid::parallel_for(n, [&](std::size_t b, std::size_t e) {
-      for (std::size_t i = b; i < e; ++i) {
-        sp[i] -= t[i];
-        su[i] -= gt[i];
-      }
-    });
-    st.gap = std::move(inner.gap);
-    st.penetration = inner.penetration;
-    st.mean_pressure = Grid::mean(st.pressure);
-    const double* g = st.gap.data();
-    const double adhesion = Grid::parallel_reduce<SumReduction>(n, [&](std::size_t b, std::size_t e, SumReduction& acc) {
-                              double s = 0.0;
-                              for (std::size_t i = b; i < e; ++i) s += adh_.evaluate(g[i]).energy;
-                              acc.v += s;
-                            }).v;
-    res.energy = hs_.energy(st.pressure, st.displacement) + adhesion * hs_.grid().cell_area();
-  }
-  if (!pk_ok) return finish(false, pk_message);
-  if (residual > opt_.tension_tolerance) {
-    std::ostringstream s;
-    s << "quasi-static adhesion stopped after " << outer + 1 << " outer steps at tension change " << residual
-      << " > tension_tolerance " << opt_.tension_tolerance;
-    return finish(false, s.str());
-  }
-  return finish(true, "");
+  if (opt_.backend == Backend::Cuda && opt_.outer_on_device)
+    return solve_on_device(hs_, h_, adh_, opt_, k_self_, k_near_, target, st, from);
+  HostSteps b(hs_, h_, k_near_, opt_);
+  return qs::solve(b, hs_, adh_, opt_, qs::JumpPrediction(k_self_, adh_), target, st, from);
 }
 
 }  // namespace cmc

@@ -42,7 +42,14 @@
 // may make m jump in turn; this is followed point by point (nonlinear Gauss-Seidel on the
 // exact K of the 8 nearest points; the rest, negative, is left out, which pulls less than
 // the truth). On a 128² patch at dx = 24 ρ: 7 outer steps instead of 111, 10.2x fewer
-// FFT pairs, the same state (tests/test_quasi_static.cpp).
+// FFT pairs, the same state (tests/test_quasi_static.cpp). The GPU runs the cascade in
+// parallel rounds instead (nonlinear Jacobi over the same stencil, QuasiStaticParts.hpp):
+// on the challenge at 512² and 2048² the same outer steps, iterations and contact set as
+// the queue, the mean gap within 1e-9 relative.
+//
+// Where the parts are: the outer iteration is written once (QuasiStaticRun.hpp) over a
+// backend that holds the fields: the CPU's (QuasiStaticAdhesion.cpp) or, with backend =
+// cuda, the GPU's (QuasiStaticDevice.cu: the outer step on the device too).
 //
 // Residual: the largest change of the tension, relative to the peak tension w/ρ, that one
 // more outer step would make (with jump prediction and cascade), max |t_next − t| / (w/ρ),
@@ -82,6 +89,9 @@ namespace cmc {
 // p, and the gap at its end); the shifted heights are recomputed from the tension.
 struct OuterPoint {
   int outer = 0;        // outer steps done (the next one's index)
+  // Where the solve's fields live elsewhere (the GPU's outer step): copies tension and
+  // inner.pressure and .penetration here; a reader calls it first. Empty: they are here.
+  std::function<void()> fetch;
   Field tension;        // t, the fixed tension of the next outer step
   ContactState inner;   // Polonsky–Keer's warm start: pressure and penetration are used
   SolveResult so_far;   // iterations, FFT pairs, wall time and diagnostics of the steps done
@@ -99,9 +109,18 @@ class QuasiStaticAdhesion {
     bool precondition = true;  // passed to Polonsky-Keer (its stiffness preconditioner)
     bool predict_jumps = true;  // the nonlinear Jacobi prediction (off: the plain iteration)
     bool cascade = true;        // jumps that trigger jumps within an outer step (needs predict_jumps)
-    // Where the Polonsky-Keer solves run (its Options::backend). The outer step's own
-    // passes, its transforms and the cascade stay on the CPU.
+    // Where the solve runs. Cuda: every field of the outer step stays on the GPU with
+    // Polonsky-Keer's (contact/QuasiStaticDevice.cu; periodic boundary, one process), and
+    // the cascade runs in rounds (cascade_rounds); with outer_on_device off, only the
+    // Polonsky-Keer solves run there and the outer step on the CPU (the first GPU path,
+    // kept to compare with).
     Backend backend = Backend::Cpu;
+    bool outer_on_device = true;
+    // The cascade in parallel rounds (QuasiStaticParts.hpp), as the GPU runs it, instead of
+    // the queue (periodic grid, one process). The same state within the move floor; the
+    // CPU's default is the queue (fewer passes on a few cores, and the bits of every stored
+    // run). On for the GPU's outer step whatever is set here.
+    bool cascade_rounds = false;
     // Called after every outer step that leaves the solve unfinished, with where it stands
     // (the solver's own fields, not copies): a caller may save it and hand it back to
     // solve() in another process to continue.
@@ -121,6 +140,8 @@ class QuasiStaticAdhesion {
 
   const Options& options() const { return opt_; }
   double self_stiffness() const { return k_self_; }
+  // K to the 3 x 3 nearest points, entry (dy + 1) 3 + dx + 1 (the cascade's stencil).
+  const std::vector<double>& near_stiffness() const { return k_near_; }
 
  private:
   HalfSpace& hs_;
@@ -130,5 +151,12 @@ class QuasiStaticAdhesion {
   double k_self_ = 0.0;
   std::vector<double> k_near_;  // K to the 3 x 3 nearest points (the cascade's stencil)
 };
+
+// The solve with the outer step on the GPU (contact/QuasiStaticDevice.cu); a build without
+// CUDA throws.
+SolveResult solve_on_device(HalfSpace& hs, const Field& heights, const ExponentialAdhesion& adhesion,
+                            const QuasiStaticAdhesion::Options& options, double self_stiffness,
+                            const std::vector<double>& k_near, const Target& target, ContactState& state,
+                            OuterPoint* from);
 
 }  // namespace cmc

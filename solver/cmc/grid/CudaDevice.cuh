@@ -11,6 +11,10 @@
 
 #include "cmc/grid/Backend.hpp"
 
+#ifdef CMC_CUDA_EMULATION
+#include "cmc/grid/CudaEmulation.hpp"  // the device code's logic on the host (tests/emulation)
+#else
+
 #include <cuda_runtime.h>
 #include <cufft.h>
 
@@ -59,13 +63,17 @@ class ProfileScope {
   std::chrono::steady_clock::time_point t0_{};
 };
 
-// A device array of n T (cudaMalloc; never managed memory).
+// A device array of n T (cudaMalloc; never managed memory), zeroed: a pass that reads an
+// entry before any writes it (the first direction of Polonsky-Keer, t = g + 0 (t − t̄))
+// reads 0, not whatever bits the memory held (which may be a NaN).
 template <class T>
 class Buffer {
  public:
   Buffer() = default;
   explicit Buffer(std::size_t n, const char* what = "a device field") : n_(n) {
-    if (n) check(cudaMalloc(reinterpret_cast<void**>(&p_), n * sizeof(T)), what);
+    if (!n) return;
+    check(cudaMalloc(reinterpret_cast<void**>(&p_), n * sizeof(T)), what);
+    check(cudaMemset(p_, 0, n * sizeof(T)), what);
   }
   ~Buffer() {
     if (p_) cudaFree(p_);
@@ -213,3 +221,5 @@ class Fft {
 };
 
 }  // namespace cmc::cuda
+
+#endif  // CMC_CUDA_EMULATION

@@ -722,8 +722,11 @@ MemoryEstimate estimate_memory(const Case& c) {
     // state is the driver's (counted above), moved in and back; the next tension is
     // computed where it is used, and a checkpoint inside a step is written a block of rows
     // at a time (no copy).
+    // On the GPU the outer step's fields are the device's (grid/Backend.hpp
+    // quasi_static_bytes); the host makes the first tension of a warm start and the
+    // tension it subtracts at the end (one field).
     run_transform += 2.0 + (periodic ? sp / 2.0 / m : 0.0);
-    solve_grid += 4.0 + 3.0 + 1.0 / 8.0;
+    solve_grid += c.grid.backend == "cuda" ? 1.0 : 4.0 + 3.0 + 1.0 / 8.0;
   }
   // A solved step: the observables (the contact mask (bytes), patch labels (ints) and their
   // union-find parents, a Fourier transform of the pressure (its spectrum and scratch), the

@@ -526,6 +526,7 @@ void Writer::checkpoint(const ContactState& st, const PathState* path, const Out
   // moment is continued from the last complete one. Inside a step, the step's solve
   // (`inside`) replaces the state it started from.
   const fs::path tmp = partial_ / "checkpoint.h5.tmp";
+  if (inside && inside->fetch) inside->fetch();  // the solve's fields live on the GPU
   const bool with_state = !inside && !st.empty();
   auto fields = [&](hid_t f) {
     if (with_state) write_fields(f, "state", scene_.grid, state_fields(st));

@@ -1,0 +1,124 @@
+#pragma once
+// The device backend of Polonsky-Keer (PolonskyKeerRun.hpp) on one GPU: its fields and
+// passes, shared by PolonskyKeerDevice.cu (the hard-wall solve) and QuasiStaticDevice.cu
+// (the quasi-static solver's outer step, which keeps its own fields beside these). Included
+// by .cu files only.
+//
+// Device memory, per point of an n-point grid (nspec = ny (nx/2 + 1) ≈ n/2 modes):
+// p, w = h + u, t, h (4 doubles), z (1, with the preconditioner), the contact mask (1
+// byte), the spectra p̂, ĥ/N and the transform's scratch, which holds t̂ too (3 nspec
+// complex ≈ 3 doubles), the compliance (nspec doubles ≈ ½; the preconditioner's stiffness
+// is taken from it), and cuFFT's work area (cufftMakePlan2d reports it for the shape).
+// Counted by polonsky_keer_bytes (grid/Backend.hpp), with the work area taken as one real
+// field: 19.3 GiB at 16384² with the preconditioner, 77 GiB at 32768² (69 GiB without).
+// Before t̂ moved into the scratch and the stiffness into the compliance (2026-11-26, not
+// yet run on a GPU) the count was 22.3 GiB at 16384², and nvidia-smi's peak on an H100
+// was 22.8 GiB with the CUDA context.
+#include "cmc/contact/PolonskyKeerRun.hpp"
+#include "cmc/grid/CudaDevice.cuh"
+
+#include <cstdio>
+#include <sstream>
+
+namespace cmc {
+
+struct PolonskyKeer::Device : pk::Fields {
+  // ---- the backend interface of pk::Run (PolonskyKeerRun.hpp): the fields (pk::Fields), the passes
+  // and the transforms
+
+  template <class F>
+  void all(std::size_t k, F f) {
+    cuda::all(k, f);
+  }
+  template <class Acc, class F>
+  Acc reduce_in(const std::uint8_t* mask, std::size_t k, F f) {
+    return reducer.run<Acc>(k, cuda::InMask{mask}, f);
+  }
+  template <class Acc, class F>
+  Acc reduce_in_or_below(const std::uint8_t* mask, const double* v, double level, std::size_t k, F f) {
+    return reducer.run<Acc>(k, cuda::InMaskOrBelow{mask, v, level}, f);
+  }
+  double sum(const double* v) {
+    return reducer.run<pk::Sum>(n, cuda::Everywhere{}, [=] __device__(std::size_t i, pk::Sum& a) { a.v += v[i]; }).v;
+  }
+  void forward_p() { fft.forward(p, p_hat); }
+  void forward_h() { fft.forward(h, h_hat); }
+  double curvature_t() {
+    fft.forward(t, out);
+    return quadratic_form(out, ker);
+  }
+  void inverse_w() { fft.inverse(out, w); }
+  // The stiffness is the compliance's inverse, E*|q|/2 = (1/N)² / (2/(E*|q|)) with 1/N folded
+  // into both, 0 at q = 0: taken from the compliance here instead of held (half a spectrum,
+  // 4 GiB at 32768²). It may differ from the CPU's E*|q|/(2N) in the last bit.
+  void stiffness_z() {
+    fft.forward(z, out);
+    double* o = out;
+    const double* k = ker;
+    const double nn = 1.0 / (transform_points * transform_points);
+    cuda::all(nspec, [=] __device__(std::size_t j) {
+      const double s = k[j] > 0.0 ? nn / k[j] : 0.0;
+      o[2 * j] *= s, o[2 * j + 1] *= s;
+    });
+    fft.inverse(out, z);
+  }
+  // The combined operations, their parts one after the other (kernels and cuFFT calls).
+  template <class Acc, class F>
+  Acc direction_and_curvature(const std::uint8_t* mask, F f, double& curvature) {
+    return pk::compose::direction_and_curvature<Acc>(*this, mask, f, curvature);
+  }
+  template <class Acc, class S, class F>
+  Acc step_and_gap_sums(S step, const std::uint8_t* mask, double level, F f) {
+    return pk::compose::step_and_gap_sums<Acc>(*this, step, mask, level, f);
+  }
+  template <class Acc, class S, class F>
+  Acc pressure_and_gap_sums(S step, const std::uint8_t* mask, double level, F f) {
+    return pk::compose::pressure_and_gap_sums<Acc>(*this, step, mask, level, f);
+  }
+  template <class Acc, class Fill, class F>
+  Acc stiffness_and_sums(Fill fill, const std::uint8_t* mask, F f) {
+    return pk::compose::stiffness_and_sums<Acc>(*this, fill, mask, f);
+  }
+  // Σ_q weight(q) mult(q) |s_q|² over the r2c half-spectrum (HalfSpace::quadratic_form).
+  double quadratic_form(const double* s, const double* mult) {
+    const int cols = nx / 2 + 1, nxx = nx;
+    return reducer
+        .run<pk::Sum>(nspec, cuda::Everywhere{},
+                      [=] __device__(std::size_t j, pk::Sum& a) {
+                        const int c = int(j % std::size_t(cols));
+                        const double wgt = (c == 0 || 2 * c == nxx) ? 1.0 : 2.0;
+                        a.v += wgt * mult[j] * (s[2 * j] * s[2 * j] + s[2 * j + 1] * s[2 * j + 1]);
+                      })
+        .v;
+  }
+
+  // ---- the buffers
+  int nx, ny;
+  bool precondition;
+  cuda::Buffer<double> P, W, T, Z, H, PH, HH, OUT, KER;
+  cuda::Buffer<std::uint8_t> M;
+  cuda::Reducer reducer;
+  cuda::Fft fft;
+
+  Device(HalfSpace& hs, bool pre)
+      : pk::Fields{hs.grid().size(), hs.spectrum_size(), double(hs.grid().points()), double(hs.transform_points())},
+        nx(hs.grid().nx), ny(hs.grid().ny), precondition(pre), P(n, "the pressure"), W(n, "the displacement"),
+        T(n, "the direction"), Z(pre ? n : 0, "the preconditioned gap"), H(n, "the heights"),
+        PH(2 * nspec, "a spectrum"), HH(2 * nspec, "a spectrum"),
+        OUT(2 * nspec, "a spectrum"), KER(nspec, "the compliance"),
+        M(n, "the contact set"), fft(nx, ny) {
+    p = P.data(), w = W.data(), t = T.data(), z = Z.data(), m = M.data(), h = H.data();
+    p_hat = PH.data(), h_hat = HH.data(), out = OUT.data(), ker = KER.data();
+    KER.upload(hs.compliance().data(), nspec);
+  }
+};
+
+namespace pk {
+// With $CMC_CUDA_PROFILE set: where the device's time went so far, on stderr.
+void report_profile(const PolonskyKeer::Device& d);
+// Throws, naming the grid and the GiB, where `need` bytes exceed the device's free memory;
+// returns the free bytes.
+std::size_t check_device_memory(const char* who, int nx, int ny, std::size_t need);
+}  // namespace pk
+
+}  // namespace cmc

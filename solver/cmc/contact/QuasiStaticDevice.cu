@@ -1,0 +1,40 @@
+// The quasi-static solver with its outer step on one GPU (issue 16): the device backend of
+// QuasiStaticRun.hpp. Every field stays on the device from the first outer step to the
+// last: Polonsky-Keer's (PolonskyKeerDevice.cuh), the case's heights and the tension. The
+// outer step's other fields live in Polonsky-Keer's work arrays, which hold nothing
+// between its solves: the gap in the direction's, the cascade's four buffers in the three
+// spectra (each at least one real field) and the preconditioned gap's (or a buffer of its
+// own without the preconditioner). The cascade runs in rounds (QuasiStaticParts.hpp): a
+// kernel a round with a fixed-order count, so a rerun gives the same bits. The host sees
+// the state at the start (a warm start's tension and pressure go up), at a checkpoint (the
+// tension and the pressure come down, only when one is written: OuterPoint::fetch), and at
+// the end. Before this, the outer step ran on the host between device solves: at 8192²
+// on the GPU machine 151 s of host time against 227 s of the whole run (2026-11-26).
+// Periodic boundary, one process (the case parser refuses the rest with backend = "cuda").
+// Device memory: grid/Backend.hpp quasi_static_bytes (93 GiB at 32768² with the
+// preconditioner: an H200, not an H100).
+#include "cmc/contact/QuasiStaticDevice.cuh"
+
+#include <memory>
+
+namespace cmc {
+
+SolveResult solve_on_device(HalfSpace& hs, const Field& heights, const ExponentialAdhesion& adhesion,
+                            const QuasiStaticAdhesion::Options& o, double self_stiffness,
+                            const std::vector<double>& k_near, const Target& target, ContactState& st,
+                            OuterPoint* from) {
+  if (!hs.periodic() || hs.grid().split())
+    throw std::invalid_argument("quasi-static adhesion on CUDA: periodic boundary and one process only");
+  std::string why;
+  if (!cuda::available(&why)) throw std::runtime_error("quasi-static adhesion on CUDA: " + why);
+  const int nx = hs.grid().nx, ny = hs.grid().ny;
+  pk::check_device_memory("quasi-static adhesion", nx, ny, cuda::quasi_static_bytes(nx, ny, o.precondition));
+  std::unique_ptr<qs::DeviceSteps> b;
+  {
+    cuda::ProfileScope ps(cuda::profile().setup_s);
+    b = std::make_unique<qs::DeviceSteps>(hs, heights, o, k_near);
+  }
+  return qs::solve(*b, hs, adhesion, o, qs::JumpPrediction(self_stiffness, adhesion), target, st, from);
+}
+
+}  // namespace cmc
