@@ -713,10 +713,15 @@ MemoryEstimate estimate_memory(const Case& c) {
     solve_grid += 1.0 + (periodic && c.solver.precondition ? 1.0 : 0.0) + 1.0 / 8.0;
     solve_transform += 2.0 * sp / m + (periodic && memory_split().ranks == 1 ? sp / 2.0 / m : 0.0);
   }
+  // Fields a solver makes in its constructor and frees there, before any state or solve
+  // field exists: a phase of their own (the larger grids' blocks go back to the system;
+  // a smaller grid's stay in glibc's heap, where the state's fields and the solve's are
+  // then allocated).
+  double setup_transform = 0.0;
   if (c.solver.kind == SolverKind::QuasiStatic) {
     // QuasiStaticAdhesion: K's unit response and its set-up impulse on the transform grid
-    // (freed once the cascade's nine entries are read off, like the set-up arrays above)
-    // and the stiffness when periodic, for the whole run; within a solve, around its
+    // in its constructor (freed once the cascade's nine entries are read off), and the
+    // stiffness when periodic, for the whole run; within a solve, around its
     // Polonsky-Keer (counted above): the shifted heights, the tension, G t and the
     // predicted gaps, the cascade's pull, applied and decay fields and flags. The inner
     // state is the driver's (counted above), moved in and back; the next tension is
@@ -725,7 +730,8 @@ MemoryEstimate estimate_memory(const Case& c) {
     // On the GPU the outer step's fields are the device's (grid/Backend.hpp
     // quasi_static_bytes); the host makes the first tension of a warm start and the
     // tension it subtracts at the end (one field).
-    run_transform += 2.0 + (periodic ? sp / 2.0 / m : 0.0);
+    setup_transform = 2.0;
+    run_transform += periodic ? sp / 2.0 / m : 0.0;
     solve_grid += c.grid.backend == "cuda" ? 1.0 : 4.0 + 3.0 + 1.0 / 8.0;
   }
   // A solved step: the observables (the contact mask (bytes), patch labels (ints) and their
@@ -736,7 +742,7 @@ MemoryEstimate estimate_memory(const Case& c) {
   if (c.observables.enabled) step_grid = 1.0 / 8.0 + 1.0 + 2.0 + 1.0;
   // The adhesive CG measures and writes inside its load path, beside its work arrays.
   if (adhesive) run_grid += step_grid, step_grid = 0.0;
-  const double phase_grid = std::max(solve_grid * n + solve_transform * m, step_grid * n);
+  const double phase_grid = std::max({solve_grid * n + solve_transform * m, step_grid * n, setup_transform * m});
   const double grid_fields = run_grid + phase_grid / n, transform = run_transform;
   // The allocator: glibc's heap keeps freed copies of states (the load path's and the
   // load control's) and fragments; measured peak memory was up to 1.2x the fields
