@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <string>
 #include <vector>
 
 using namespace cmc;
@@ -108,4 +110,14 @@ TEST(RowColumnFourier, RefusesALineOrAnEmptyGrid) {
       EXPECT_NE(std::string(e.what()).find("two-dimensional"), std::string::npos) << e.what();
     }
   }
+}
+
+// Where its plans came from, as summary.json reports it (grid.fft_plans, after the
+// half-space's own): the built-in wisdom holds square grids' rows and column blocks from 8
+// to the build's largest (4096 by default); a side it does not hold gets FFTW_ESTIMATE
+// plans, and says so. Under the default planner only ($CMC_FFTW_PLANNER unset).
+TEST(RowColumnFourier, SaysWhereItsPlansCameFrom) {
+  if (const char* p = std::getenv("CMC_FFTW_PLANNER"); p && std::string(p) != "builtin") GTEST_SKIP() << p;
+  EXPECT_EQ(RowColumnFourier(256, 256).plan_source(), "built-in wisdom");
+  EXPECT_EQ(RowColumnFourier(240, 240).plan_source(), "estimate");
 }

@@ -132,6 +132,7 @@ struct HostOf : Fields {
     if (fuse && half_space.periodic() && !g.split() && g.ny > 1) {
       if (!wk.rc || wk.rc->nx() != g.nx || wk.rc->ny() != g.ny) {
         wk.rc = std::make_unique<RowColumnFourier>(g.nx, g.ny);
+        half_space.note_solver_plans("row-column (fused sweeps): " + wk.rc->plan_source());
         wk.ker.resize(nspec);
         wk.rc->reorder(hs.compliance().data(), wk.ker.data());
       }

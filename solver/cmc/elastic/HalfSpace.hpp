@@ -33,6 +33,7 @@
 #include "cmc/grid/Ranks.hpp"
 
 #include <memory>
+#include <string>
 
 namespace cmc {
 
@@ -123,6 +124,11 @@ class HalfSpace {
   double time_fft_pair(double min_seconds = 0.25, int min_repeats = 5);
   // Where the operator's FFT plans came from (Fourier::plan_source: "built-in wisdom", ...).
   const char* plan_source() const { return fourier_.plan_source(); }
+  // Transforms a solver makes of its own for this grid, and where their plans came from
+  // (Polonsky-Keer's fused sweeps: "row-column (fused sweeps): built-in wisdom"): noted by
+  // the solver, reported beside plan_source() in summary.json. Empty: none.
+  void note_solver_plans(std::string what) { solver_plans_ = std::move(what); }
+  const std::string& solver_plans() const { return solver_plans_; }
 
   // Displacement at (x, y) from unit pressure on one cell of size dx x dy centred at the
   // origin (Love 1929): the free boundary's influence coefficient.
@@ -139,6 +145,7 @@ class HalfSpace {
   double spectral_sum(const Complex* s, const double* mul, std::size_t r0, std::size_t r1) const;
 
   Grid grid_;
+  std::string solver_plans_;
   double estar_;
   Boundary boundary_;
   int mx_, my_;

@@ -43,18 +43,20 @@ RowColumnFourier::RowColumnFourier(int nx, int ny) : nx_(nx), ny_(ny), nq_(nx / 
   const int full = std::min(nq_, int(detail::kColumnBlock)), last = block(blocks_ - 1).width;
   // Rows and columns planned apart: a grid the build did not plan (e.g. 8192² in the default
   // build) still gets its rows, 1-D lines up to 65536, from the built-in wisdom.
-  detail::plan_under_policy(1, [&](unsigned flags) {
+  const char* rows = detail::plan_under_policy(1, [&](unsigned flags) {
     P.row_r2c.reset(fftw_plan_dft_r2c_1d(nx, r, c, flags));
     P.row_c2r.reset(fftw_plan_dft_c2r_1d(nx, c, r, flags));
     return P.row_r2c && P.row_c2r;
   });
-  detail::plan_under_policy(1, [&](unsigned flags) {
+  const char* columns = detail::plan_under_policy(1, [&](unsigned flags) {
     P.col_forward.reset(detail::plan_column_block(ny, full, blk, FFTW_FORWARD, flags));
     P.col_inverse.reset(detail::plan_column_block(ny, full, blk, FFTW_BACKWARD, flags));
     P.last_forward.reset(detail::plan_column_block(ny, last, blk, FFTW_FORWARD, flags));
     P.last_inverse.reset(detail::plan_column_block(ny, last, blk, FFTW_BACKWARD, flags));
     return P.col_forward && P.col_inverse && P.last_forward && P.last_inverse;
   });
+  plan_source_ = std::string(rows) == columns ? std::string(rows)
+                                              : std::string("rows: ") + rows + ", column blocks: " + columns;
   save_fftw_wisdom();
 }
 

@@ -38,6 +38,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <string>
 #include <vector>
 
 namespace cmc {
@@ -80,6 +81,10 @@ class RowColumnFourier {
   long forward_count() const { return n_forward_; }
   long inverse_count() const { return n_inverse_; }
   double seconds() const { return seconds_; }
+  // Where its plans came from (detail::plan_under_policy's words): "built-in wisdom", or
+  // "rows: built-in wisdom, column blocks: estimate" where the two differ (a grid the
+  // build did not plan, e.g. 8192² in the default build, still finds its rows there).
+  const std::string& plan_source() const { return plan_source_; }
 
   // The partial result of a sweep without one.
   struct None {
@@ -108,6 +113,7 @@ class RowColumnFourier {
   std::unique_ptr<Plans> plans_;
   long n_forward_ = 0, n_inverse_ = 0;
   double seconds_ = 0.0;
+  std::string plan_source_;
 };
 
 template <class Acc, class Group>

@@ -597,15 +597,18 @@ toml::table Writer::step_json(const StepRecord& r) {
 // Polonsky-Keer iterations (and the device), FFTW for what stays on the host (the
 // quasi-static solver's outer steps).
 std::string Writer::fft_plans() const {
-  const std::string host = scene_.half_space->plan_source();
-  if (case_.grid.backend != "cuda") return host;
+  const HalfSpace& hs = *scene_.half_space;
+  const std::string host = hs.plan_source();
+  if (case_.grid.backend != "cuda") return hs.solver_plans().empty() ? host : host + "; " + hs.solver_plans();
   std::string device;
   try {
     device = cuda::device_description();
   } catch (const std::exception& e) {
     device = e.what();
   }
-  return "cuFFT on " + device + " (Polonsky-Keer); " + host + " (host)";
+  // The solve's transforms run on the device (the quasi-static solver's outer steps too);
+  // the host's plans make the set-up (K's unit response) and the observables.
+  return "cuFFT on " + device + " (the solve); " + host + " (host: set-up and observables)";
 }
 
 toml::table Writer::summary_base() const {
