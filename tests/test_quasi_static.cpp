@@ -17,6 +17,7 @@
 #include "cmc/scene/Scene.hpp"
 #include "cmc/surface/SelfAffine.hpp"
 #include "cmc/surface/SurfaceStats.hpp"
+#include "rough_patch.hpp"
 
 #include <gtest/gtest.h>
 
@@ -34,24 +35,6 @@ void report(const char* key, double value) {
   std::printf("    [quasi-static] %-40s %.8g\n", key, value);
   ::testing::Test::RecordProperty(key, std::to_string(value));
 }
-
-struct RoughPatch {
-  static constexpr int n = 128;
-  HeightMap map;
-  double rho, w, load;
-  RoughPatch() {
-    SelfAffineSpec spec;
-    spec.hurst = 0.8;
-    spec.rolloff_wavelength = 0.2;
-    spec.cutoff_wavelength = 2.0 / n;  // as the challenge at 2048²: λ_s ≈ 2 Δx
-    spec.rms_gradient = 1.0;
-    spec.seed = 11;
-    map = generate_self_affine(spec, n).map;
-    rho = map.grid.dx() / 24.0;  // Δx = 24 ρ, as the challenge at 2048²
-    w = rho;                     // peak tension w/ρ = E* (the challenge: 0.97 E*)
-    load = 0.01;                 // p/(E* ḡ), the challenge's reference load
-  }
-};
 
 // The plain iteration (tangent tension only, no jump prediction or cascade) run to a tight
 // outer tolerance: what the accelerated solve must reproduce.

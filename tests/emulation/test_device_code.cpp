@@ -20,6 +20,7 @@
 #include "cmc/input/Case.hpp"
 #include "cmc/scene/Scene.hpp"
 #include "cmc/surface/SelfAffine.hpp"
+#include "../rough_patch.hpp"
 
 #include <gtest/gtest.h>
 
@@ -35,23 +36,7 @@ using namespace cmc;
 
 namespace {
 
-// As tests/test_quasi_static.cpp's patch: 128², Δx = 24 ρ, peak tension E*.
-struct Patch {
-  static constexpr int n = 128;
-  HeightMap map;
-  double rho, w, load = 0.01;
-  Patch() {
-    SelfAffineSpec spec;
-    spec.hurst = 0.8;
-    spec.rolloff_wavelength = 0.2;
-    spec.cutoff_wavelength = 2.0 / n;
-    spec.rms_gradient = 1.0;
-    spec.seed = 11;
-    map = generate_self_affine(spec, n).map;
-    rho = map.grid.dx() / 24.0;
-    w = rho;
-  }
-};
+using Patch = RoughPatch;  // tests/test_quasi_static.cpp's patch: 128², Δx = 24 ρ, peak tension E*
 
 long contact(const Field& gap) { return long(std::count_if(gap.begin(), gap.end(), [](double g) { return g <= 0.0; })); }
 
