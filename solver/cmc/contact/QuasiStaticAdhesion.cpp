@@ -201,10 +201,10 @@ class HostSteps {
     if (!opt_.predict_jumps) {
       predicted_ = at_->inner.gap;
     } else if (opt_.cascade_rounds) {
-      if (round_a_.size() != n) round_a_.assign(n, 0.0), round_x_.assign(n, 0.0), round_b_.assign(n, 0.0);
+      if (round_a_.size() != n) round_a_.assign(n, 0.0), moved_.assign(n, 0), told_.assign(n, 0);
       int rounds = 0;
-      x_ = qs::cascade_rounds(*this, n, g(), t(), jump, stencil_, hs_.grid().nx, hs_.grid().ny, floor,
-                              predicted_.data(), round_a_.data(), round_x_.data(), round_b_.data(), rounds);
+      qs::cascade_rounds(*this, n, g(), t(), jump, stencil_, hs_.grid().nx, hs_.grid().ny, floor, predicted_.data(),
+                         round_a_.data(), moved_.data(), told_.data(), rounds);
     } else {
       cascade_.run(at_->inner.gap, at_->tension, jump, predicted_, floor);
     }
@@ -257,7 +257,8 @@ class HostSteps {
   const QuasiStaticAdhesion::Options& opt_;
   OuterPoint* at_ = nullptr;
   Field hp_, gt_, predicted_;  // the shifted heights, G t, the predicted gaps
-  Field round_a_, round_x_, round_b_;  // the rounds' other buffers (cascade_rounds only)
+  Field round_a_;                           // the rounds' passed-on gaps (cascade_rounds only)
+  std::vector<std::uint8_t> moved_, told_;  // and their flags
   const double* x_ = nullptr;
   Cascade cascade_;
   qs::Stencil stencil_;

@@ -2,17 +2,17 @@
 // QuasiStaticRun.hpp. Every field stays on the device from the first outer step to the
 // last: Polonsky-Keer's (PolonskyKeerDevice.cuh), the case's heights and the tension. The
 // outer step's other fields live in Polonsky-Keer's work arrays, which hold nothing
-// between its solves: the gap in the direction's, the cascade's four buffers in the three
-// spectra (each at least one real field) and the preconditioned gap's (or a buffer of its
-// own without the preconditioner). The cascade runs in rounds (QuasiStaticParts.hpp): a
-// kernel a round with a fixed-order count, so a rerun gives the same bits. The host sees
+// between its solves: the gap in the direction's, the cascade's predicted and passed-on
+// gaps in two spectra's (each at least one real field), its two flags in the contact
+// mask's and the scratch spectrum's. The cascade runs in rounds (QuasiStaticParts.hpp):
+// two kernels a round, over the frontier only, with a fixed-order count, so a rerun gives the same bits. The host sees
 // the state at the start (a warm start's tension and pressure go up), at a checkpoint (the
 // tension and the pressure come down, only when one is written: OuterPoint::fetch), and at
 // the end. Before this, the outer step ran on the host between device solves: at 8192²
 // on the GPU machine 151 s of host time against 227 s of the whole run (2026-11-26).
 // Periodic boundary, one process (the case parser refuses the rest with backend = "cuda").
 // Device memory: grid/Backend.hpp quasi_static_bytes (93 GiB at 32768² with the
-// preconditioner: an H200, not an H100).
+// preconditioner, 85 GiB without: an H200, not an H100).
 #include "cmc/contact/QuasiStaticDevice.cuh"
 
 #include <memory>

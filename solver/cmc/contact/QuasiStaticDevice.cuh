@@ -16,8 +16,7 @@ struct DeviceSteps {
               const std::vector<double>& k_near)
       : n(heights.size()), hs_(hs), h_(heights), opt_(o), nx_(hs.grid().nx), ny_(hs.grid().ny),
         stencil_(qs::make_stencil(nx_, ny_, true, k_near)), h_scale_(PolonskyKeer::residual_scale(heights)),
-        d_(hs, o.precondition), H0(n, "the heights"), TEN(n, "the tension"),
-        EXTRA(o.precondition ? 0 : n, "the cascade's fourth buffer") {
+        d_(hs, o.precondition), H0(n, "the heights"), TEN(n, "the tension") {
     H0.upload(heights.data(), n);
     d_.H.upload(heights.data(), n);  // hp = h until a tension shifts it
     po_.tolerance = o.tolerance;
@@ -119,10 +118,12 @@ struct DeviceSteps {
       x_ = d_.t;  // the gaps themselves
       return;
     }
-    double* a1 = opt_.precondition ? d_.z : EXTRA.data();
+    // x and a in two spectra's buffers, the flags in the contact mask's and the scratch
+    // spectrum's (each at least n bytes); the gap is in the direction's.
     int rounds = 0;
-    x_ = qs::cascade_rounds(*this, n, d_.t, TEN.data(), jump, stencil_, nx_, ny_, floor, d_.p_hat, d_.h_hat, d_.out,
-                            a1, rounds);
+    qs::cascade_rounds(*this, n, d_.t, TEN.data(), jump, stencil_, nx_, ny_, floor, d_.p_hat, d_.h_hat, d_.m,
+                       reinterpret_cast<std::uint8_t*>(d_.out), rounds);
+    x_ = d_.p_hat;
     rounds_ += rounds;
   }
   double* t() { return TEN.data(); }
@@ -176,7 +177,7 @@ struct DeviceSteps {
   qs::Stencil stencil_;
   double h_scale_;
   PolonskyKeer::Device d_;
-  cuda::Buffer<double> H0, TEN, EXTRA;
+  cuda::Buffer<double> H0, TEN;
   PolonskyKeer::Options po_;
   OuterPoint* at_ = nullptr;
   const double* x_ = nullptr;

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -158,61 +159,99 @@ struct Max {
 // pass moves on in another order, so they may stop a move below the floor apart; on the
 // challenge at 512² and 2048² they reach the same outer steps, iterations and contact set
 // (mean gaps within 1e-9 relative, measured 2026-11-26); on the s = 32 member at 1.6 ρ
-// (1024²) 92 outer steps against 90, the same a_r, the mean gap within 1e-8. Cost: a pass
-// over the grid a round, 40 to 330 rounds an outer step there (a move that spreads by one
-// stencil step a round); a frontier (only tiles whose neighbourhood changed) would cut it.
+// (1024²) 92 outer steps against 90, the same a_r, the mean gap within 1e-8. Rounds there:
+// 40 to 330 an outer step (a move spreads by one stencil step a round); the solve took
+// 29.7 s on 2 CPU threads with the frontier below (84.5 s before the interior's flags were
+// read as one 3 x 3 block; the queue: 17.5 s).
+//
+// A round is two passes, each over every point but each doing its work only where the
+// last one changed something (the frontier): each point keeps two flags, its own. The
+// first pass (Propagate) tells the neighbours of the points whose prediction changed in
+// the last round: a ← x where x < a − floor, flag `told` where a changed, and counts those.
+// The second (Pull) recomputes the prediction of the points next to a told one, from the
+// neighbours' a; flag `moved` where x fell. Elsewhere a point's neighbours are where they
+// were when its prediction was last made, so it would come out the same: skipping it
+// changes no bit. A pass reads and writes only its own point's flags (and the other's
+// flags and its neighbours' a): no two threads write one place, no atomics.
 struct RoundStart {  // round 0: the prediction without pull; nothing passed on yet
   const double *g, *t;
   double *x, *a;
+  std::uint8_t* moved;
   JumpPrediction jp;
   CMC_HD void operator()(std::size_t i) const {
     x[i] = jp.gap(g[i], jp.decay(g[i]), t[i], 0.0);
     a[i] = g[i];
+    moved[i] = 1;
   }
 };
-struct Round {  // one round from (x0, a0) to (x1, a1); counts the points that pass a move on
-  const double *g, *t, *x0, *a0;
-  double *x1, *a1;
+struct Propagate {  // a ← x where x fell below a by more than the floor; counts the points told
+  const double* x;
+  double* a;
+  const std::uint8_t* moved;
+  std::uint8_t* told;
+  double floor;
+  CMC_HD void operator()(std::size_t i, Count& c) const {
+    std::uint8_t f = 0;
+    if (moved[i] && x[i] < a[i] - floor) {
+      a[i] = x[i];
+      f = 1;
+      c.n += 1.0;
+    }
+    told[i] = f;
+  }
+};
+struct Pull {  // x = min(x, gap(g, t, pull)) where a neighbour was told, pull = Σ K_mj (a_j − g_j)
+  const double *g, *t, *a;
+  double* x;
+  const std::uint8_t* told;
+  std::uint8_t* moved;
   JumpPrediction jp;
   Stencil st;
   int nx, ny;
-  double floor;
-  CMC_HD double told(std::size_t j) const { return x0[j] < a0[j] - floor ? x0[j] : a0[j]; }
-  CMC_HD void operator()(std::size_t i, Count& c) const {
-    const double ai = told(i);
-    if (ai != a0[i]) c.n += 1.0;
-    a1[i] = ai;
-    double xi = x0[i];
-    if (g[i] > 0.0) {
-      const int iy = int(i / std::size_t(nx)), ix = int(i - std::size_t(iy) * std::size_t(nx));
+  CMC_HD void operator()(std::size_t i) const {
+    // The flags first (a byte each, mostly cached): most points stop there. Away from the
+    // edges the 3 x 3 block around the point is read without wrapping: a superset of the
+    // stencil (the point itself), which only adds work, never changes a bit (a point whose
+    // neighbours were not told recomputes the prediction it already has).
+    std::uint8_t m = 0;
+    const int iy = i < 0xffffffffu ? int(unsigned(i) / unsigned(nx)) : int(i / std::size_t(nx));
+    const int ix = int(i - std::size_t(iy) * std::size_t(nx));
+    bool any = false;
+    if (ix > 0 && ix + 1 < nx && iy > 0 && iy + 1 < ny) {
+      const std::uint8_t *up = told + (i - std::size_t(nx) - 1), *mid = told + (i - 1), *down = told + (i + std::size_t(nx) - 1);
+      any = (up[0] | up[1] | up[2] | mid[0] | mid[1] | mid[2] | down[0] | down[1] | down[2]) != 0;
+    } else {
+      for (int s = 0; s < st.count; ++s)
+        any = any || told[std::size_t(wrap(iy + st.dy[s], ny)) * std::size_t(nx) + std::size_t(wrap(ix + st.dx[s], nx))];
+    }
+    if (any && g[i] > 0.0) {
+      std::size_t j[kSide * kSide - 1];
+      for (int s = 0; s < st.count; ++s)
+        j[s] = std::size_t(wrap(iy + st.dy[s], ny)) * std::size_t(nx) + std::size_t(wrap(ix + st.dx[s], nx));
       double pull = 0.0;
-      for (int s = 0; s < st.count; ++s) {
-        const std::size_t j = std::size_t(wrap(iy + st.dy[s], ny)) * std::size_t(nx) + std::size_t(wrap(ix + st.dx[s], nx));
-        pull += st.k[s] * (told(j) - g[j]);
-      }
+      for (int s = 0; s < st.count; ++s) pull += st.k[s] * (a[j[s]] - g[j[s]]);
       if (pull > 0.0) {
         const double xn = jp.gap(g[i], jp.decay(g[i]), t[i], pull);
-        if (xn < xi) xi = xn;
+        if (xn < x[i]) x[i] = xn, m = 1;
       }
     }
-    x1[i] = xi;
+    moved[i] = m;
   }
 };
 
-// Runs the rounds over a backend b (b.all, b.reduce<Acc>), x and a ping-ponging between
-// two pairs of the backend's buffers; returns the buffer that holds the predicted gaps
-// and counts the rounds.
+// Runs the rounds over a backend b (b.all, b.reduce<Acc>) on the backend's buffers x, a
+// (n doubles) and moved, told (n bytes); on return x holds the predicted gaps. Counts the
+// rounds.
 template <class B>
-double* cascade_rounds(B& b, std::size_t n, const double* g, const double* t, const JumpPrediction& jp,
-                       const Stencil& st, int nx, int ny, double floor, double* x0, double* a0, double* x1,
-                       double* a1, int& rounds) {
-  b.all(n, RoundStart{g, t, x0, a0, jp});
+void cascade_rounds(B& b, std::size_t n, const double* g, const double* t, const JumpPrediction& jp, const Stencil& st,
+                    int nx, int ny, double floor, double* x, double* a, std::uint8_t* moved, std::uint8_t* told,
+                    int& rounds) {
+  b.all(n, RoundStart{g, t, x, a, moved, jp});
   for (rounds = 0;; ++rounds) {
-    const Count c = b.template reduce<Count>(n, Round{g, t, x0, a0, x1, a1, jp, st, nx, ny, floor});
-    std::swap(x0, x1), std::swap(a0, a1);
+    const Count c = b.template reduce<Count>(n, Propagate{x, a, moved, told, floor});
     if (c.n == 0.0) break;
+    b.all(n, Pull{g, t, a, x, told, moved, jp, st, nx, ny});
   }
-  return x0;
 }
 
 }  // namespace cmc::qs

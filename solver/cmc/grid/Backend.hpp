@@ -49,12 +49,12 @@ inline std::size_t polonsky_keer_bytes(int nx, int ny, bool precondition) {
 }
 // Bytes of device memory the quasi-static solver holds with its outer step on the device
 // (contact/QuasiStaticDevice.cu): Polonsky-Keer's, the heights and the tension (2 real
-// fields), and without the preconditioner one more (the cascade's fourth buffer, which is
-// otherwise the preconditioned gap's). The outer step's other fields (the gap, the
-// predicted gaps, the cascade's) use Polonsky-Keer's direction and spectra between solves.
+// fields). The outer step's other fields (the gap, the cascade's predicted and passed-on
+// gaps and their flags) use Polonsky-Keer's direction, spectra and contact mask between
+// solves.
 inline std::size_t quasi_static_bytes(int nx, int ny, bool precondition) {
   const std::size_t n = std::size_t(nx) * std::size_t(ny);
-  return polonsky_keer_bytes(nx, ny, precondition) + n * (precondition ? 2 : 3) * sizeof(double);
+  return polonsky_keer_bytes(nx, ny, precondition) + 2 * n * sizeof(double);
 }
 }  // namespace cuda
 
