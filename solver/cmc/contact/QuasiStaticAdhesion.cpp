@@ -46,10 +46,9 @@ class Cascade {
   // `k_near`: K at the offsets (dx, dy) of the stencil, entry (dy + kRadius) (2 kRadius + 1)
   // + dx + kRadius (QuasiStaticAdhesion's constructor reads them off K's unit response).
   Cascade(const HalfSpace& hs, const std::vector<double>& k_near)
-      : nx_(hs.grid().nx), ny_(hs.grid().ny), y0_(hs.grid().y0), rows_(hs.grid().rows()), periodic_(hs.periodic()) {
-    const qs::Stencil st = qs::make_stencil(nx_, ny_, periodic_, k_near);
-    for (int k = 0; k < st.count; ++k) stencil_.push_back({st.dx[k], st.dy[k], st.k[k]});
-  }
+      : nx_(hs.grid().nx), ny_(hs.grid().ny), y0_(hs.grid().y0), rows_(hs.grid().rows()), periodic_(hs.periodic()),
+        stencil_(qs::make_stencil(nx_, ny_, periodic_, k_near)) {}
+  const qs::Stencil& stencil() const { return stencil_; }
 
   // x: on exit the predicted gaps. Returns the number of points moved (on this rank).
   long run(const Field& g, const Field& t, const qs::JumpPrediction& jp, Field& x, double move_floor) {
@@ -90,18 +89,18 @@ class Cascade {
         applied_[i] = x[i];
         ++moved;
         const int iy = y0 + int(i / std::size_t(nx)), ix = int(i - std::size_t(iy - y0) * std::size_t(nx));
-        for (const auto& s : stencil_) {
-          int jx = ix + s.dx, jy = iy + s.dy;
+        for (int s = 0; s < stencil_.count; ++s) {
+          int jx = ix + stencil_.dx[s], jy = iy + stencil_.dy[s];
           if (periodic_) {
             jx = wrap(jx, nx), jy = wrap(jy, ny);
           } else if (jx < 0 || jy < 0 || jx >= nx || jy >= ny) {
             continue;
           }
           if (jy >= y0 && jy < y0 + rows) {
-            pull(std::size_t(jy - y0) * std::size_t(nx) + std::size_t(jx), s.k * d);
+            pull(std::size_t(jy - y0) * std::size_t(nx) + std::size_t(jx), stencil_.k[s] * d);
           } else {  // another rank's point: sent at the end of the round
             out_index_.push_back(std::int64_t(jy) * nx + jx);
-            out_pull_.push_back(s.k * d);
+            out_pull_.push_back(stencil_.k[s] * d);
           }
         }
       }
@@ -123,14 +122,10 @@ class Cascade {
   }
 
  private:
-  struct Entry {
-    int dx, dy;
-    double k;
-  };
   static int wrap(int j, int n) { return qs::wrap(j, n); }
   int nx_, ny_, y0_, rows_;  // the whole grid, and this rank's rows [y0_, y0_ + rows_)
   bool periodic_;
-  std::vector<Entry> stencil_;
+  qs::Stencil stencil_;
   Field pull_, applied_, eg_;  // eg_: decay(g) of each point
   std::vector<unsigned char> queued_;
   std::vector<std::size_t> queue_;
@@ -147,11 +142,8 @@ class HostSteps {
   HostSteps(HalfSpace& hs, const Field& h, const std::vector<double>& k_near, const QuasiStaticAdhesion::Options& o)
       : n(h.size()), hs_(hs), h_(h), opt_(o), hp_(h), gt_(n, 0.0), predicted_(n, 0.0), cascade_(hs, k_near),
         pk_(hs, hp_, pk_options()) {  // the residual scale of Polonsky-Keer is that of h (hp == h here)
-    if (o.cascade_rounds) {
-      if (!hs.periodic() || hs.grid().split())
-        throw std::invalid_argument("QuasiStaticAdhesion: cascade_rounds needs a periodic grid held by one process");
-      stencil_ = qs::make_stencil(hs.grid().nx, hs.grid().ny, true, k_near);
-    }
+    if (o.cascade_rounds && (!hs.periodic() || hs.grid().split()))
+      throw std::invalid_argument("QuasiStaticAdhesion: cascade_rounds needs a periodic grid held by one process");
   }
   const std::size_t n;
 
@@ -202,9 +194,8 @@ class HostSteps {
       predicted_ = at_->inner.gap;
     } else if (opt_.cascade_rounds) {
       if (round_a_.size() != n) round_a_.assign(n, 0.0), moved_.assign(n, 0), told_.assign(n, 0);
-      int rounds = 0;
-      qs::cascade_rounds(*this, n, g(), t(), jump, stencil_, hs_.grid().nx, hs_.grid().ny, floor, predicted_.data(),
-                         round_a_.data(), moved_.data(), told_.data(), rounds);
+      qs::cascade_rounds(*this, n, g(), t(), jump, cascade_.stencil(), hs_.grid().nx, hs_.grid().ny, floor,
+                         predicted_.data(), round_a_.data(), moved_.data(), told_.data());
     } else {
       cascade_.run(at_->inner.gap, at_->tension, jump, predicted_, floor);
     }
@@ -261,7 +252,6 @@ class HostSteps {
   std::vector<std::uint8_t> moved_, told_;  // and their flags
   const double* x_ = nullptr;
   Cascade cascade_;
-  qs::Stencil stencil_;
   PolonskyKeer pk_;
   int outer_ = 0, before_ = 0;
 };

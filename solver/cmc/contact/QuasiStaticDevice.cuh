@@ -42,7 +42,7 @@ struct DeviceSteps {
     return d_.reducer.run<Acc>(k, cuda::Everywhere{}, f);
   }
 
-  void bind(OuterPoint& at) { at_ = &at; }
+  void bind(OuterPoint&) {}  // outer_point() is handed the OuterPoint it fills
   void start_cold() {
     double* t = TEN.data();
     cuda::all(n, [=] __device__(std::size_t i) { t[i] = 0.0; });
@@ -120,11 +120,9 @@ struct DeviceSteps {
     }
     // x and a in two spectra's buffers, the flags in the contact mask's and the scratch
     // spectrum's (each at least n bytes); the gap is in the direction's.
-    int rounds = 0;
     qs::cascade_rounds(*this, n, d_.t, TEN.data(), jump, stencil_, nx_, ny_, floor, d_.p_hat, d_.h_hat, d_.m,
-                       reinterpret_cast<std::uint8_t*>(d_.out), rounds);
+                       reinterpret_cast<std::uint8_t*>(d_.out));
     x_ = d_.p_hat;
-    rounds_ += rounds;
   }
   double* t() { return TEN.data(); }
   const double* g() const { return d_.t; }
@@ -158,7 +156,6 @@ struct DeviceSteps {
     st.penetration = delta_;
     pk::report_profile(d_);
   }
-  long rounds() const { return rounds_; }
 
  private:
   // Counts the transforms of a scope with the half-space (the run's FFT pairs).
@@ -179,12 +176,10 @@ struct DeviceSteps {
   PolonskyKeer::Device d_;
   cuda::Buffer<double> H0, TEN;
   PolonskyKeer::Options po_;
-  OuterPoint* at_ = nullptr;
   const double* x_ = nullptr;
   double delta_ = 0.0;
   bool have_p_ = false;
   int outer_ = 0, before_ = 0;
-  long rounds_ = 0;
 };
 
 }  // namespace cmc::qs

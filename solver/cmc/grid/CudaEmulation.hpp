@@ -94,9 +94,9 @@ class Reducer {
 // modes), unnormalised; the inverse destroys its input, as cuFFT's may.
 class Fft {
  public:
-  Fft(int nx, int ny) : n_(std::size_t(nx) * std::size_t(ny)), ns_(std::size_t(ny) * std::size_t(nx / 2 + 1)) {
-    std::vector<double> r(n_);
-    std::vector<fftw_complex> c(ns_);
+  Fft(int nx, int ny) {
+    std::vector<double> r(std::size_t(nx) * std::size_t(ny));
+    std::vector<fftw_complex> c(std::size_t(ny) * std::size_t(nx / 2 + 1));
     f_ = fftw_plan_dft_r2c_2d(ny, nx, r.data(), c.data(), FFTW_ESTIMATE | FFTW_UNALIGNED);
     i_ = fftw_plan_dft_c2r_2d(ny, nx, c.data(), r.data(), FFTW_ESTIMATE | FFTW_UNALIGNED);
     if (!f_ || !i_) throw std::runtime_error("emulated Fft: FFTW made no plan");
@@ -124,7 +124,6 @@ class Fft {
   double seconds = 0.0;
 
  private:
-  std::size_t n_, ns_;
   fftw_plan f_ = nullptr, i_ = nullptr;
 };
 
