@@ -158,7 +158,7 @@ struct Max {
 // induction over the rounds), and the map is order-preserving. The queue and the rounds
 // pass moves on in another order, so they may stop a move below the floor apart; on the
 // challenge at 512² and 2048² they reach the same outer steps, iterations and contact set
-// (mean gaps within 1e-9 relative, measured 2026-11-26); on the s = 32 member at 1.6 ρ
+// (mean gaps within 1.2e-9 and 3.6e-10 relative, measured 2026-11-26); on the s = 32 member at 1.6 ρ
 // (1024²) 92 outer steps against 90, the same a_r, the mean gap within 1e-8. Rounds there:
 // 40 to 330 an outer step (a move spreads by one stencil step a round); the solve took
 // 29.7 s on 2 CPU threads with the frontier below (84.5 s before the interior's flags were
