@@ -486,6 +486,161 @@ def measured_members():
     return family_members() + seed_members(os.path.dirname(FAMILY_STORE))
 
 
+def condition_members(store_dir=None):
+    """The members with a reference of the family run at other conditions than the challenge's
+    (STORE/conditions/*/scaled_family.json, scripts/scaled_family.py --tabor MU / --pressure PA),
+    each with its "tabor" and/or "pressure_Pa". They measure whether the bands, measured at
+    mu_T = 3 and 250 kPa, hold at the sweeps' other points; measured_members() leaves them out."""
+    store_dir = store_dir or os.path.dirname(FAMILY_STORE)
+    out = []
+    for path in sorted(glob.glob(os.path.join(store_dir, "conditions", "*", "scaled_family.json"))):
+        out += [m for m in family_members(path) if m.get("reference", {}).get("a_r")]
+    return out
+
+
+def _same(a, b):
+    return (a is None and b is None) or (a is not None and b is not None and abs(a / b - 1) < 0.01)
+
+
+def condition_error(strategy, dx_over_rho, tabor=None, pressure=None, members=None):
+    """The strategy's error (strategy_errors) measured on the family at this condition (mu_T within
+    1 %, load within 1 %; None for the challenge's own 3 and 250 kPa), or (None, []) where no
+    condition store holds it or no run is near this dx/rho."""
+    ms = [m for m in (condition_members() if members is None else members)
+          if _same(m.get("tabor"), tabor) and _same(m.get("pressure_Pa"), pressure)]
+    return strategy_errors(ms, strategy, dx_over_rho) if ms else (None, [])
+
+
+def run_band(summary, short):
+    """The error band (relative) of an adhesive run for `short`: the larger of its strategy's error
+    measured on the family at mu_T = 3 and 250 kPa (run_strategy_error) and, where the family was
+    also run at the run's own mu_T (condition_members), the error measured there. Returns (dx/rho,
+    band, error at mu_T = 3, error at the run's mu_T, what the first was measured on), or None for
+    runs without exponential adhesion; band None where neither is measured."""
+    got = run_strategy_error(summary, short)
+    if got is None:
+        return None
+    k, rel, used = got
+    tabor = get(summary, "case", "interaction", "tabor")
+    at = None
+    if finite(tabor) and abs(tabor / 3.0 - 1) > 0.01:
+        err, _ = condition_error(run_strategy(summary), k, tabor=tabor)
+        at = None if err is None else err[short]
+    both = [x for x in (rel, at) if x is not None]
+    return k, (max(both) if both else None), rel, at, used
+
+
+def load_bands(summary, short, pressures):
+    """Per load of an adhesive load sweep (its summary.json; pressures in Pa): the relative band for
+    `short`, and a sentence on what it rests on. The band measured at mu_T = 3 and 250 kPa
+    (run_band) holds at every load unless the family was also run at other loads
+    (condition_members with a "pressure_Pa", scripts/scaled_family.py --pressure): then, at each
+    load, the larger of it and the errors measured at the loads, interpolated linearly in log p
+    between the measured loads (250 kPa's the first band) and held beyond them. None where
+    nothing is measured at this dx/rho."""
+    got = run_band(summary, short)
+    if got is None or got[1] is None:
+        return None, ""
+    k, band, _, _, _ = got
+    tabor = get(summary, "case", "interaction", "tabor")
+    at = [(250e3, band)]
+    for p in sorted({m["pressure_Pa"] for m in condition_members() if "pressure_Pa" in m}):
+        err, _ = condition_error(run_strategy(summary), k, tabor=None if not finite(tabor) or abs(tabor / 3.0 - 1) <= 0.01
+                                 else tabor, pressure=p)
+        if err is not None and abs(p / 250e3 - 1) > 0.01:
+            at.append((p, err[short]))
+    at.sort()
+    if len(at) == 1:
+        return [band] * len(pressures), ""
+    lp = np.log([a[0] for a in at])
+    rel = np.interp(np.log(np.asarray(pressures, dtype=float)), lp, [a[1] for a in at])
+    words = (f"the larger of the band at 250 kPa ({100 * band:.3g} %) and the error measured on the family's s = 32 "
+             "member at the sweep's other loads (" + ", ".join(f"{p / 1e3:g} kPa: {100 * e:.3g} %" for p, e in at
+                                                               if abs(p / 250e3 - 1) > 0.01)
+             + "; reference/challenge-scaled/conditions/p*/), interpolated in log p between the measured loads and "
+             "held beyond them")
+    return [max(band, float(r)) for r in rel], words
+
+
+def condition_checks(members=None, reference=None):
+    """One row per coarse run of each condition member (plain and strategies): its signed relative
+    deviation from that member's reference per quantity, and the band the challenge's references
+    take at that dx/rho from the family at mu_T = 3 and 250 kPa (strategy_errors over
+    measured_members()): whether the band, assumed at this condition, holds there."""
+    rows = []
+    base = measured_members() if reference is None else reference
+    for m in (condition_members() if members is None else members):
+        ref = m["reference"]
+        for r in sorted(m["runs"], key=lambda r: (-r["dx_over_rho"], r["role"])):
+            strategy = r["role"].split("_")[0]
+            if strategy not in ("plain",) + STRATEGIES or not r["role"].endswith("rho"):
+                continue
+            band, _ = strategy_errors(base, strategy, r["dx_over_rho"])
+            row = {"tabor": m.get("tabor", 3.0), "pressure_Pa": m.get("pressure_Pa", 250e3), "s": m["s"],
+                   "strategy": strategy, "n": r["n"], "dx_over_rho": r["dx_over_rho"]}
+            for _, short, _ in FAMILY_QUANTITIES:
+                q = ref[short]
+                dev = r[short] / q["value"] - 1
+                row[short] = {"deviation": dev, "refinement": q["refinement_error"] / abs(q["value"]),
+                              "band": None if band is None else band[short]}
+            rows.append(row)
+    return rows
+
+
+def condition_holds(row):
+    """Whether the band at mu_T = 3 and 250 kPa holds a condition_checks row (a_r and the mean gap:
+    |deviation| plus the reference's refinement error within the band); None without a band."""
+    out = []
+    for short in ("a_r", "mean_gap"):
+        q = row[short]
+        if q["band"] is not None:
+            out.append(abs(q["deviation"]) + q["refinement"] <= q["band"])
+    return None if not out else all(out)
+
+
+def condition_summary(rows, strategies=("plain",)):
+    """One sentence on the condition check of the given strategies' runs, or "" without rows."""
+    rows = [r for r in rows if r["strategy"] in strategies and condition_holds(r) is not None]
+    if not rows:
+        return ""
+    bad = [r for r in rows if not condition_holds(r)]
+    conds = sorted({(r["tabor"], r["pressure_Pa"]) for r in rows})
+    words = ", ".join(f"μ_T = {t:g} at {p / 1e3:g} kPa" for t, p in conds)
+    if not bad:
+        return (f"At the other conditions measured ({words}) the band measured at μ_T = 3 and 250 kPa held every "
+                f"{'/'.join(strategies)} run ({len(rows)}).")
+    worst = max(bad, key=lambda r: abs(r["a_r"]["deviation"]) / max(r["a_r"]["band"] or 1e-300, 1e-300))
+    return (f"At the other conditions measured ({words}) the band measured at μ_T = 3 and 250 kPa failed "
+            f"{len(bad)} of {len(rows)} {'/'.join(strategies)} runs; the worst, μ_T = {worst['tabor']:g} at "
+            f"{worst['pressure_Pa'] / 1e3:g} kPa on dx = {worst['dx_over_rho']:.2f} ρ: a_r "
+            f"{100 * worst['a_r']['deviation']:+.1f} % against a band of ±{100 * worst['a_r']['band']:.1f} %.")
+
+
+def condition_check_lines(rows, strategies=("plain",)):
+    """Markdown lines: the condition check's table (condition_checks rows of the given strategies)."""
+    rows = [r for r in rows if r["strategy"] in strategies]
+    if not rows:
+        return []
+    L = ["| μ_T | load (kPa) | run | dx/ρ | a_r: measured (ref. error) / band | mean gap: measured / band | band holds |",
+         "|---|---|---|---|---|---|---|"]
+    for r in rows:
+        cells, holds = [], []
+        for short in ("a_r", "mean_gap"):
+            q = r[short]
+            meas = abs(q["deviation"]) + q["refinement"]
+            band = q["band"]
+            cells.append(f"{100 * q['deviation']:+.1f} % ({100 * q['refinement']:.1f} %) / "
+                         + ("—" if band is None else f"±{100 * band:.1f} %") if short == "a_r" else
+                         f"{100 * q['deviation']:+.2f} % / " + ("—" if band is None else f"±{100 * band:.2f} %"))
+            holds.append(None if band is None else meas <= band)
+        verdict = ("no band" if all(h is None for h in holds) else
+                   "yes" if all(h in (True, None) for h in holds) else
+                   "**no** (" + ", ".join(k for k, h in zip(("a_r", "mean gap"), holds) if h is False) + ")")
+        L.append(f"| {r['tabor']:g} | {r['pressure_Pa'] / 1e3:g} | {r['strategy']}, s = {r['s']} on {r['n']}² | "
+                 f"{r['dx_over_rho']:.2f} | {cells[0]} | {cells[1]} | {verdict} |")
+    return L + [""]
+
+
 def realization_members(reference_dir, case_seed):
     """The family's members on every stored realization of the surface: the main store's (the case
     file's seed, `case_seed`) and those of reference/challenge-scaled/seeds/*/ (scripts/scaled_family.py

@@ -8,12 +8,14 @@ affordable, and plain coarse runs beside them.
                                               [--strategies range shape]
                                               [--results results/scaled-family] [--store reference/challenge-scaled]
                                               [--cmc build/cmc] [--set KEY=VALUE ...] [--dry-run]
+                                              [--seed N] [--tabor MU] [--pressure PA]
 
 Member s of the family is cases/challenge/scaled-family.toml with
 surface.cutoff_wavelength = s x 0.1 µm and interaction.work_of_adhesion = s x 0.05 J/m²
 (mu_T = 3, so rho(s) follows from the surface's R_c). For each s it runs, on the loading
 branch at 250 kPa:
   resolved     the smallest power-of-two grid with dx <= 0.8 rho(s)   -> the reference value
+               (and dx <= lambda_s/64, which only a lower mu_T than 3 makes the finer bound)
   refinement   half that grid (dx <= 1.6 rho(s))                        -> its refinement error
   plain_<k>rho the FFT-friendly grid (factors 2, 3, 5) nearest dx = k rho(s), for each k of
                --coarse (default 2 and 4, the spacings the resolution strategy targets; 6, 12
@@ -37,6 +39,14 @@ tension tolerance (s = 8).
 rho(s) is read from `cmc surface` (dx_over_range), never assumed. Runs go to
 RESULTS/s<S>/n<N>/ with --resume: a finished run is kept, an interrupted one resumes.
 
+--tabor MU and --pressure PA run the family at another condition than the challenge's
+(mu_T = 3, 250 kPa): the Tabor sweep's and the load sweep's points (challenge items 2, 6, 7
+and 8), whose error bands are the family's error measured at mu_T = 3 and 250 kPa. A
+condition's runs go to RESULTS/conditions/<condition>/ and its store holds that condition
+only (e.g. --store reference/challenge-scaled/conditions/mu_T1): it measures whether the
+bands hold there (reports/common.py, condition_checks), and no band of the challenge is
+taken from it. The hard-wall runs get the pressure too (mu_T is adhesion's).
+
 --store merges into STORE/scaled_family.json (members and runs of this invocation replace
 those with the same s and role; others are kept) and rewrites STORE/README.md from it:
 STORE/scaled_family.json (every run: command, grid, dx/rho, tolerance,
@@ -57,8 +67,9 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "reports"))
-from common import (FAMILY_QUANTITIES as QUANTITIES, STRATEGY_TARGETS, s_extrapolation, s_extrapolation_verdict,
-                    seed_members, strategy_errors, strategy_run_near)  # noqa: E402
+from common import (FAMILY_QUANTITIES as QUANTITIES, STRATEGY_TARGETS, condition_check_lines,  # noqa: E402
+                    condition_checks, condition_members, condition_summary, s_extrapolation,
+                    s_extrapolation_verdict, seed_members, strategy_errors, strategy_run_near)
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 CASE = "cases/challenge/scaled-family.toml"
@@ -75,6 +86,27 @@ def member_sets(s, adhesion=True):
     """The --set overrides that make member s of a family case (the hard-wall case has no w)."""
     return ([f"surface.cutoff_wavelength={s * LAMBDA_S1:.6g}"]
             + ([f"interaction.work_of_adhesion={s * W1:.6g}"] if adhesion else []))
+
+
+def condition_sets(tabor, pressure, adhesion=True):
+    """The --set overrides of a condition (--tabor, --pressure); the hard-wall case has no mu_T."""
+    return (([f"interaction.tabor={tabor:.6g}"] if tabor is not None and adhesion else [])
+            + ([f"loading.values=[{pressure:.6g}]"] if pressure is not None else []))
+
+
+def condition_name(tabor, pressure):
+    """The folder name of a condition ("mu_T1", "p1e+06Pa", "mu_T0.316-p1e+06Pa"), or None for the
+    challenge's own (mu_T = 3, 250 kPa)."""
+    parts = ([f"mu_T{tabor:g}"] if tabor is not None else []) + ([f"p{pressure:g}Pa"] if pressure is not None else [])
+    return "-".join(parts) or None
+
+
+def condition_words(m):
+    """"μ_T = 3, at 250 kPa" or the member's own condition."""
+    mu = m.get("tabor", 3)
+    p = m.get("pressure_Pa", 250e3)
+    return f"μ_T = {mu:g}" + ("" if "tabor" not in m else " (`--tabor`)") + f", at {p / 1e3:g} kPa" + (
+        "" if "pressure_Pa" not in m else " (`--pressure`)")
 
 
 def rho_of(cmc, s, extra):
@@ -110,8 +142,12 @@ def fmt_k(k):
     return f"{k:g}".replace(".", "p")
 
 
-def grids(rho, coarse, explicit, resolved, strategies=tuple(STRATEGY)):
-    """role -> grid size, in the order the runs are made (cheapest first)."""
+def grids(rho, coarse, explicit, resolved, strategies=tuple(STRATEGY), lambda_s=None):
+    """role -> grid size, in the order the runs are made (cheapest first). The resolved grid is
+    the smallest power of two with dx <= 0.8 rho and dx <= lambda_s / 64: at mu_T = 3 the first
+    implies the second (rho/lambda_s = 0.019, so dx = 0.8 rho is lambda_s / 65.5 for every s); at
+    a lower mu_T (--tabor) rho grows and the surface's short cutoff, resolved as finely as at
+    mu_T = 3, sets the grid."""
     g = {}
     for k in sorted(coarse, reverse=True):
         n = fft_friendly(L / (k * rho))
@@ -124,7 +160,7 @@ def grids(rho, coarse, explicit, resolved, strategies=tuple(STRATEGY)):
             g[f"{st}_n{n}"] = n
     if resolved:
         n_res = 2
-        while L / n_res > 0.8 * rho:
+        while L / n_res > 0.8 * rho or (lambda_s is not None and L / n_res > lambda_s / 64):
             n_res *= 2
         g["refinement"] = n_res // 2
         g["resolved"] = n_res
@@ -236,18 +272,25 @@ def estimates(members, realizations=()):
 def write_store(store, data):
     """STORE/scaled_family.json and the README.md made from it, each written atomically."""
     atomic_write(os.path.join(ROOT, store, "scaled_family.json"), json.dumps(data, indent=1) + "\n")
-    atomic_write(os.path.join(ROOT, store, "README.md"), readme(data))
+    atomic_write(os.path.join(ROOT, store, "README.md"), readme(data, os.path.join(ROOT, store)))
 
 
-def readme(data):
+def readme(data, store_dir):
     lines = ["# Scaled challenge family: converged adhesive references", "",
              "Generated by `/usr/bin/python3 scripts/scaled_family.py --store reference/challenge-scaled` "
              "from the runs' `summary.json`; do not edit by hand. Every run, with its command, is in "
              "`scaled_family.json`.", "",
              "Member s of the family is the challenge (`cases/challenge/scaled-family.toml`) with the short "
-             "cutoff λ_s = s × 0.1 µm and the work of adhesion w = s × 50 mJ/m², μ_T = 3 (ρ(s) from the "
-             "surface's R_c), at 250 kPa on the loading branch (solver `quasi_static`). ρ/λ_s, w/(E\\*ρ) and "
-             "μ_T are the challenge's; only the bandwidth shrinks.", "",
+             "cutoff λ_s = s × 0.1 µm and the work of adhesion w = s × 50 mJ/m², "
+             + (condition_words(data["members"][0]) if data["members"] else "μ_T = 3, at 250 kPa")
+             + " (ρ(s) from the surface's R_c), on the loading branch (solver `quasi_static`). ρ/λ_s, w/(E\\*ρ) and "
+             "μ_T are the challenge's at that condition; only the bandwidth shrinks.", ""]
+    if data["members"] and ("tabor" in data["members"][0] or "pressure_Pa" in data["members"][0]):
+        lines += ["**Another condition than the challenge's** (μ_T = 3, 250 kPa): a point of the challenge's "
+                  "Tabor sweep or load sweep, whose error bands are the family's error measured at μ_T = 3 and "
+                  "250 kPa. This store checks whether they hold here (`reports/common.py`, `condition_checks`; the "
+                  "family's README and the challenge report print the check); no band is taken from it.", ""]
+    lines += [
              "**Reference** = the run on the resolved grid (dx ≤ 0.8 ρ(s)). **Refinement error** = |resolved − "
              "refinement| (the same case on half the points): it bounds the resolved grid's own error if the error "
              "falls at least linearly with dx (for order p it is |difference| / (2^p − 1)). The plain coarse runs "
@@ -311,8 +354,38 @@ def readme(data):
                 lines.append(f"| {e['n']}² ({e['role']}) | {e['dx_over_rho']:.1f} | " + " | ".join(cells)
                              + f" | {'; '.join(e['measured_on']) or '—'} |")
             lines.append("")
+    main_store = not any(k in m for m in data["members"] for k in ("seed", "tabor", "pressure_Pa"))
+    if main_store:
+        lines += condition_lines(store_dir, data["members"])
     lines += s_route_lines(data.get("s_extrapolation"))
     return "\n".join(lines)
+
+
+def condition_lines(store_dir, members):
+    """The family store's section on the bands at other conditions (the stores of --tabor and
+    --pressure in STORE/conditions/): measured deviation against the band taken at mu_T = 3 from
+    this store's members and its other realizations (STORE/seeds/)."""
+    rows = condition_checks(condition_members(store_dir), reference=list(members) + seed_members(store_dir))
+    lines = ["## The bands at other conditions", ""]
+    if not rows:
+        return lines + ["Not measured yet: the challenge's Tabor sweep and load sweep take their bands from the "
+                        "family at μ_T = 3 and 250 kPa; `--tabor MU` and `--pressure PA` (with "
+                        "`--store reference/challenge-scaled/conditions/NAME`) measure them at other points.", ""]
+    lines += ["The challenge's Tabor sweep and load sweep (items 2, 6, 7, 8) take their error bands from the family "
+              "at μ_T = 3 and 250 kPa, at each point's dx/ρ. The same member run at another μ_T or load "
+              "(`scripts/scaled_family.py --s 32 --tabor MU` or `--pressure PA`, each with its own resolved reference, "
+              "stores in `conditions/`) measures whether that band holds there. Each row: a coarse run's deviation "
+              "from that condition's reference (in brackets the reference's own refinement error) against the band "
+              "the references take at that dx/ρ; \"band holds\" when |deviation| plus the refinement error is "
+              "within it. The coarse grids are the challenge's 2048² and 4096² at that condition in dx/ρ (and "
+              "dx/λ_s), and 2 ρ and 4 ρ where μ_T ≥ 1.", ""]
+    lines += condition_check_lines(rows, ("plain",) + tuple(STRATEGY))
+    summary = condition_summary(rows)
+    lines += ([summary, ""] if summary else []) + [
+        "The Tabor sweep's references (`reference/challenge/contact_area_vs_tabor.csv`, `mean_gap_vs_tabor.csv`) "
+        "take, at each μ_T measured here, the larger of the two errors as their band "
+        "(`scripts/challenge_reference.py`); the load sweep's bands are still those measured at 250 kPa.", ""]
+    return lines
 
 
 def s_route_lines(x):
@@ -378,6 +451,12 @@ def main():
                     help="another realization of the surface (surface.seed; the case file's is 28): set on every run, "
                          "the hard-wall ones included, and recorded in the store, which refuses to merge members of "
                          "different seeds. Store each seed apart (e.g. reference/challenge-scaled/seeds/seedN)")
+    ap.add_argument("--tabor", type=float, default=None, metavar="MU",
+                    help="another Tabor parameter than the case's 3 (interaction.tabor): a condition of the challenge's "
+                         "Tabor sweep; its runs go to RESULTS/conditions/<condition>/, its store holds that condition only")
+    ap.add_argument("--pressure", type=float, default=None, metavar="PA",
+                    help="another load than 250 kPa (loading.values, Pa): a point of the challenge's load sweep; "
+                         "as --tabor, the hard-wall runs included")
     ap.add_argument("--dry-run", action="store_true", help="print the runs, run nothing")
     ap.add_argument("--reestimate", action="store_true",
                     help="run nothing: recompute the challenge's error bars in --store from the members stored there "
@@ -400,11 +479,24 @@ def main():
     if any(x.split("=")[0].strip() == "surface.seed" for x in a.set):
         sys.exit("scaled_family: give a realization with --seed N (it reaches the hard-wall runs and the store too), "
                  "not --set surface.seed=N")
+    for key, opt in (("interaction.tabor", "--tabor MU"), ("loading.values", "--pressure PA")):
+        if any(x.split("=")[0].strip() == key for x in a.set):
+            sys.exit(f"scaled_family: give a condition with {opt} (it names the results folder and the store), "
+                     f"not --set {key}=...")
+    if a.tabor is not None and not (a.tabor > 0 and math.isfinite(a.tabor)):
+        sys.exit(f"scaled_family: --tabor {a.tabor}: expected a positive Tabor parameter")
+    if a.pressure is not None and not (a.pressure > 0 and math.isfinite(a.pressure)):
+        sys.exit(f"scaled_family: --pressure {a.pressure}: expected a positive mean pressure in Pa")
+    condition = condition_name(a.tabor, a.pressure)
+    if condition:
+        a.results = os.path.join(a.results, "conditions", condition)
+    adhesive_set = seed_set + condition_sets(a.tabor, a.pressure)
+    hardwall_set = seed_set + condition_sets(a.tabor, a.pressure, adhesion=False)
 
     members = []
     for s in a.s:
-        rho = rho_of(a.cmc, s, seed_set + a.set)
-        g = grids(rho, a.coarse, a.grids, not a.no_resolved, a.strategies)
+        rho = rho_of(a.cmc, s, adhesive_set + a.set)
+        g = grids(rho, a.coarse, a.grids, not a.no_resolved, a.strategies, lambda_s=s * LAMBDA_S1)
         if a.no_plain:
             g = {role: n for role, n in g.items() if not role.startswith("plain_")}
         if a.refinement_only:
@@ -416,7 +508,7 @@ def main():
         for role in g:
             strategy = role.split("_")[0] if role.split("_")[0] in STRATEGY else None
             out = os.path.join(a.results, f"s{s}", f"n{g[role]}" + (f"-{strategy}" if strategy else ""))
-            extra, options = seed_set + a.set + (STRATEGY[strategy] if strategy else []), []
+            extra, options = adhesive_set + a.set + (STRATEGY[strategy] if strategy else []), []
             if a.start_resolved and role == "refinement":
                 out, extra, start = out + "-fields", extra + ["output.fields=true"], out + "-fields"
             if a.start_resolved and role == "resolved":
@@ -435,13 +527,17 @@ def main():
                         if "refinement" in g else {f"hardwall_n{n}": n for n in sorted(a.grids)[-2:]})
             for role, n in hw_grids.items():
                 out = os.path.join(a.results, f"s{s}", f"n{n}-hardwall")
-                cmd = run(a.cmc, s, n, out, seed_set, a.dry_run, case=CASE_HW)
+                cmd = run(a.cmc, s, n, out, hardwall_set, a.dry_run, case=CASE_HW)
                 if not a.dry_run:
                     runs.append(record(out, role, n, rho, cmd))
         m = {"s": s, "lambda_s_m": s * LAMBDA_S1, "w_J_m2": s * W1, "rho_m": rho, "runs": runs, "reference": {},
              "adhesionless": adhesionless(runs)}
         if a.seed is not None:
             m["seed"] = a.seed
+        if a.tabor is not None:
+            m["tabor"] = a.tabor
+        if a.pressure is not None:
+            m["pressure_Pa"] = a.pressure
         by = {r["role"]: r for r in runs}
         if "resolved" in by and "refinement" in by:
             for _, short, unit in QUANTITIES:
@@ -461,6 +557,10 @@ def main():
             if prev and prev.get("seed") != m.get("seed"):
                 sys.exit(f"scaled_family: {path} holds s = {m['s']} of surface seed {prev.get('seed', 'of the case file')}, "
                          f"this invocation seed {m.get('seed', 'of the case file')}: store each realization apart")
+            if prev and (prev.get("tabor"), prev.get("pressure_Pa")) != (m.get("tabor"), m.get("pressure_Pa")):
+                sys.exit(f"scaled_family: {path} holds s = {m['s']} at {condition_words(prev)}, this invocation "
+                         f"{condition_words(m)}: store each condition apart (e.g. reference/challenge-scaled/conditions/"
+                         f"{condition or 'NAME'})")
             if prev:  # keep the roles this invocation did not run
                 roles = {r["role"] for r in m["runs"]}
                 m["runs"] = [r for r in prev["runs"] if r["role"] not in roles] + m["runs"]
@@ -471,12 +571,12 @@ def main():
         merged = [old[s] for s in sorted(old, reverse=True)]
         for m in merged:
             m["runs"].sort(key=lambda r: (r["role"].split("_")[0] not in ("resolved", "refinement"), -r["n"], r["role"]))
-        # A realization's own store measures nothing for the challenge: only the family store's
-        # estimates take the other realizations in.
-        estimates(merged, seed_members(os.path.join(ROOT, a.store)) if a.seed is None else ())
+        # A realization's or a condition's own store measures nothing for the challenge: only the
+        # family store's estimates take the other realizations in.
+        estimates(merged, seed_members(os.path.join(ROOT, a.store)) if a.seed is None and not condition else ())
         data = {"generator": "scripts/scaled_family.py", "case_file": CASE, "case_file_hardwall": CASE_HW,
                 "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
-                "load_Pa": 250e3, "members": merged, "s_extrapolation": s_extrapolation(merged)}
+                "load_Pa": a.pressure or 250e3, "members": merged, "s_extrapolation": s_extrapolation(merged)}
         write_store(a.store, data)
         print(f"scaled_family: wrote {a.store}/scaled_family.json and README.md", file=sys.stderr)
 
