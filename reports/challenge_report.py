@@ -21,8 +21,8 @@ import re
 
 import numpy as np
 
-from common import (CHALLENGE, FAMILY_QUANTITIES, realization_members, realization_rows, case_name, family_members, finite, fmt, get, gpu_row_head, gpu_section, h5_open, load_json,
-                    md_table, plt, read_reference_csv, rel, roundoff_note, run_strategy, run_strategy_error, STRATEGIES, s_extrapolation,
+from common import (CHALLENGE, FAMILY_QUANTITIES, condition_check_lines, condition_checks, condition_summary, load_bands, realization_members, realization_rows, case_name, family_members, finite, fmt, get, gpu_row_head, gpu_section, h5_open, load_json,
+                    md_table, plt, read_reference_csv, rel, roundoff_note, run_band, run_strategy, STRATEGIES, s_extrapolation,
                     s_extrapolation_verdict, savefig, step_groups, transfer_caveat, write_csv)
 
 P0 = CHALLENGE["p0"]
@@ -31,9 +31,25 @@ P0 = CHALLENGE["p0"]
 def _band(run, short):
     """The relative error for `short` (a_r, mean_gap) that the run's strategy (range or shape
     coarse-graining, or plain) has on the scaled challenge family at this run's dx/rho
-    (reports/common.py), or None (no exponential adhesion, or no family run near its dx/rho)."""
-    got = run_strategy_error(run.s, short)
+    (reports/common.py), the larger of it and the error measured at the run's own mu_T where the
+    family was run there too (run_band), or None (no exponential adhesion, or no family run near
+    its dx/rho)."""
+    got = run_band(run.s, short)
     return got[1] if got else None
+
+
+def _condition_note():
+    """The Tabor section's lines on the bands at other mu_T (reports/common.py condition_checks):
+    the family's member run at the sweep's own mu_T against the band measured at mu_T = 3."""
+    rows = condition_checks()
+    if not rows:
+        return []
+    return ["**Does the band measured at μ_T = 3 hold at the sweep's other μ_T?** The family's s = 32 member run at "
+            "the sweep's own μ_T (`reference/challenge-scaled/conditions/`, `scripts/scaled_family.py --tabor MU`), "
+            "each with its own resolved reference, on the grids that match the challenge's 2048² and 4096² at that "
+            "μ_T in dx/ρ and dx/λ_s: each row, a plain run's deviation from that reference (its refinement error in "
+            "brackets) against the band taken at μ_T = 3. Where measured, the error bars above are the larger of the "
+            "two.", ""] + condition_check_lines(rows) + [condition_summary(rows), ""]
 
 
 def _pm(v, relerr, digits=4, scale=1.0):
@@ -532,9 +548,15 @@ def _load_sweep(runs, out_dir, data_dir, case_dir, reference_dir):
         """(absolute band per point or None, legend text) of a sweep: the strategy's relative error
         for adhesive runs; for the hard wall hardwall_sweep_band."""
         if r.adhesive:
-            b = _band(r, short)
-            return (None, "") if not b else ([b * abs(st[key]) for st in pts],
-                                             f"± {100 * b:.3g} %, strategy error, scaled family")
+            b, words = load_bands(r.s, short, [st["p"] for st in pts])
+            if not b:
+                return None, ""
+            note = f"Adhesive {r.nx}² sweep, {short}: band per load, {words}."
+            if words and note not in res["notes"]:
+                res["notes"].append(note)
+            return ([x * abs(st[key]) for x, st in zip(b, pts)],
+                    f"± {100 * b[0]:.3g} % … {100 * b[-1]:.3g} %, strategy error, scaled family" if words
+                    else f"± {100 * b[0]:.3g} %, strategy error, scaled family")
         finer = finer_sweep(sweeps, r)
         band, how = hardwall_sweep_band(hw_pair, r, pts, key, finer)
         if not band:
@@ -1345,6 +1367,7 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
     tabor_cols = ["μ_T", "run", "grid", "p (kPa)", "a_r", "repulsive fraction", "mean gap (nm)"]
     section(6, "Contact area as a function of the Tabor coefficient (log μ_T)", tabor["area"], tabor_cols,
             band_note[:1] + ["Each μ_T has its own ρ, hence its own dx/ρ and its own error bar.", ""]
+            + _condition_note()
             + [n + "\n" for n in dict.fromkeys(tabor.get("notes", []))])
     section(7, "Mean gap as a function of the Tabor coefficient (log μ_T)", _no_rows(tabor["gap"]), tabor_cols,
             ["Numbers: the table of item 6.", ""])

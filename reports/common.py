@@ -495,7 +495,7 @@ def condition_members(store_dir=None):
     out = []
     for path in sorted(glob.glob(os.path.join(store_dir, "conditions", "*", "scaled_family.json"))):
         out += [m for m in family_members(path) if m.get("reference", {}).get("a_r")]
-    return out
+    return sorted(out, key=lambda m: (m.get("tabor", 3.0), m.get("pressure_Pa", 250e3), m["s"]))
 
 
 def _same(a, b):

@@ -45,8 +45,9 @@ sys.path.insert(0, os.path.join(ROOT, "reports"))
 from challenge_report import (Run, _centers, _find_runs, _merged_sweeps, _observables,  # noqa: E402
                               _reference_load_runs, band_floor, finer_sweep, grid_change, hardwall_sweep_band,
                               profile_band, refinement_band)  # (the report's extraction)
-from common import (CHALLENGE, FAMILY_STORE, STRATEGY_WORDS, load_json, roundoff_note, run_strategy,  # noqa: E402
-                    run_strategy_error, transfer_caveat)
+from common import (CHALLENGE, FAMILY_STORE, STRATEGY_WORDS, condition_checks,  # noqa: E402
+                    condition_summary, load_bands, load_json, run_band,
+                    read_reference_csv, roundoff_note, run_strategy, run_strategy_error, transfer_caveat)
 
 RHO, LAMBDA_S, P0 = CHALLENGE["rho"], CHALLENGE["lambda_s"], CHALLENGE["p0"]
 GENERATOR = "scripts/challenge_reference.py (extraction: reports/challenge_report.py)"
@@ -290,11 +291,20 @@ def with_band(curve, run, short):
         curve["estimated_error"] = text
     if rel is None:
         return curve
+    # Measured at other loads too (scripts/scaled_family.py --pressure): per load, the larger.
+    rels, words = load_bands(run.s, short, curve["columns"][0][3])
+    if words:
+        curve["estimated_error"] = curve["estimated_error"].replace(
+            "Measured at mu_T = 3 and 250 kPa; that it holds at this point's load and mu_T is assumed, not measured.",
+            f"Measured at mu_T = 3 and 250 kPa; per load, {words}. At loads between and beyond those measured the "
+            "band is assumed.")
+    else:
+        rels = [rel] * len(curve["columns"][1][3])
     floor, what = band_floor(run, "ar" if short == "a_r" else "gap")
     ys = curve["columns"][1][3]
-    if any(rel * abs(v) < floor for v in ys):
+    if any(r * abs(v) < floor for r, v in zip(rels, ys)):
         curve["estimated_error"] += f" At least {what} where the relative band is smaller."
-    return add_abs_band(curve, [max(rel * abs(v), floor) for v in ys])
+    return add_abs_band(curve, [max(r * abs(v), floor) for r, v in zip(rels, ys)])
 
 
 # ------------------------------------------------------------------ curves
@@ -540,14 +550,28 @@ def tabor_curves(runs, hw):
             short = "a_r" if item == 6 else "mean_gap"
             bands = [strategy_band(r, short) for r, _ in items]
             if all(rel is not None for rel, _ in bands):
-                add_band(c, [rel for rel, _ in bands])
-                per = ", ".join(f"mu_T = {m:.3g}: +-{100 * rel:.3g} %" for m, (rel, _) in zip(mus, bands))
+                # Where the family was run at the point's own mu_T too (scripts/scaled_family.py
+                # --tabor, reference/challenge-scaled/conditions/), the band is the larger of the
+                # two measured errors: the one at mu_T = 3 alone does not hold at every mu_T.
+                rels, per, measured = [], [], []
+                for (r, _), m, (rel, _) in zip(items, mus, bands):
+                    _, band, _, at, _ = run_band(r.s, short)  # reports/common.py: max(rel, at)
+                    rels.append(band)
+                    per.append(f"mu_T = {m:.3g}: +-{100 * rels[-1]:.3g} %"
+                               + ("" if at is None else f" (at mu_T = {m:.3g}: {100 * at:.3g} %; "
+                                                        f"at mu_T = 3: {100 * rel:.3g} %)"))
+                    if at is not None:
+                        measured.append(f"{m:.3g}")
+                add_band(c, rels)
+                cond = os.path.join(os.path.dirname(_rel(FAMILY_STORE)), "conditions")
                 c["estimated_error"] = (
-                    f"band per point ({per}): the strategy's error measured on the scaled challenge "
+                    f"band per point ({', '.join(per)}): the strategy's error measured on the scaled challenge "
                     f"family ({_rel(FAMILY_STORE)}) at that point's dx/rho (deviation from the family's converged "
-                    "reference plus that reference's refinement error). Measured at mu_T = 3 and 250 kPa; that it "
-                    "holds at the other mu_T is assumed, not measured. " + roundoff_note(rel=_rel) + " "
-                    + transfer_caveat())
+                    "reference plus that reference's refinement error), measured at mu_T = 3 and 250 kPa"
+                    + (f", and where the family was also run at the point's own mu_T ({', '.join(measured)}; "
+                       f"{cond}/mu_T*/, s = 32) the larger of the two. At the other mu_T it is assumed, not measured. "
+                       if measured else "; that it holds at the other mu_T is assumed, not measured. ")
+                    + roundoff_note(rel=_rel) + " " + transfer_caveat())
             elif any(text for _, text in bands):
                 missing = [f"{m:.3g}" for m, (rel, _) in zip(mus, bands) if rel is None]
                 c["estimated_error"] = ("no error band: the scaled family has no run of this strategy "
@@ -621,7 +645,25 @@ def readme_adhesionless(curves, pair):
     return "\n".join(L)
 
 
-def readme(curves, out_dir, hw, ref_run, ref_step):
+def _stored_block(path, first, last=None):
+    """The paragraphs of a stored README from the one starting with `first` through the one
+    starting with `last` (or the first alone), as lines; [] where it has none."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            paras = f.read().split("\n\n")
+    except OSError:
+        return []
+    i = next((k for k, p in enumerate(paras) if p.startswith(first)), None)
+    if i is None:
+        return []
+    j = i if last is None else next((k for k in range(i, len(paras)) if paras[k].startswith(last)), i)
+    return "\n\n".join(paras[i:j + 1]).split("\n") + [""]
+
+
+def readme(curves, out_dir, hw, ref_run, ref_step, keep_from=None):
+    """The README of reference/challenge/. keep_from (--only tabor): a stored README whose
+    paragraphs on the reference-load run and the hard-wall refinement are kept where their runs
+    are not at hand."""
     have = {c["quantity"]: c for c in curves}
     L = ["# Challenge reference curves", "",
          "`cmc check PRED.csv --quantity Q` compares a prediction with `reference/challenge/Q.csv` by default. "
@@ -642,6 +684,8 @@ def readme(curves, out_dir, hw, ref_run, ref_step):
               f"{(ref_step['gap'] or float('nan')) * 1e9:.4g} nm, {int(ref_step['n_patches'] or 0)} patches. The numbers equal "
               "`reports/challenge/data/*__challenge-reference_*.csv` (same extraction, "
               "`reports/challenge_report.py`), except that empty bins are left out of log-scaled curves.", ""]
+    elif keep_from:
+        L += _stored_block(keep_from, "Items 1, 3, 4, 5 and 9 are the step")
     miss = [(q, item) for q, item in ALL if q not in have]
     if miss:
         L += ["## Not yet computed", "", "No file, because no adhesive run has the data yet:", ""]
@@ -662,9 +706,14 @@ def readme(curves, out_dir, hw, ref_run, ref_step):
               "The band is the error that the run's strategy (the plain interaction, or the range coarse-graining) "
               "has on the scaled challenge family (`reference/challenge-scaled/`: converged at s = 32, "
               "dx = 0.8 ρ(s)) at the same dx/ρ: its deviation from the family's converged value plus that value's "
-              "refinement error. It was measured at μ_T = 3 and 250 kPa; that it holds at the other loads and μ_T "
-              "of the sweeps is **assumed, not measured** (each file's `estimated_error` says so, per point for "
-              "the Tabor sweep). " + roundoff_note(rel=_rel), "",
+              "refinement error. It was measured at μ_T = 3 and 250 kPa. At the Tabor sweep's points where the family "
+              "was also run at the point's own μ_T (`reference/challenge-scaled/conditions/`, "
+              "`scripts/scaled_family.py --tabor`) the band is the larger of the two measured errors; at the other "
+              "loads and μ_T of the sweeps the band is **assumed, not measured** (each file's `estimated_error` "
+              "says which, per point for the Tabor sweep). "
+              + (condition_summary(condition_checks()) + " (`reference/challenge-scaled/README.md`, \"The bands at "
+                 "other conditions\".) " if condition_checks() else "")
+              + roundoff_note(rel=_rel), "",
               "**Caveat.** " + (transfer_caveat() or "No transfer check possible (the store lacks the runs)."), ""]
     dist = [c for c in curves if c["item"] in (1, 3, 4, 5)]
     if any(c.get("band") for c in dist):
@@ -698,6 +747,8 @@ def readme(curves, out_dir, hw, ref_run, ref_step):
               "`cmc refine`'s refinement.json. The raw contact "
               "fraction converges slowly, the perimeter-corrected one much faster.) The hard-wall curves are in "
               "[adhesionless/](adhesionless/README.md).", ""]
+    elif keep_from:
+        L += _stored_block(keep_from, "For context only, the **hard-wall**", "(SI units;")
     L += ["## Regenerate", "",
           "One command runs everything behind these files (and `adhesionless/`), resumable, then rewrites them: "
           "`scripts/sweeps.sh` (hours on 2 cores; the commands it runs, with their `--set` options, are also in "
@@ -720,8 +771,26 @@ def readme(curves, out_dir, hw, ref_run, ref_step):
     return "\n".join(L)
 
 
+def stored_curve(path, quantity, item):
+    """A stored reference CSV read back as the curve that wrote it (the fields the README uses),
+    or None: what --only tabor keeps of the curves it does not recompute."""
+    got = read_reference_csv(path)
+    if got is None:
+        return None
+    meta, names, data = got
+    cols = [(n, meta.get(f"unit.{n}", "").split(" (")[0], "", list(data[:, i])) for i, n in enumerate(names)]
+    prov = [(k, meta[k]) for k in ("cmc_version", "case_file", "grid", "solver_tolerance", "date", "command") if k in meta]
+    return dict(name=meta.get("name", quantity), quantity=quantity, item=item, title=meta.get("title", ""),
+                columns=cols, representation=meta.get("representation", ""), band=meta.get("band"),
+                extra=prov, estimated_error=meta.get("estimated_error", ""))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--only", choices=["tabor"], default=None,
+                    help="recompute items 6 and 7 (the Tabor sweep: its runs and the family's stores) only: the "
+                         "other stored curves are kept as they are and read back for the README, so that their runs "
+                         "need not be at hand (e.g. after the family was run at another mu_T)")
     ap.add_argument("--results", default=os.path.join(ROOT, "results"))
     ap.add_argument("--hardwall-refine", default=None, help="default: RESULTS/refine/reference-load-hardwall")
     ap.add_argument("--out", default=os.path.join(ROOT, "reference", "challenge"))
@@ -736,6 +805,29 @@ def main():
         # sweep curves keep only those and say how many); a single run must converge.
         if r.status == "converged" or (r.status == "not_converged" and r.is_load_sweep()):
             runs.append(r)
+    if a.only == "tabor":
+        curves = tabor_curves([r for r in runs if r.name.startswith("challenge-tabor")], hw)
+        if len(curves) != 2:
+            sys.exit("challenge_reference: --only tabor: no Tabor sweep with its runs under "
+                     f"{_rel(a.results)}/challenge-tabor-sweep/ (scripts/tabor_sweep.sh makes them)")
+        for c in curves:
+            path = os.path.join(a.out, c["quantity"] + ".csv")
+            text = write_curve(a.cmc, c, path)
+            print(f"challenge_reference: {_rel(path)}: {len(c['columns'][0][3])} points, {len(text)} bytes")
+        new = {c["quantity"] for c in curves}
+        kept = [stored_curve(os.path.join(a.out, q + ".csv"), q, item) for q, item in ALL if q not in new]
+        kept = [c for c in kept if c is not None]
+        ref = next((c for c in kept if c["item"] == 9), None)
+        if ref is None:
+            sys.exit("challenge_reference: --only tabor: the stored reference-load curves are missing; "
+                     "regenerate everything (without --only)")
+        # The README's reference-load paragraph and hard-wall table come from their runs; without
+        # them, the stored README's paragraphs are kept as they are and only the parts that depend
+        # on the curves are rewritten.
+        write_atomically(os.path.join(a.out, "README.md"),
+                         readme(kept + curves, a.out, hw, None, None, keep_from=os.path.join(a.out, "README.md")))
+        print(f"challenge_reference: {_rel(os.path.join(a.out, 'README.md'))} (the other curves kept)")
+        return
     written = {}
     for adhesive in (True, False):
         out = a.out if adhesive else os.path.join(a.out, "adhesionless")
