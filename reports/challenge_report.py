@@ -38,18 +38,27 @@ def _band(run, short):
     return got[1] if got else None
 
 
-def _condition_note():
-    """The Tabor section's lines on the bands at other mu_T (reports/common.py condition_checks):
-    the family's member run at the sweep's own mu_T against the band measured at mu_T = 3."""
-    rows = condition_checks()
+def _condition_note(kind):
+    """The Tabor section's (kind "tabor") or the load sweep's ("load") lines on the bands at the
+    sweep's other points (reports/common.py condition_checks): the family's member run at the
+    point's own mu_T or load against the band measured at mu_T = 3 and 250 kPa."""
+    rows = [r for r in condition_checks()
+            if (abs(r["pressure_Pa"] / 250e3 - 1) < 0.01 if kind == "tabor" else abs(r["tabor"] / 3.0 - 1) < 0.01)]
     if not rows:
         return []
-    return ["**Does the band measured at μ_T = 3 hold at the sweep's other μ_T?** The family's s = 32 member run at "
-            "the sweep's own μ_T (`reference/challenge-scaled/conditions/`, `scripts/scaled_family.py --tabor MU`), "
-            "each with its own resolved reference, on the grids that match the challenge's 2048² and 4096² at that "
-            "μ_T in dx/ρ and dx/λ_s: each row, a plain run's deviation from that reference (its refinement error in "
-            "brackets) against the band taken at μ_T = 3. Where measured, the error bars above are the larger of the "
-            "two.", ""] + condition_check_lines(rows) + [condition_summary(rows), ""]
+    if kind == "tabor":
+        head = ("**Does the band measured at μ_T = 3 hold at the sweep's other μ_T?** The family's s = 32 member run "
+                "at the sweep's own μ_T (`reference/challenge-scaled/conditions/`, `scripts/scaled_family.py --tabor "
+                "MU`), each with its own resolved reference, on the grids that match the challenge's 2048² and 4096² at "
+                "that μ_T in dx/ρ and dx/λ_s")
+    else:
+        head = ("**Does the band measured at 250 kPa hold at the sweep's other loads?** The family's s = 32 member run "
+                "at other loads (`reference/challenge-scaled/conditions/`, `scripts/scaled_family.py --pressure PA`), "
+                "each with its own resolved reference, at 2 to 24 ρ")
+    return [head + ": each row, a plain run's deviation from that reference (its refinement error in brackets) "
+            "against the band taken at μ_T = 3 and 250 kPa. Where measured, the error bars above are the larger of "
+            "the two" + ("" if kind == "tabor" else " (per load, interpolated in log p between the measured loads)")
+            + ".", ""] + condition_check_lines(rows) + [condition_summary(rows), ""]
 
 
 def _pm(v, relerr, digits=4, scale=1.0):
@@ -141,7 +150,7 @@ def _find_runs(results_dir, notes):
     "challenge" (results/challenge*/ by convention; also e.g. results/refine/<run>/),
     except the validation, performance and bench folders, the scaled family's runs (other
     problems, s != 1, or the challenge with other settings: the family's own section reads
-    them from its store), the cluster cost measurements (scripts/cluster/measure.py: the
+    them from its store; by folder and by case name, challenge-scaled-*), the cluster cost measurements (scripts/cluster/measure.py: the
     challenge's cases on small grids, at several rank counts, some stopped after a fixed number
     of iterations; not results) and the round-off runs (results/roundoff/: the same cases by
     another build or thread count, for scripts/roundoff_spread.py; duplicates, not results)."""
@@ -158,6 +167,11 @@ def _find_runs(results_dir, notes):
         name = case_name(s)
         in_challenge_dir = os.path.relpath(f, results_dir).startswith("challenge")
         if not (name.startswith("challenge") if name is not None else in_challenge_dir):
+            continue
+        # The family's runs wherever they were written (scripts/scaled_family.py --results, e.g.
+        # results/seeds/seedN/ for other realizations): by case name, not only by folder. Left in,
+        # a realization's many coarse grids won the reference-load group (the most grids).
+        if name is not None and name.startswith("challenge-scaled"):
             continue
         runs.append(Run(s, os.path.dirname(f)))
     return runs
@@ -1349,7 +1363,7 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
                     "relative change at every load (assumed)")
                  + ". " + transfer_caveat(), ""]
     section(2, "Contact area as a function of pressure (log-log; 1 − a_r for the approach to full contact)",
-            area_rows(sweep["area"]), sweep_cols, band_note + [n + "\n" for n in sweep["notes"]])
+            area_rows(sweep["area"]), sweep_cols, band_note + _condition_note("load") + [n + "\n" for n in sweep["notes"]])
     gap = _hist_figure(dists, "gap_hist_edges", "gap_hist_density", "log", "log", 1e6, 1e-6,
                        "gap g (µm)", "probability density P(g) (1/µm)", "3. gap distribution (contact points excluded)",
                        os.path.join(out_dir, "gap_distribution.png"), data_dir, ("gap_m", "density_per_m"),
@@ -1367,7 +1381,7 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
     tabor_cols = ["μ_T", "run", "grid", "p (kPa)", "a_r", "repulsive fraction", "mean gap (nm)"]
     section(6, "Contact area as a function of the Tabor coefficient (log μ_T)", tabor["area"], tabor_cols,
             band_note[:1] + ["Each μ_T has its own ρ, hence its own dx/ρ and its own error bar.", ""]
-            + _condition_note()
+            + _condition_note("tabor")
             + [n + "\n" for n in dict.fromkeys(tabor.get("notes", []))])
     section(7, "Mean gap as a function of the Tabor coefficient (log μ_T)", _no_rows(tabor["gap"]), tabor_cols,
             ["Numbers: the table of item 6.", ""])

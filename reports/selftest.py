@@ -112,6 +112,15 @@ def make_inputs(root, np, h5py):
                 "steps": [{"index": 0, "mean_pressure": 250e3, "contact_fraction": 0.5, "mean_gap": 9e-6,
                            "converged": True, "observables": {"contact_fraction": 0.5, "mean_gap": 9e-6,
                                                                "mean_pressure": 250e3}}]})
+    # The scaled family's runs written outside results/scaled-family/ (scripts/scaled_family.py
+    # --results results/seeds/seedN): three grids of a member at 250 kPa must not become the
+    # reference-load runs (their group has the most grids).
+    for n in (64, 128, 270):
+        write_json(os.path.join(res, "seeds", "seed29", "s32", f"n{n}", "summary.json"),
+                   {"case": challenge_case("challenge-scaled-hardwall-s32"), "grid": grid(n), "status": "converged",
+                    "steps": [{"index": 0, "mean_pressure": 250e3, "contact_fraction": 0.05, "mean_gap": 3e-6,
+                               "converged": True, "observables": {"contact_fraction": 0.05, "mean_gap": 3e-6,
+                                                                   "mean_pressure": 250e3}}]})
     # A malformed summary must not crash the report.
     os.makedirs(os.path.join(res, "challenge-broken"), exist_ok=True)
     with open(os.path.join(res, "challenge-broken", "summary.json"), "w") as f:
@@ -362,6 +371,8 @@ def main(argv):
             failures.append("challenge/index.md says 'not computed yet' although every input exists")
         if "cluster-measure" in idx:
             failures.append("challenge/index.md uses a run of results/cluster-measure/ (cost measurements)")
+        if "challenge-scaled-hardwall-s32" in idx or "seeds/seed29" in idx:
+            failures.append("challenge/index.md uses a scaled-family run found outside results/scaled-family/")
         if "hertz-free" in idx:
             failures.append("challenge/index.md lists a run whose case name does not start with 'challenge'")
         # dx/λ_s and dx/ρ are cmc's (surface_facts), not recomputed by the report.

@@ -639,9 +639,11 @@ def readme_adhesionless(curves, pair):
           "build/cmc run cases/challenge/load-sweep-hardwall.toml --out results/challenge-load-sweep-hardwall",
           "build/cmc run cases/challenge/load-sweep-hardwall.toml --set grid.n=4096 "
           "--set 'loading.values=[12.5e3,250e3,2.5e6,10e6,25e6]' --out results/challenge-load-sweep-hardwall-n4096",
-          "/usr/bin/python3 scripts/challenge_reference.py", "```", "",
-          "(all in `scripts/sweeps.sh`; the stored sweep joins two runs, the loads above 25 MPa run after the case "
-          "file was extended: each file's `command` line says so).", ""]
+          "/usr/bin/python3 scripts/challenge_reference.py", "```", ""]
+    sweep = {c["quantity"]: c for c in curves}.get("contact_area_vs_pressure")
+    joined = sweep is not None and " ; " in dict(sweep["extra"]).get("command", "")
+    L += ["(all in `scripts/sweeps.sh`" + ("; the stored sweep joins several runs of the same case and grid: each "
+                                          "file's `command` line names them" if joined else "") + ").", ""]
     return "\n".join(L)
 
 
@@ -706,11 +708,11 @@ def readme(curves, out_dir, hw, ref_run, ref_step, keep_from=None):
               "The band is the error that the run's strategy (the plain interaction, or the range coarse-graining) "
               "has on the scaled challenge family (`reference/challenge-scaled/`: converged at s = 32, "
               "dx = 0.8 ρ(s)) at the same dx/ρ: its deviation from the family's converged value plus that value's "
-              "refinement error. It was measured at μ_T = 3 and 250 kPa. At the Tabor sweep's points where the family "
-              "was also run at the point's own μ_T (`reference/challenge-scaled/conditions/`, "
-              "`scripts/scaled_family.py --tabor`) the band is the larger of the two measured errors; at the other "
-              "loads and μ_T of the sweeps the band is **assumed, not measured** (each file's `estimated_error` "
-              "says which, per point for the Tabor sweep). "
+              "refinement error. It was measured at μ_T = 3 and 250 kPa. Where the family was also run at a sweep's "
+              "other points (`reference/challenge-scaled/conditions/`, `scripts/scaled_family.py --tabor` and "
+              "`--pressure`) the band is the larger of the two measured errors: per μ_T for the Tabor sweep, per "
+              "load for the load sweep (interpolated in log p between the measured loads and held beyond them); "
+              "at the points not measured the band is **assumed** (each file's `estimated_error` says which). "
               + (condition_summary(condition_checks()) + " (`reference/challenge-scaled/README.md`, \"The bands at "
                  "other conditions\".) " if condition_checks() else "")
               + roundoff_note(rel=_rel), "",

@@ -382,9 +382,10 @@ def condition_lines(store_dir, members):
     lines += condition_check_lines(rows, ("plain",) + tuple(STRATEGY))
     summary = condition_summary(rows)
     lines += ([summary, ""] if summary else []) + [
-        "The Tabor sweep's references (`reference/challenge/contact_area_vs_tabor.csv`, `mean_gap_vs_tabor.csv`) "
-        "take, at each μ_T measured here, the larger of the two errors as their band "
-        "(`scripts/challenge_reference.py`); the load sweep's bands are still those measured at 250 kPa.", ""]
+        "The sweeps' references (`reference/challenge/`, `scripts/challenge_reference.py`) take the larger of the "
+        "two errors as their band: the Tabor sweep's at each μ_T measured here, the load sweep's per load "
+        "(interpolated in log p between the loads measured here and 250 kPa, held beyond them; "
+        "`reports/common.py`, `load_bands`).", ""]
     return lines
 
 
