@@ -43,7 +43,7 @@ def _condition_note(kind):
     sweep's other points (reports/common.py condition_checks): the family's member run at the
     point's own mu_T or load against the band measured at mu_T = 3 and 250 kPa."""
     rows = [r for r in condition_checks()
-            if (abs(r["pressure_Pa"] / 250e3 - 1) < 0.01 if kind == "tabor" else abs(r["tabor"] / 3.0 - 1) < 0.01)]
+            if (r["pressure_Pa"] == 250e3 if kind == "tabor" else r["tabor"] == 3.0)]  # condition_checks' defaults
     if not rows:
         return []
     if kind == "tabor":

@@ -502,6 +502,13 @@ def _same(a, b):
     return (a is None and b is None) or (a is not None and b is not None and abs(a / b - 1) < 0.01)
 
 
+def own_tabor(summary):
+    """The run's mu_T where it is not the challenge's 3 (within 1 %), else None: the condition whose
+    store (condition_error's tabor) measures its band."""
+    tabor = get(summary, "case", "interaction", "tabor")
+    return tabor if finite(tabor) and not _same(tabor, 3.0) else None
+
+
 def condition_error(strategy, dx_over_rho, tabor=None, pressure=None, members=None):
     """The strategy's error (strategy_errors) measured on the family at this condition (mu_T within
     1 %, load within 1 %; None for the challenge's own 3 and 250 kPa), or (None, []) where no
@@ -521,9 +528,8 @@ def run_band(summary, short):
     if got is None:
         return None
     k, rel, used = got
-    tabor = get(summary, "case", "interaction", "tabor")
-    at = None
-    if finite(tabor) and abs(tabor / 3.0 - 1) > 0.01:
+    tabor, at = own_tabor(summary), None
+    if tabor is not None:
         err, _ = condition_error(run_strategy(summary), k, tabor=tabor)
         at = None if err is None else err[short]
     both = [x for x in (rel, at) if x is not None]
@@ -542,12 +548,11 @@ def load_bands(summary, short, pressures):
     if got is None or got[1] is None:
         return None, ""
     k, band, _, _, _ = got
-    tabor = get(summary, "case", "interaction", "tabor")
+    members = condition_members()
     at = [(250e3, band)]
-    for p in sorted({m["pressure_Pa"] for m in condition_members() if "pressure_Pa" in m}):
-        err, _ = condition_error(run_strategy(summary), k, tabor=None if not finite(tabor) or abs(tabor / 3.0 - 1) <= 0.01
-                                 else tabor, pressure=p)
-        if err is not None and abs(p / 250e3 - 1) > 0.01:
+    for p in sorted({m["pressure_Pa"] for m in members if "pressure_Pa" in m and not _same(m["pressure_Pa"], 250e3)}):
+        err, _ = condition_error(run_strategy(summary), k, tabor=own_tabor(summary), pressure=p, members=members)
+        if err is not None:
             at.append((p, err[short]))
     at.sort()
     if len(at) == 1:
@@ -556,7 +561,7 @@ def load_bands(summary, short, pressures):
     rel = np.interp(np.log(np.asarray(pressures, dtype=float)), lp, [a[1] for a in at])
     words = (f"the larger of the band at 250 kPa ({100 * band:.3g} %) and the error measured on the family's s = 32 "
              "member at the sweep's other loads (" + ", ".join(f"{p / 1e3:g} kPa: {100 * e:.3g} %" for p, e in at
-                                                               if abs(p / 250e3 - 1) > 0.01)
+                                                               if not _same(p, 250e3))
              + "; reference/challenge-scaled/conditions/p*/), interpolated in log p between the measured loads and "
              "held beyond them")
     return [max(band, float(r)) for r in rel], words
@@ -587,14 +592,16 @@ def condition_checks(members=None, reference=None):
     return rows
 
 
+def _quantity_holds(q):
+    """One quantity of a condition_checks row: |deviation| plus the reference's refinement error
+    within the band; None without a band."""
+    return None if q["band"] is None else abs(q["deviation"]) + q["refinement"] <= q["band"]
+
+
 def condition_holds(row):
-    """Whether the band at mu_T = 3 and 250 kPa holds a condition_checks row (a_r and the mean gap:
-    |deviation| plus the reference's refinement error within the band); None without a band."""
-    out = []
-    for short in ("a_r", "mean_gap"):
-        q = row[short]
-        if q["band"] is not None:
-            out.append(abs(q["deviation"]) + q["refinement"] <= q["band"])
+    """Whether the band at mu_T = 3 and 250 kPa holds a condition_checks row (a_r and the mean gap);
+    None without a band."""
+    out = [h for h in (_quantity_holds(row[short]) for short in ("a_r", "mean_gap")) if h is not None]
     return None if not out else all(out)
 
 
@@ -632,12 +639,11 @@ def condition_check_lines(rows, strategies=("plain",)):
         cells, holds = [], []
         for short in ("a_r", "mean_gap"):
             q = r[short]
-            meas = abs(q["deviation"]) + q["refinement"]
             band = q["band"]
             cells.append(f"{100 * q['deviation']:+.1f} % ({100 * q['refinement']:.1f} %) / "
                          + ("—" if band is None else f"±{100 * band:.1f} %") if short == "a_r" else
                          f"{100 * q['deviation']:+.2f} % / " + ("—" if band is None else f"±{100 * band:.2f} %"))
-            holds.append(None if band is None else meas <= band)
+            holds.append(_quantity_holds(q))
         verdict = ("no band" if all(h is None for h in holds) else
                    "yes" if all(h in (True, None) for h in holds) else
                    "**no** (" + ", ".join(k for k, h in zip(("a_r", "mean gap"), holds) if h is False) + ")")

@@ -246,12 +246,13 @@ def adhesive_error(run, hw, keys):
 
 
 # ------------------------------------------------------------------ the strategy's error band
-def strategy_band(run, short):
+def strategy_band(run, short, elsewhere="that it holds at this point's load and mu_T is assumed, not measured."):
     """For an exponential-adhesion run: the relative error for quantity `short` (a_r, mean_gap)
     that its strategy (range or shape coarse-graining, or plain) has on the scaled challenge family at the
     same dx/rho (reports/common.py strategy_errors: the family run within a factor 1.3 of this
     dx/rho, its deviation from the family's converged reference plus that reference's refinement
-    error), and a sentence saying what it rests on. None where the family has no run near."""
+    error), and a sentence saying what it rests on (`elsewhere`: what the band is at other loads and
+    mu_T). None where the family has no run near."""
     got = run_strategy_error(run.s, short)
     if got is None:
         return None, ""
@@ -264,8 +265,7 @@ def strategy_band(run, short):
     return rel, (f"band: the error of {what} measured on the scaled challenge family at the same "
                  f"dx/rho ({k:.3g} rho; {'; '.join(used)}; {store}): +-{100 * rel:.3g} % (deviation from the "
                  "family's converged reference plus that reference's refinement error). Measured at mu_T = 3 and "
-                 "250 kPa; that it holds at this point's load and mu_T is assumed, not measured. "
-                 + roundoff_note(rel=_rel) + " " + transfer_caveat())
+                 f"250 kPa; {elsewhere} " + roundoff_note(rel=_rel) + " " + transfer_caveat())
 
 
 def add_abs_band(curve, band):
@@ -286,19 +286,15 @@ def with_band(curve, run, short):
     """Adds the strategy's error band to a curve of one adhesive run (every point the same dx/rho),
     at least the floor the hard-wall bands have (band_floor: the mean gap is 0 in full contact,
     where a relative band would be 0)."""
-    rel, text = strategy_band(run, short)
+    # Measured at other loads too (scripts/scaled_family.py --pressure): per load, the larger.
+    rels, words = load_bands(run.s, short, curve["columns"][0][3])
+    rel, text = (strategy_band(run, short, f"per load, {words}. At loads between and beyond those measured the "
+                               "band is assumed.") if words else strategy_band(run, short))
     if text:
         curve["estimated_error"] = text
     if rel is None:
         return curve
-    # Measured at other loads too (scripts/scaled_family.py --pressure): per load, the larger.
-    rels, words = load_bands(run.s, short, curve["columns"][0][3])
-    if words:
-        curve["estimated_error"] = curve["estimated_error"].replace(
-            "Measured at mu_T = 3 and 250 kPa; that it holds at this point's load and mu_T is assumed, not measured.",
-            f"Measured at mu_T = 3 and 250 kPa; per load, {words}. At loads between and beyond those measured the "
-            "band is assumed.")
-    else:
+    if not words:
         rels = [rel] * len(curve["columns"][1][3])
     floor, what = band_floor(run, "ar" if short == "a_r" else "gap")
     ys = curve["columns"][1][3]
@@ -697,6 +693,7 @@ def readme(curves, out_dir, hw, ref_run, ref_step, keep_from=None):
             L.append(f"- `{q}` (item {item}): not yet computed, run {how}, then regenerate.")
         L.append("")
     banded = [c for c in curves if c.get("band")]
+    checks = condition_checks() if banded else []
     L += ["## Accuracy", "",
           "The adhesive runs use the challenge's grid 2048² (dx = 48.8 nm = λ_s/2.05 ≈ 24 ρ, ρ = 2.071 nm), far "
           "coarser than the ≈ 0.75 ρ of the published solution (65536²). The adhesive neck is not resolved and "
@@ -713,8 +710,8 @@ def readme(curves, out_dir, hw, ref_run, ref_step, keep_from=None):
               "`--pressure`) the band is the larger of the two measured errors: per μ_T for the Tabor sweep, per "
               "load for the load sweep (interpolated in log p between the measured loads and held beyond them); "
               "at the points not measured the band is **assumed** (each file's `estimated_error` says which). "
-              + (condition_summary(condition_checks()) + " (`reference/challenge-scaled/README.md`, \"The bands at "
-                 "other conditions\".) " if condition_checks() else "")
+              + (condition_summary(checks) + " (`reference/challenge-scaled/README.md`, \"The bands at "
+                 "other conditions\".) " if checks else "")
               + roundoff_note(rel=_rel), "",
               "**Caveat.** " + (transfer_caveat() or "No transfer check possible (the store lacks the runs)."), ""]
     dist = [c for c in curves if c["item"] in (1, 3, 4, 5)]

@@ -44,8 +44,9 @@ RESULTS/s<S>/n<N>/ with --resume: a finished run is kept, an interrupted one res
 and 8), whose error bands are the family's error measured at mu_T = 3 and 250 kPa. A
 condition's runs go to RESULTS/conditions/<condition>/ and its store holds that condition
 only (e.g. --store reference/challenge-scaled/conditions/mu_T1): it measures whether the
-bands hold there (reports/common.py, condition_checks), and no band of the challenge is
-taken from it. The hard-wall runs get the pressure too (mu_T is adhesion's).
+bands hold there (reports/common.py, condition_checks), and the sweeps' references take the
+larger of the two errors (run_band, load_bands); the challenge's own error bars (s = 1 at
+250 kPa) take nothing from it. The hard-wall runs get the pressure too (mu_T is adhesion's).
 
 --store merges into STORE/scaled_family.json (members and runs of this invocation replace
 those with the same s and role; others are kept) and rewrites STORE/README.md from it:
@@ -289,7 +290,8 @@ def readme(data, store_dir):
         lines += ["**Another condition than the challenge's** (μ_T = 3, 250 kPa): a point of the challenge's "
                   "Tabor sweep or load sweep, whose error bands are the family's error measured at μ_T = 3 and "
                   "250 kPa. This store checks whether they hold here (`reports/common.py`, `condition_checks`; the "
-                  "family's README and the challenge report print the check); no band is taken from it.", ""]
+                  "family's README and the challenge report print the check); where it measures a larger error, the "
+                  "sweep's reference takes that as its band (`run_band`, `load_bands`).", ""]
     lines += [
              "**Reference** = the run on the resolved grid (dx ≤ 0.8 ρ(s)). **Refinement error** = |resolved − "
              "refinement| (the same case on half the points): it bounds the resolved grid's own error if the error "
