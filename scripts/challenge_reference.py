@@ -692,7 +692,7 @@ def readme(curves, out_dir, hw, ref_run, ref_step, keep_from=None):
                                         "(`cases/challenge/reference-load.toml`)")
             L.append(f"- `{q}` (item {item}): not yet computed, run {how}, then regenerate.")
         L.append("")
-    banded = [c for c in curves if c.get("band")]
+    banded = [have[q] for q, _ in ALL if q in have and have[q].get("band")]  # the files table's order
     checks = condition_checks() if banded else []
     L += ["## Accuracy", "",
           "The adhesive runs use the challenge's grid 2048² (dx = 48.8 nm = λ_s/2.05 ≈ 24 ρ, ρ = 2.071 nm), far "
