@@ -12,6 +12,11 @@
                  store (STORE/conditions/mu_T1, a member at mu_T = 1): the family's README checks
                  the band measured at mu_T = 3 against the error measured at mu_T = 1 and says it
                  does not hold where the run there errs more, and that it holds where it does not.
+  bands          reports/common.py run_band / load_bands on synthetic members: a run's band is the
+                 larger of the error at mu_T = 3 and the one at its own mu_T; a load sweep's is, per
+                 load, the larger of the 250 kPa band and the errors at the measured loads,
+                 interpolated in log p and held beyond. And scripts/challenge_reference.py --only
+                 tabor without the Tabor sweep's runs: a message naming what makes them.
 
 usage: /usr/bin/python3 tests/scaled_family_test.py TEST
 """
@@ -61,6 +66,8 @@ def main(test):
         return
     if test == "conditions":
         return conditions()
+    if test == "bands":
+        return bands()
     assert test == "reestimate", test
     tmp = tempfile.mkdtemp(prefix="cmc_scaled_family_test_")
     try:
@@ -116,6 +123,43 @@ def conditions():
         readme = open(os.path.join(tmp, "README.md")).read()
         row = next(line for line in readme.splitlines() if line.startswith("| 1 | 250 | plain"))
         assert row.endswith("| yes |"), row
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
+def bands():
+    sys.path.insert(0, os.path.join(ROOT, "reports"))
+    import common
+    # At mu_T = 3 and 250 kPa the plain run at 24 rho is 10 % low (band 10 % + 1 % refinement);
+    # at 2.5 MPa 20 % high (21 %); at mu_T = 1 30 % high (31 %).
+    fam = member(32, [a_run("plain_24rho", 64, 24.0, 0.045, 3.0e-6)], ref=(0.05, 3.0e-6))
+    at_p = member(32, [a_run("plain_24rho", 64, 24.0, 0.06, 3.0e-6)], ref=(0.05, 3.0e-6))
+    at_p["pressure_Pa"] = 2.5e6
+    at_mu = member(32, [a_run("plain_24rho", 64, 24.0, 0.065, 3.0e-6)], ref=(0.05, 3.0e-6))
+    at_mu["tabor"] = 1.0
+    common.measured_members = lambda: [fam]
+    common.condition_members = lambda store_dir=None: [at_p, at_mu]
+
+    def summary(tabor):
+        return {"case": {"interaction": {"kind": "exponential", "tabor": tabor}},
+                "surface_facts": {"specified_range": 1.0}, "grid": {"dx_m": 24.0}}
+    _, band, rel, at, _ = common.run_band(summary(3.0), "a_r")
+    assert abs(band - 0.11) < 1e-12 and at is None, (band, rel, at)
+    _, band, rel, at, _ = common.run_band(summary(1.0), "a_r")
+    assert abs(rel - 0.11) < 1e-12 and abs(at - 0.31) < 1e-12 and band == at, (band, rel, at)
+    got, words = common.load_bands(summary(3.0), "a_r", [12.5e3, 250e3, 790569.4150420949, 2.5e6, 1e8])
+    want = [0.11, 0.11, 0.16, 0.21, 0.21]
+    assert all(abs(g - w) < 1e-9 for g, w in zip(got, want)), got
+    assert "2500 kPa: 21 %" in words, words
+    # Without the Tabor sweep's runs --only tabor writes nothing and says what makes them.
+    tmp = tempfile.mkdtemp(prefix="cmc_scaled_family_test_")
+    try:
+        out = os.path.join(tmp, "out")
+        r = subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "scripts", "challenge_reference.py"), "--only",
+                            "tabor", "--results", os.path.join(tmp, "results"), "--out", out],
+                           capture_output=True, text=True, cwd=ROOT)
+        assert r.returncode != 0 and "tabor_sweep.sh" in r.stderr and "Traceback" not in r.stderr, r.stderr
+        assert not os.path.exists(out), os.listdir(out)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
 
