@@ -21,7 +21,7 @@ import re
 
 import numpy as np
 
-from common import (CHALLENGE, FAMILY_QUANTITIES, condition_check_lines, condition_checks, condition_summary, load_bands, realization_members, realization_rows, case_name, family_members, finite, fmt, get, gpu_row_head, gpu_section, h5_open, load_json,
+from common import (CHALLENGE, FAMILY_QUANTITIES, own_refinement, own_refinement_words, condition_check_lines, condition_checks, condition_summary, load_bands, realization_members, realization_rows, case_name, family_members, finite, fmt, get, gpu_row_head, gpu_section, h5_open, load_json,
                     md_table, plt, read_reference_csv, rel, roundoff_note, run_band, run_strategy, STRATEGIES, s_extrapolation,
                     s_extrapolation_verdict, savefig, step_groups, transfer_caveat, write_csv)
 
@@ -38,7 +38,48 @@ def _band(run, short):
     return got[1] if got else None
 
 
-def _condition_note(kind):
+def refinement_grids(run, runs):
+    """run and the converged runs of the same case, strategy and mu_T on 2, 4, ... times its points a
+    side with a step at the reference load (the sweep refined on the challenge itself,
+    scripts/tabor_sweep.sh --grid N), coarsest first."""
+    out = [run]
+    while True:
+        last = out[-1]
+        nxt = [q for q in runs if q.name == run.name and q.nx == 2 * last.nx and q.ny == 2 * last.ny
+               and q.status == "converged" and run_strategy(q.s) == run_strategy(run.s)
+               and q.run_tabor and run.run_tabor and abs(q.run_tabor / run.run_tabor - 1) < 1e-6
+               and q.reference_step() is not None]
+        if not nxt:
+            return out
+        out.append(nxt[0])
+
+
+def own_band(run, short, runs):
+    """own_refinement (reports/common.py) of a plain, converged run from its finer grids among
+    `runs` (refinement_grids), for short = a_r or mean_gap; None where it does not apply."""
+    grids = refinement_grids(run, runs)
+    if len(grids) < 2 or run.status != "converged" or run_strategy(run.s) != "plain":
+        return None
+    key = {"a_r": "ar", "mean_gap": "gap"}[short]
+    rows = []
+    for q in grids:
+        st = q.reference_step()
+        rows.append({"nx": q.nx, "dx_over_rho": get(q.s, "surface_facts", "dx_over_range"), "value": st[key],
+                     "corrected": st["ar_corr"] if short == "a_r" else None})
+    if not all(finite(r["dx_over_rho"]) for r in rows):
+        return None
+    return own_refinement(rows)
+
+
+def sweep_band(run, short, runs):
+    """The band of a Tabor-sweep point: the challenge's own refinement where its finer grids resolve
+    rho (own_band), which needs no transfer from the family and replaces the family's bands there;
+    else the family's (_band). Returns (relative band or None, own_refinement's result or None)."""
+    own = own_band(run, short, runs)
+    return (own["band"], own) if own else (_band(run, short), None)
+
+
+def _condition_note(kind, own=False):
     """The Tabor section's (kind "tabor") or the load sweep's ("load") lines on the bands at the
     sweep's other points (reports/common.py condition_checks): the family's member run at the
     point's own mu_T or load against the band measured at mu_T = 3 and 250 kPa."""
@@ -57,7 +98,9 @@ def _condition_note(kind):
                 "each with its own resolved reference, at 2 to 24 ρ")
     return [head + ": each row, a plain run's deviation from that reference (its refinement error in brackets) "
             "against the band taken at μ_T = 3 and 250 kPa. Where measured, the error bars above are the larger of "
-            "the two" + ("" if kind == "tabor" else " (per load, interpolated in log p between the measured loads)")
+            "the two" + ((" (but at the points marked ‡, refined on the challenge itself: there its own grid error)"
+                          if own else "") if kind == "tabor" else
+                         " (per load, interpolated in log p between the measured loads)")
             + ".", ""] + condition_check_lines(rows) + [condition_summary(rows), ""]
 
 
@@ -193,8 +236,11 @@ def _reference_load_runs(runs, adhesive):
         groups.setdefault(r.name, {}).setdefault(r.nx, (r, st))
     if not groups:
         return []
+    # Not the Tabor sweep's mu_T = 3 runs (the same problem, but their own sweep's; refined with
+    # scripts/tabor_sweep.sh --grid N they would tie with the reference-load runs).
     _, by = max(sorted(groups.items()),
-                key=lambda item: (len(item[1]), any(os.path.isfile(r.h5path) for r, _ in item[1].values())))
+                key=lambda item: (not item[0].startswith("challenge-tabor"), len(item[1]),
+                                  any(os.path.isfile(r.h5path) for r, _ in item[1].values())))
     return [by[n] for n in sorted(by)]
 
 
@@ -741,14 +787,28 @@ def _tabor(runs, out_dir, data_dir, case_dir, reference_dir):
                              "checkable with: cmc check FILE --quantity contact_area_vs_tabor | mean_gap_vs_tabor")
         csvs.append(csv)
         for r, st in items:
-            rows.append([fmt(st["tabor"], 4), r.name, f"{r.nx}²", fmt(st["p"] / 1e3 if st["p"] else None, 4),
-                         _pm(st["ar"], _band(r, "a_r")), fmt(st["rep"], 4), _pm(st["gap"], _band(r, "mean_gap"), 5, 1e9)])
+            (b_ar, own_ar), (b_gap, own_gap) = sweep_band(r, "a_r", runs), sweep_band(r, "mean_gap", runs)
+            rows.append([fmt(st["tabor"], 4), r.name, f"{r.nx}²" + (" ‡" if own_ar or own_gap else ""),
+                         fmt(st["p"] / 1e3 if st["p"] else None, 4),
+                         _pm(st["ar"], b_ar), fmt(st["rep"], 4), _pm(st["gap"], b_gap, 5, 1e9)])
+            if own_ar or own_gap:
+                res["own_refined"] = True
+                fam = [f"{w} ±{100 * b:.3g} %" for w, b in (("a_r", _band(r, "a_r")), ("mean gap", _band(r, "mean_gap")))
+                       if b is not None]
+                res.setdefault("notes", []).append(
+                    f"‡ μ_T = {st['tabor']:.3g} on {r.nx}²: the band is the challenge's own refinement "
+                    "(`scripts/tabor_sweep.sh --grid N`; reports/common.py `own_refinement`: Richardson extrapolation "
+                    "of order 1 from the finest pair of grids whose coarser one has dx ≤ 1.6 ρ, plus the spread of "
+                    "the other estimates), not the family's: "
+                    + "; ".join(own_refinement_words(o, w, u) for o, w, u in ((own_ar, "a_r", ""), (own_gap, "mean gap", " m"))
+                                if o).replace("+-", "±")
+                    + (f". The family's band there: {', '.join(fam)}." if fam else "."))
     for what, ylabel, scale, fname, title in (("ar", "relative contact area a_r", 1.0, "contact_area_vs_tabor.png",
                                                "6. contact area vs Tabor coefficient"),
                                               ("gap", "mean gap ū (nm)", 1e9, "mean_gap_vs_tabor.png",
                                                "7. mean gap vs Tabor coefficient")):
         fig, ax = plt.subplots(figsize=(6, 4.4))
-        drawn = False
+        drawn = barred = False
         for key, items in sorted(groups.items()):
             use = [(r, st) for r, st in items if st[what] is not None and st["tabor"] > 0]
             xy = [(st["tabor"], st[what] * scale) for _, st in use]
@@ -756,11 +816,13 @@ def _tabor(runs, out_dir, data_dir, case_dir, reference_dir):
                 drawn = True
                 line, = ax.semilogx([p[0] for p in xy], [p[1] for p in xy], "o-", ms=4, label=f"grid {key[0]}×{key[1]}")
                 # Each mu_T has its own rho, so its own dx/rho and strategy error: error bars.
-                bands = [_band(r, "a_r" if what == "ar" else "mean_gap") for r, _ in use]
+                bands = [sweep_band(r, "a_r" if what == "ar" else "mean_gap", runs)[0] for r, _ in use]
                 if any(bands):
                     ax.errorbar([p[0] for p in xy], [p[1] for p in xy], yerr=[(b or 0) * abs(p[1]) for b, p in zip(bands, xy)],
                                 fmt="none", ecolor=line.get_color(), capsize=3, lw=0.8,
-                                label="strategy error (scaled family; none where not measured)")
+                                label=None if barred else "error bars: own refinement where measured, else the scaled "
+                                                          "family's")
+                    barred = True
         ref = stored.get(what)
         if ref is not None:
             drawn = True
@@ -1381,7 +1443,7 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
     tabor_cols = ["μ_T", "run", "grid", "p (kPa)", "a_r", "repulsive fraction", "mean gap (nm)"]
     section(6, "Contact area as a function of the Tabor coefficient (log μ_T)", tabor["area"], tabor_cols,
             band_note[:1] + ["Each μ_T has its own ρ, hence its own dx/ρ and its own error bar.", ""]
-            + _condition_note("tabor")
+            + _condition_note("tabor", own=tabor.get("own_refined", False))
             + [n + "\n" for n in dict.fromkeys(tabor.get("notes", []))])
     section(7, "Mean gap as a function of the Tabor coefficient (log μ_T)", _no_rows(tabor["gap"]), tabor_cols,
             ["Numbers: the table of item 6.", ""])

@@ -536,6 +536,63 @@ def run_band(summary, short):
     return k, (max(both) if both else None), rel, at, used
 
 
+# A grid resolves the range for a refinement pair when dx <= 1.6 rho: the family's own standard
+# (its converged references are runs at dx <= 0.8 rho, their refinement error the change from the
+# grid with half the points, about 1.6 rho).
+REFINEMENT_RESOLVED = 1.6
+
+
+def own_refinement(grids):
+    """The challenge's own refinement of one sweep point (the same case, mu_T and load on grids
+    of n, 2n, 4n... points a side; scripts/tabor_sweep.sh --grid N): the error of the coarsest
+    grid's value, measured on the challenge itself instead of transferred from the scaled family.
+
+    grids: [{"nx", "dx_over_rho", "value", "corrected"}] coarsest first (corrected: the
+    perimeter-corrected contact fraction for a_r, else None), every grid converged, plain.
+
+    The converged value is estimated by Richardson extrapolation of order 1 (the counted contact
+    area errs by a band of pixels along the contact lines, proportional to dx; Richardson, Phil.
+    Trans. R. Soc. A 210, 307 (1911)) from each pair of successive grids whose coarser grid
+    resolves rho (dx <= REFINEMENT_RESOLVED rho): v_inf = 2 v_fine - v_coarse. Order 1 is what
+    the hard wall shows on the challenge (a_r +14 % at 2048², +7.2 % at 4096² against the
+    perimeter-corrected 4096² value; README "Refinement study") and on the family's s = 32 (+28.5 %,
+    +14.3 %); a higher order makes the estimate pessimistic. Independent estimates of the same
+    value: the other pairs' extrapolations and, for a_r, the finest grid's perimeter-corrected count
+    (Yastrebov et al., Tribol. Int. 107, 2017). The band of the coarsest grid's value (relative to
+    it) is |v_coarsest - v_inf| (v_inf from the finest pair) plus the largest distance of the other
+    estimates from v_inf. With three grids, the observed order p = log2(|v0 - v1| / |v1 - v2|).
+
+    Returns {"band", "v_inf", "estimates", "order", "grids"} or None where no pair resolves rho or
+    the grids do not double."""
+    if len(grids) < 2 or any(g["nx"] != 2 * f["nx"] for f, g in zip(grids, grids[1:])):
+        return None
+    pairs = [(a, b) for a, b in zip(grids, grids[1:]) if a["dx_over_rho"] <= REFINEMENT_RESOLVED]
+    if not pairs:
+        return None
+    vals = [g["value"] for g in grids]
+    if not all(finite(v) for v in vals) or vals[0] == 0:
+        return None
+    ests = [(f"Richardson {a['nx']}²/{b['nx']}²", 2 * b["value"] - a["value"]) for a, b in pairs]
+    v_inf = ests[-1][1]
+    if finite(grids[-1].get("corrected")):
+        ests.append((f"perimeter-corrected {grids[-1]['nx']}²", grids[-1]["corrected"]))
+    spread = max(abs(v - v_inf) for _, v in ests)
+    order = None
+    if len(vals) >= 3 and vals[1] != vals[2] and vals[0] != vals[1]:
+        order = math.log2(abs(vals[0] - vals[1]) / abs(vals[1] - vals[2]))
+    return {"band": (abs(vals[0] - v_inf) + spread) / abs(vals[0]), "v_inf": v_inf, "estimates": ests,
+            "order": order, "grids": [g["nx"] for g in grids]}
+
+
+def own_refinement_words(got, name, unit=""):
+    """One sentence on own_refinement's result for quantity `name` (values in `unit`, e.g. " m")."""
+    grids = "², ".join(str(n) for n in got["grids"]) + "²"
+    est = "; ".join(f"{w}: {v:.5g}{unit}" for w, v in got["estimates"])
+    order = "" if got["order"] is None else f", observed order {got['order']:.2g}"
+    return (f"{name} on {grids}{order}; converged value estimated at {got['v_inf']:.5g}{unit} ({est}): "
+            f"+-{100 * got['band']:.3g} %")
+
+
 def load_bands(summary, short, pressures):
     """Per load of an adhesive load sweep (its summary.json; pressures in Pa): the relative band for
     `short`, and a sentence on what it rests on. The band measured at mu_T = 3 and 250 kPa

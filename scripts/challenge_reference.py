@@ -10,6 +10,8 @@ Inputs (read only, SI, layout of solver/cmc/output/Writer.cpp):
                                       -> items 1, 3, 4, 5, 9
   results/challenge-load-sweep/       adhesive load sweep, if present -> items 2, 8
   results/challenge-tabor-sweep/*/    adhesive Tabor sweep, if present -> items 6, 7
+  results/challenge-tabor-sweep-n*/*/ the same sweep on finer grids (scripts/tabor_sweep.sh --grid N), if
+                                      present: the bands of items 6, 7 where they resolve rho
   results/refine/reference-load-hardwall/refinement.json
                                       hard-wall refinement study (`cmc refine`), quoted in
                                       estimated_error for context only (the adhesive curves have
@@ -43,10 +45,10 @@ import numpy as np
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 sys.path.insert(0, os.path.join(ROOT, "reports"))
 from challenge_report import (Run, _centers, _find_runs, _merged_sweeps, _observables,  # noqa: E402
-                              _reference_load_runs, band_floor, finer_sweep, grid_change, hardwall_sweep_band,
+                              _reference_load_runs, band_floor, finer_sweep, grid_change, hardwall_sweep_band, own_band,
                               profile_band, refinement_band)  # (the report's extraction)
-from common import (CHALLENGE, FAMILY_STORE, STRATEGY_WORDS, condition_checks,  # noqa: E402
-                    condition_summary, load_bands, load_json, run_band,
+from common import (CHALLENGE, FAMILY_STORE, REFINEMENT_RESOLVED, STRATEGY_WORDS, condition_checks,  # noqa: E402
+                    condition_summary, load_bands, load_json, own_refinement_words, run_band,
                     read_reference_csv, roundoff_note, run_strategy, run_strategy_error, transfer_caveat)
 
 RHO, LAMBDA_S, P0 = CHALLENGE["rho"], CHALLENGE["lambda_s"], CHALLENGE["p0"]
@@ -512,13 +514,15 @@ def _grid_change_of(pair, key):
 def tabor_curves(runs, hw):
     """Items 6 and 7 (adhesive Tabor sweep), when run."""
     curves = []
-    # Tabor sweep: one run per mu_T (at the reference load) on the finest grid that has >= 2.
+    # Tabor sweep: one run per mu_T (at the reference load) on the grid with the most mu_T (at least
+    # 2), the coarser where two have as many: the sweep on a finer grid (scripts/tabor_sweep.sh
+    # --grid N) measures that curve's error (sweep_band), as the reference load's 4096² run does.
     by_grid = {}
     for r in runs:
         st = r.reference_step()
         if r.run_tabor is not None and st is not None and not r.is_load_sweep():
             by_grid.setdefault((r.nx, r.ny), {})[round(r.run_tabor, 9)] = (r, st)
-    grids = [g for g in sorted(by_grid, key=lambda g: -g[0] * g[1]) if len(by_grid[g]) >= 2]
+    grids = [g for g in sorted(by_grid, key=lambda g: (-len(by_grid[g]), g[0] * g[1])) if len(by_grid[g]) >= 2]
     if grids:
         items = [by_grid[grids[0]][k] for k in sorted(by_grid[grids[0]])]
         r0 = items[-1][0]
@@ -549,19 +553,30 @@ def tabor_curves(runs, hw):
                 # Where the family was run at the point's own mu_T too (scripts/scaled_family.py
                 # --tabor, reference/challenge-scaled/conditions/), the band is the larger of the
                 # two measured errors: the one at mu_T = 3 alone does not hold at every mu_T.
-                rels, per, measured = [], [], []
+                rels, per, measured, owns = [], [], [], []
                 for (r, _), m, (rel, _) in zip(items, mus, bands):
                     _, band, _, at, _ = run_band(r.s, short)  # reports/common.py: max(rel, at)
-                    rels.append(band)
+                    own = own_band(r, short, runs)  # the challenge's own refinement, where it applies
+                    rels.append(own["band"] if own else band)
                     per.append(f"mu_T = {m:.3g}: +-{100 * rels[-1]:.3g} %"
-                               + ("" if at is None else f" (at mu_T = {m:.3g}: {100 * at:.3g} %; "
+                               + (f" (own refinement; the family's: {100 * band:.3g} %)" if own else
+                                  "" if at is None else f" (at mu_T = {m:.3g}: {100 * at:.3g} %; "
                                                         f"at mu_T = 3: {100 * rel:.3g} %)"))
-                    if at is not None:
+                    if own:
+                        owns.append(f"mu_T = {m:.3g}: " + own_refinement_words(own, short, " m" if short == "mean_gap" else ""))
+                    elif at is not None:
                         measured.append(f"{m:.3g}")
                 add_band(c, rels)
+                c["own_refinement"] = [m for m, o in zip(mus, [own_band(r, short, runs) for r, _ in items]) if o]
                 cond = os.path.join(os.path.dirname(_rel(FAMILY_STORE)), "conditions")
                 c["estimated_error"] = (
-                    f"band per point ({', '.join(per)}): the strategy's error measured on the scaled challenge "
+                    f"band per point ({', '.join(per)}). "
+                    + (f"Where the sweep was refined on the challenge itself and the finer pair of grids resolves "
+                       f"rho (dx <= {REFINEMENT_RESOLVED} rho on its coarser grid; scripts/tabor_sweep.sh --grid N): the "
+                       "challenge's own grid error, Richardson extrapolation of order 1 plus the spread of the other "
+                       "estimates of the converged value (reports/common.py own_refinement; " + "; ".join(owns)
+                       + "). Elsewhere: " if owns else "")
+                    + f"the strategy's error measured on the scaled challenge "
                     f"family ({_rel(FAMILY_STORE)}) at that point's dx/rho (deviation from the family's converged "
                     "reference plus that reference's refinement error), measured at mu_T = 3 and 250 kPa"
                     + (f", and where the family was also run at the point's own mu_T ({', '.join(measured)}; "
@@ -658,6 +673,22 @@ def _stored_block(path, first, last=None):
     return "\n\n".join(paras[i:j + 1]).split("\n") + [""]
 
 
+def _own_refinement_sentence(banded):
+    """The README's words on the Tabor sweep's points whose band is the challenge's own refinement
+    (tabor_curves' "own_refinement": their mu_T), one sentence per set of mu_T."""
+    by = {}
+    for c in banded:
+        if c.get("own_refinement"):
+            by.setdefault(tuple(c["own_refinement"]), []).append(f"`{c['quantity']}.csv`")
+    return "".join(
+        f"At μ_T = {', '.join(f'{m:.3g}' for m in mus)} the band{'s' if len(files) > 1 else ''} of "
+        f"{' and '.join(files)} {'are' if len(files) > 1 else 'is'} instead the challenge's own grid error, measured "
+        "by refining the sweep itself (`scripts/tabor_sweep.sh --grid N`) where the finer pair of grids resolves ρ "
+        f"(dx ≤ {REFINEMENT_RESOLVED} ρ on its coarser grid): Richardson extrapolation of order 1 plus the spread of "
+        "the other estimates of the converged value (`reports/common.py` `own_refinement`); it needs no transfer "
+        "from the family. " for mus, files in by.items())
+
+
 def readme(curves, out_dir, hw, ref_run, ref_step, keep_from=None):
     """The README of reference/challenge/. keep_from (--only tabor): a stored README whose
     paragraphs on the reference-load run and the hard-wall refinement are kept where their runs
@@ -710,6 +741,7 @@ def readme(curves, out_dir, hw, ref_run, ref_step, keep_from=None):
               "`--pressure`) the band is the larger of the two measured errors: per μ_T for the Tabor sweep, per "
               "load for the load sweep (interpolated in log p between the measured loads and held beyond them); "
               "at the points not measured the band is **assumed** (each file's `estimated_error` says which). "
+              + _own_refinement_sentence(banded)
               + (condition_summary(checks) + " (`reference/challenge-scaled/README.md`, \"The bands at "
                  "other conditions\".) " if checks else "")
               + roundoff_note(rel=_rel), "",

@@ -1,21 +1,50 @@
 #!/usr/bin/env bash
 # The challenge's Tabor sweep (quantities 6 and 7): the reference load with every
 # parameter fixed but the adhesion range, mu_T = 0.0562 .. 3 on a log grid (8 values, 10^(1/4) apart; 3 is the challenge's), one run each.
-#   scripts/tabor_sweep.sh [--set grid.n=1024 ...]     (extra arguments go to cmc run)
-# Results: results/challenge-tabor-sweep/mu_T_<value>/; finished runs are kept, an
+#   scripts/tabor_sweep.sh [--grid N] [--tabor "MU MU ..."] [--set key=value ...]   (the rest goes to cmc run)
+#   --tabor: these mu_T only (each one of the eight); CMC=path: another cmc binary (e.g. a build
+#   with -DCMC_WISDOM_MAX_N=8192 for --grid 8192, whose FFTs the default build plans by estimate).
+# Results: results/challenge-tabor-sweep/mu_T_<value>/ on the case's 2048² grid, or
+# results/challenge-tabor-sweep-n<N>/mu_T_<value>/ with --grid N (the refinement of the
+# sweep on the challenge itself: scripts/challenge_reference.py reads the 4096² sweep for
+# the bands at low mu_T, where 4096² resolves rho). Finished runs are kept, an
 # interrupted one resumes. Then scripts/report.sh draws the two figures.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+root=results/challenge-tabor-sweep
+extra=()
+all="0.0562 0.1 0.178 0.316 0.562 1.0 1.78 3.0"
+mus="$all"
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --grid)
+      case "${2:-}" in
+        ''|*[!0-9]*) echo "tabor_sweep: --grid needs a number of points per side, e.g. --grid 4096 (got '${2:-}')" >&2; exit 2 ;;
+      esac
+      root="results/challenge-tabor-sweep-n$2"
+      extra=(--set "grid.n=$2")
+      shift 2 ;;
+    --tabor)
+      for mu in ${2:-}; do
+        case " $all " in *" $mu "*) ;; *) echo "tabor_sweep: --tabor: $mu is not one of the sweep's mu_T ($all)" >&2; exit 2 ;; esac
+      done
+      [ -n "${2:-}" ] || { echo "tabor_sweep: --tabor needs a list of mu_T, e.g. --tabor \"0.0562 0.1\"" >&2; exit 2; }
+      mus="$2"
+      shift 2 ;;
+    *) break ;;
+  esac
+done
+cmc="${CMC:-build/cmc}"
 scripts/setup.sh
 # FFT plans come from the wisdom built into cmc (the same bits on every run); with
 # CMC_FFTW_PLANNER=measure they are timed at run time and kept in this wisdom file.
 export CMC_FFTW_WISDOM="${CMC_FFTW_WISDOM:-$PWD/build/fftw-wisdom}"
-for mu in 0.0562 0.1 0.178 0.316 0.562 1.0 1.78 3.0; do
-  out="results/challenge-tabor-sweep/mu_T_$mu"
+for mu in $mus; do
+  out="$root/mu_T_$mu"
   if [ -f "$out/summary.json" ] && grep -q '"status" : "converged"' "$out/summary.json"; then
     echo "tabor_sweep: mu_T = $mu done ($out)" >&2
     continue
   fi
   echo "tabor_sweep: mu_T = $mu -> $out" >&2
-  build/cmc run cases/challenge/tabor-sweep.toml --out "$out" --resume --set interaction.tabor="$mu" "$@" || [ $? -eq 3 ]
+  "$cmc" run cases/challenge/tabor-sweep.toml --out "$out" --resume --set interaction.tabor="$mu" ${extra[@]+"${extra[@]}"} "$@" || [ $? -eq 3 ]
 done

@@ -17,6 +17,13 @@
                  load, the larger of the 250 kPa band and the errors at the measured loads,
                  interpolated in log p and held beyond. And scripts/challenge_reference.py --only
                  tabor without the Tabor sweep's runs: a message naming what makes them.
+  own_refinement reports/common.py own_refinement on synthetic values that err in proportion to dx:
+                 Richardson of order 1 recovers the converged value, the band is the coarsest
+                 grid's distance from it plus the spread of the other estimates, the observed order
+                 is 1; a pair whose coarser grid has dx > 1.6 rho is not used, and grids that do not
+                 double give nothing. reports/challenge_report.py sweep_band on synthetic runs: a
+                 Tabor-sweep point refined on grids that resolve rho takes that band, one that is
+                 not (dx = 2.5 rho on its coarser grid) keeps the family's.
 
 usage: /usr/bin/python3 tests/scaled_family_test.py TEST
 """
@@ -68,6 +75,8 @@ def main(test):
         return conditions()
     if test == "bands":
         return bands()
+    if test == "own_refinement":
+        return own_refinement()
     assert test == "reestimate", test
     tmp = tempfile.mkdtemp(prefix="cmc_scaled_family_test_")
     try:
@@ -162,6 +171,48 @@ def bands():
         assert not os.path.exists(out), os.listdir(out)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
+
+
+def own_refinement():
+    sys.path.insert(0, os.path.join(ROOT, "reports"))
+    import common
+    import challenge_report
+
+    def grid(nx, k, v, corrected=None):
+        return {"nx": nx, "dx_over_rho": k, "value": v, "corrected": corrected}
+    # v = 0.02 (1 + 0.14 * 2048 / n): first order in dx, as the counted contact area.
+    v = {n: 0.02 * (1 + 0.14 * 2048 / n) for n in (2048, 4096, 8192)}
+    got = common.own_refinement([grid(2048, 0.44, v[2048]), grid(4096, 0.22, v[4096]),
+                                 grid(8192, 0.11, v[8192], corrected=0.0201)])
+    assert abs(got["v_inf"] - 0.02) < 1e-12, got
+    assert abs(got["band"] - (v[2048] - 0.02 + 0.0001) / v[2048]) < 1e-9, got
+    assert abs(got["order"] - 1.0) < 1e-9 and len(got["estimates"]) == 3, got
+    # The pair 2048/4096 at 2.5 rho is not used: the estimate comes from 4096/8192 alone.
+    got = common.own_refinement([grid(2048, 2.5, 0.03), grid(4096, 1.25, v[4096]), grid(8192, 0.62, v[8192])])
+    assert abs(got["v_inf"] - 0.02) < 1e-12 and len(got["estimates"]) == 1, got
+    assert abs(got["band"] - 0.01 / 0.03) < 1e-9, got
+    assert common.own_refinement([grid(2048, 2.5, 0.03), grid(4096, 1.25, v[4096])]) is None
+    assert common.own_refinement([grid(2048, 0.4, 0.03), grid(3000, 0.3, v[4096])]) is None
+
+    def summary(n, tabor, ar, gap):
+        return {"case": {"case": {"name": "challenge-tabor-sweep"},
+                         "interaction": {"kind": "exponential", "tabor": tabor}},
+                "status": "converged", "grid": {"nx": n, "ny": n, "dx": 1e-4 / n},
+                "surface_facts": {"dx_over_range": 1e-4 / n / (2.071e-9 * 3 / tabor)},
+                "steps": [{"observables": {"mean_pressure": 250e3, "contact_fraction": ar,
+                                           "contact_fraction_corrected": 0.9 * ar, "mean_gap": gap}}]}
+    challenge_report.run_band = lambda s, short: (1.0, 0.33, 0.01, 0.33, [])  # the family's, say
+    runs = [challenge_report.Run(summary(n, mu, v[n] * (1 + mu), 1e-6 * (1 + 0.001 * 2048 / n)), f"/x/{n}/{mu}")
+            for n in (2048, 4096) for mu in (0.1, 1.0)]
+    assert all(r.name == "challenge-tabor-sweep" for r in runs), [r.name for r in runs]
+    at = {(r.nx, r.run_tabor): r for r in runs}
+    band, own = challenge_report.sweep_band(at[2048, 0.1], "a_r", runs)  # dx = 0.79 rho: own refinement
+    assert own is not None and abs(own["v_inf"] - 0.02 * 1.1) < 1e-12, own
+    assert abs(band - (v[2048] * 1.1 - 0.022 + abs(0.022 - 0.9 * v[4096] * 1.1)) / (v[2048] * 1.1)) < 1e-9, band
+    band, own = challenge_report.sweep_band(at[2048, 0.1], "mean_gap", runs)
+    assert own is not None and abs(band - 2 * 0.0005 / 1.001) < 1e-9, band
+    band, own = challenge_report.sweep_band(at[2048, 1.0], "a_r", runs)  # dx = 7.9 rho: the family's
+    assert own is None and band == 0.33, (band, own)
 
 
 if __name__ == "__main__":

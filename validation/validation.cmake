@@ -24,7 +24,7 @@ add_test(NAME reports.selftest COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/repo
 set_tests_properties(reports.selftest PROPERTIES LABELS "quick;python")
 # scripts/scaled_family.py's realizations (issue 13): --seed, and error bars over every
 # stored realization (tests/scaled_family_test.py says what each checks; no cmc run).
-foreach(t seed_flag reestimate conditions bands)
+foreach(t seed_flag reestimate conditions bands own_refinement)
   add_test(NAME scaled_family.${t} COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/tests/scaled_family_test.py ${t})
   set_tests_properties(scaled_family.${t} PROPERTIES LABELS "quick;python")
 endforeach()
