@@ -557,10 +557,11 @@ def own_refinement(grids):
     the hard wall shows on the challenge (a_r +14 % at 2048², +7.2 % at 4096² against the
     perimeter-corrected 4096² value; README "Refinement study") and on the family's s = 32 (+28.5 %,
     +14.3 %); a higher order makes the estimate pessimistic. Independent estimates of the same
-    value: the other pairs' extrapolations and, for a_r, the finest grid's perimeter-corrected count
-    (Yastrebov et al., Tribol. Int. 107, 2017). The band of the coarsest grid's value (relative to
-    it) is |v_coarsest - v_inf| (v_inf from the finest pair) plus the largest distance of the other
-    estimates from v_inf. With three grids, the observed order p = log2(|v0 - v1| / |v1 - v2|).
+    value: the other pairs' extrapolations, with three grids or more Richardson's with the order
+    observed on the finest three, p = log2(|v0 - v1| / |v1 - v2|) (where the changes have one sign),
+    and, for a_r, the finest grid's perimeter-corrected count (Yastrebov et al., Tribol. Int. 107,
+    2017). The band of the coarsest grid's value (relative to it) is |v_coarsest - v_inf| (v_inf from
+    the finest pair) plus the largest distance of the other estimates from v_inf.
 
     Returns {"band", "v_inf", "estimates", "order", "grids"} or None where no pair resolves rho or
     the grids do not double."""
@@ -574,12 +575,15 @@ def own_refinement(grids):
         return None
     ests = [(f"Richardson {a['nx']}²/{b['nx']}²", 2 * b["value"] - a["value"]) for a, b in pairs]
     v_inf = ests[-1][1]
+    order = None
+    if len(vals) >= 3 and vals[-2] != vals[-1] and vals[-3] != vals[-2]:
+        c1, c2 = vals[-3] - vals[-2], vals[-2] - vals[-1]
+        order = math.log2(abs(c1) / abs(c2))
+        if c1 * c2 > 0 and order > 0:  # monotone: Richardson with the observed order is one more estimate
+            ests.append((f"Richardson of order {order:.2g}", vals[-1] - c2 / (2 ** order - 1)))
     if finite(grids[-1].get("corrected")):
         ests.append((f"perimeter-corrected {grids[-1]['nx']}²", grids[-1]["corrected"]))
     spread = max(abs(v - v_inf) for _, v in ests)
-    order = None
-    if len(vals) >= 3 and vals[1] != vals[2] and vals[0] != vals[1]:
-        order = math.log2(abs(vals[0] - vals[1]) / abs(vals[1] - vals[2]))
     return {"band": (abs(vals[0] - v_inf) + spread) / abs(vals[0]), "v_inf": v_inf, "estimates": ests,
             "order": order, "grids": [g["nx"] for g in grids]}
 

@@ -28,6 +28,7 @@
 usage: /usr/bin/python3 tests/scaled_family_test.py TEST
 """
 import json
+import math
 import os
 import shutil
 import subprocess
@@ -186,11 +187,14 @@ def own_refinement():
                                  grid(8192, 0.11, v[8192], corrected=0.0201)])
     assert abs(got["v_inf"] - 0.02) < 1e-12, got
     assert abs(got["band"] - (v[2048] - 0.02 + 0.0001) / v[2048]) < 1e-9, got
-    assert abs(got["order"] - 1.0) < 1e-9 and len(got["estimates"]) == 3, got
-    # The pair 2048/4096 at 2.5 rho is not used: the estimate comes from 4096/8192 alone.
+    assert abs(got["order"] - 1.0) < 1e-9 and len(got["estimates"]) == 4, got
+    # The pair 2048/4096 at 2.5 rho is not extrapolated: v_inf comes from 4096/8192 alone; the order
+    # the three grids show (3.6 here) gives the only other estimate.
     got = common.own_refinement([grid(2048, 2.5, 0.03), grid(4096, 1.25, v[4096]), grid(8192, 0.62, v[8192])])
-    assert abs(got["v_inf"] - 0.02) < 1e-12 and len(got["estimates"]) == 1, got
-    assert abs(got["band"] - 0.01 / 0.03) < 1e-9, got
+    assert abs(got["v_inf"] - 0.02) < 1e-12 and len(got["estimates"]) == 2, got
+    p = math.log2((0.03 - v[4096]) / (v[4096] - v[8192]))
+    with_p = v[8192] - (v[4096] - v[8192]) / (2 ** p - 1)
+    assert abs(got["band"] - (0.01 + abs(with_p - 0.02)) / 0.03) < 1e-9, got
     assert common.own_refinement([grid(2048, 2.5, 0.03), grid(4096, 1.25, v[4096])]) is None
     assert common.own_refinement([grid(2048, 0.4, 0.03), grid(3000, 0.3, v[4096])]) is None
 
