@@ -39,24 +39,32 @@ def _band(run, short):
 
 
 def refinement_grids(run, runs):
-    """run and the converged runs of the same case, strategy and mu_T on 2, 4, ... times its points a
-    side with a step at the reference load (the sweep refined on the challenge itself,
+    """The converged runs of run's case, strategy and mu_T on n/2, n, 2n, ... points a side (run's n
+    among them) with a step at the reference load (the sweep refined on the challenge itself,
     scripts/tabor_sweep.sh --grid N), coarsest first."""
+    def same(q, nx, ny):
+        return (q.name == run.name and q.nx == nx and q.ny == ny and q.status == "converged"
+                and run_strategy(q.s) == run_strategy(run.s) and q.run_tabor and run.run_tabor
+                and abs(q.run_tabor / run.run_tabor - 1) < 1e-6 and q.reference_step() is not None)
     out = [run]
     while True:
-        last = out[-1]
-        nxt = [q for q in runs if q.name == run.name and q.nx == 2 * last.nx and q.ny == 2 * last.ny
-               and q.status == "converged" and run_strategy(q.s) == run_strategy(run.s)
-               and q.run_tabor and run.run_tabor and abs(q.run_tabor / run.run_tabor - 1) < 1e-6
-               and q.reference_step() is not None]
+        nxt = [q for q in runs if same(q, 2 * out[-1].nx, 2 * out[-1].ny)]
         if not nxt:
-            return out
+            break
         out.append(nxt[0])
+    while out[0].nx % 2 == 0 and out[0].ny % 2 == 0:
+        prev = [q for q in runs if same(q, out[0].nx // 2, out[0].ny // 2)]
+        if not prev:
+            break
+        out.insert(0, prev[0])
+    return out
 
 
 def own_band(run, short, runs):
-    """own_refinement (reports/common.py) of a plain, converged run from its finer grids among
-    `runs` (refinement_grids), for short = a_r or mean_gap; None where it does not apply."""
+    """own_refinement (reports/common.py) of a plain, converged run from the other grids of its
+    point among `runs` (refinement_grids), for short = a_r or mean_gap, with "band" that of this
+    run's value: its distance from the estimated converged value plus the estimates' spread,
+    relative to it. None where it does not apply."""
     grids = refinement_grids(run, runs)
     if len(grids) < 2 or run.status != "converged" or run_strategy(run.s) != "plain":
         return None
@@ -68,7 +76,11 @@ def own_band(run, short, runs):
                      "corrected": st["ar_corr"] if short == "a_r" else None})
     if not all(finite(r["dx_over_rho"]) for r in rows):
         return None
-    return own_refinement(rows)
+    got = own_refinement(rows)
+    v = run.reference_step()[key]
+    if got is None or not v:
+        return None
+    return dict(got, band=(abs(v - got["v_inf"]) + got["spread"]) / abs(v), nx=run.nx)
 
 
 def sweep_band(run, short, runs):

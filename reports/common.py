@@ -563,7 +563,7 @@ def own_refinement(grids):
     2017). The band of the coarsest grid's value (relative to it) is |v_coarsest - v_inf| (v_inf from
     the finest pair) plus the largest distance of the other estimates from v_inf.
 
-    Returns {"band", "v_inf", "estimates", "order", "grids"} or None where no pair resolves rho or
+    Returns {"band", "v_inf", "spread", "estimates", "order", "grids"} or None where no pair resolves rho or
     the grids do not double."""
     if len(grids) < 2 or any(g["nx"] != 2 * f["nx"] for f, g in zip(grids, grids[1:])):
         return None
@@ -584,7 +584,7 @@ def own_refinement(grids):
     if finite(grids[-1].get("corrected")):
         ests.append((f"perimeter-corrected {grids[-1]['nx']}²", grids[-1]["corrected"]))
     spread = max(abs(v - v_inf) for _, v in ests)
-    return {"band": (abs(vals[0] - v_inf) + spread) / abs(vals[0]), "v_inf": v_inf, "estimates": ests,
+    return {"band": (abs(vals[0] - v_inf) + spread) / abs(vals[0]), "v_inf": v_inf, "spread": spread, "estimates": ests,
             "order": order, "grids": [g["nx"] for g in grids]}
 
 

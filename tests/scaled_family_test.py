@@ -22,8 +22,9 @@
                  grid's distance from it plus the spread of the other estimates, the observed order
                  is 1; a pair whose coarser grid has dx > 1.6 rho is not used, and grids that do not
                  double give nothing. reports/challenge_report.py sweep_band on synthetic runs: a
-                 Tabor-sweep point refined on grids that resolve rho takes that band, one that is
-                 not (dx = 2.5 rho on its coarser grid) keeps the family's.
+                 Tabor-sweep point refined on grids that resolve rho takes that band (on the finest
+                 grid too: its own distance from the estimate), one that is not (dx = 7.9 rho on its
+                 coarser grid) keeps the family's.
 
 usage: /usr/bin/python3 tests/scaled_family_test.py TEST
 """
@@ -215,6 +216,9 @@ def own_refinement():
     assert abs(band - (v[2048] * 1.1 - 0.022 + abs(0.022 - 0.9 * v[4096] * 1.1)) / (v[2048] * 1.1)) < 1e-9, band
     band, own = challenge_report.sweep_band(at[2048, 0.1], "mean_gap", runs)
     assert own is not None and abs(band - 2 * 0.0005 / 1.001) < 1e-9, band
+    band, own = challenge_report.sweep_band(at[4096, 0.1], "a_r", runs)  # the finest grid: its own distance
+    assert own is not None and abs(band - (v[4096] * 1.1 - 0.022 + abs(0.022 - 0.9 * v[4096] * 1.1))
+                                   / (v[4096] * 1.1)) < 1e-9, band
     band, own = challenge_report.sweep_band(at[2048, 1.0], "a_r", runs)  # dx = 7.9 rho: the family's
     assert own is None and band == 0.33, (band, own)
 
