@@ -77,7 +77,7 @@ def own_band(run, short, runs):
     if not all(finite(r["dx_over_rho"]) for r in rows):
         return None
     got = own_refinement(rows)
-    v = run.reference_step()[key]
+    v = rows[grids.index(run)]["value"]
     if got is None or not v:
         return None
     return dict(got, band=(abs(v - got["v_inf"]) + got["spread"]) / abs(v), nx=run.nx)
@@ -785,6 +785,7 @@ def _tabor(runs, out_dir, data_dir, case_dir, reference_dir):
     res = {}
     rows = []
     csvs = []
+    band_of = {}  # (id(run), short) -> sweep_band: for the table and the figures
     for key, items in sorted(groups.items()):
         items.sort(key=lambda t: t[1]["tabor"])
         cols = [("tabor", [st["tabor"] for _, st in items])]
@@ -799,7 +800,9 @@ def _tabor(runs, out_dir, data_dir, case_dir, reference_dir):
                              "checkable with: cmc check FILE --quantity contact_area_vs_tabor | mean_gap_vs_tabor")
         csvs.append(csv)
         for r, st in items:
-            (b_ar, own_ar), (b_gap, own_gap) = sweep_band(r, "a_r", runs), sweep_band(r, "mean_gap", runs)
+            for short in ("a_r", "mean_gap"):
+                band_of[id(r), short] = sweep_band(r, short, runs)
+            (b_ar, own_ar), (b_gap, own_gap) = band_of[id(r), "a_r"], band_of[id(r), "mean_gap"]
             rows.append([fmt(st["tabor"], 4), r.name, f"{r.nx}²" + (" ‡" if own_ar or own_gap else ""),
                          fmt(st["p"] / 1e3 if st["p"] else None, 4),
                          _pm(st["ar"], b_ar), fmt(st["rep"], 4), _pm(st["gap"], b_gap, 5, 1e9)])
@@ -828,7 +831,7 @@ def _tabor(runs, out_dir, data_dir, case_dir, reference_dir):
                 drawn = True
                 line, = ax.semilogx([p[0] for p in xy], [p[1] for p in xy], "o-", ms=4, label=f"grid {key[0]}×{key[1]}")
                 # Each mu_T has its own rho, so its own dx/rho and strategy error: error bars.
-                bands = [sweep_band(r, "a_r" if what == "ar" else "mean_gap", runs)[0] for r, _ in use]
+                bands = [band_of[id(r), "a_r" if what == "ar" else "mean_gap"][0] for r, _ in use]
                 if any(bands):
                     ax.errorbar([p[0] for p in xy], [p[1] for p in xy], yerr=[(b or 0) * abs(p[1]) for b, p in zip(bands, xy)],
                                 fmt="none", ecolor=line.get_color(), capsize=3, lw=0.8,

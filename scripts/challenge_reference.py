@@ -45,8 +45,8 @@ import numpy as np
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 sys.path.insert(0, os.path.join(ROOT, "reports"))
 from challenge_report import (Run, _centers, _find_runs, _merged_sweeps, _observables,  # noqa: E402
-                              _reference_load_runs, band_floor, finer_sweep, grid_change, hardwall_sweep_band, own_band,
-                              profile_band, refinement_band)  # (the report's extraction)
+                              _reference_load_runs, band_floor, finer_sweep, grid_change, hardwall_sweep_band,
+                              profile_band, refinement_band, sweep_band)  # (the report's extraction)
 from common import (CHALLENGE, FAMILY_STORE, REFINEMENT_RESOLVED, STRATEGY_WORDS, condition_checks,  # noqa: E402
                     condition_summary, load_bands, load_json, own_refinement_words, run_band,
                     read_reference_csv, roundoff_note, run_strategy, run_strategy_error, transfer_caveat)
@@ -553,21 +553,22 @@ def tabor_curves(runs, hw):
                 # Where the family was run at the point's own mu_T too (scripts/scaled_family.py
                 # --tabor, reference/challenge-scaled/conditions/), the band is the larger of the
                 # two measured errors: the one at mu_T = 3 alone does not hold at every mu_T.
-                rels, per, measured, owns = [], [], [], []
+                rels, per, measured, owns, own_mus = [], [], [], [], []
                 for (r, _), m, (rel, _) in zip(items, mus, bands):
                     _, band, _, at, _ = run_band(r.s, short)  # reports/common.py: max(rel, at)
-                    own = own_band(r, short, runs)  # the challenge's own refinement, where it applies
-                    rels.append(own["band"] if own else band)
+                    b, own = sweep_band(r, short, runs)  # the challenge's own refinement where it applies
+                    rels.append(b)
                     per.append(f"mu_T = {m:.3g}: +-{100 * rels[-1]:.3g} %"
                                + (f" (own refinement; the family's: {100 * band:.3g} %)" if own else
                                   "" if at is None else f" (at mu_T = {m:.3g}: {100 * at:.3g} %; "
                                                         f"at mu_T = 3: {100 * rel:.3g} %)"))
                     if own:
                         owns.append(f"mu_T = {m:.3g}: " + own_refinement_words(own, short, " m" if short == "mean_gap" else ""))
+                        own_mus.append(m)
                     elif at is not None:
                         measured.append(f"{m:.3g}")
                 add_band(c, rels)
-                c["own_refinement"] = [m for m, o in zip(mus, [own_band(r, short, runs) for r, _ in items]) if o]
+                c["own_refinement"] = own_mus
                 cond = os.path.join(os.path.dirname(_rel(FAMILY_STORE)), "conditions")
                 c["estimated_error"] = (
                     f"band per point ({', '.join(per)}). "
