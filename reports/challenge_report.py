@@ -21,7 +21,7 @@ import re
 
 import numpy as np
 
-from common import (CHALLENGE, FAMILY_QUANTITIES, own_refinement, own_refinement_words, condition_check_lines, condition_checks, condition_summary, load_bands, realization_members, realization_rows, case_name, family_members, finite, fmt, get, gpu_row_head, gpu_section, h5_open, load_json,
+from common import (CHALLENGE, FAMILY_QUANTITIES, REFINEMENT_BISTABILITY, own_refinement, own_refinement_words, condition_check_lines, condition_checks, condition_summary, load_bands, realization_members, realization_rows, case_name, family_members, finite, fmt, get, gpu_row_head, gpu_section, h5_open, load_json,
                     md_table, plt, read_reference_csv, rel, roundoff_note, run_band, run_strategy, STRATEGIES, s_extrapolation,
                     s_extrapolation_verdict, savefig, step_groups, transfer_caveat, write_csv)
 
@@ -72,9 +72,10 @@ def own_band(run, short, runs):
     rows = []
     for q in grids:
         st = q.reference_step()
-        rows.append({"nx": q.nx, "dx_over_rho": get(q.s, "surface_facts", "dx_over_range"), "value": st[key],
+        rows.append({"nx": q.nx, "dx_over_rho": get(q.s, "surface_facts", "dx_over_range"),
+                     "bistability": get(q.s, "surface_facts", "bistability_number"), "value": st[key],
                      "corrected": st["ar_corr"] if short == "a_r" else None})
-    if not all(finite(r["dx_over_rho"]) for r in rows):
+    if not all(finite(r["dx_over_rho"]) and finite(r["bistability"]) for r in rows):
         return None
     got = own_refinement(rows)
     v = rows[grids.index(run)]["value"]
@@ -85,7 +86,7 @@ def own_band(run, short, runs):
 
 def sweep_band(run, short, runs):
     """The band of a Tabor-sweep point: the challenge's own refinement where its finer grids resolve
-    rho (own_band), which needs no transfer from the family and replaces the family's bands there;
+    the adhesion (own_band), which needs no transfer from the family and replaces the family's bands there;
     else the family's (_band). Returns (relative band or None, own_refinement's result or None)."""
     own = own_band(run, short, runs)
     return (own["band"], own) if own else (_band(run, short), None)
@@ -813,7 +814,7 @@ def _tabor(runs, out_dir, data_dir, case_dir, reference_dir):
                 res.setdefault("notes", []).append(
                     f"‡ μ_T = {st['tabor']:.3g} on {r.nx}²: the band is the challenge's own refinement "
                     "(`scripts/tabor_sweep.sh --grid N`; reports/common.py `own_refinement`: Richardson extrapolation "
-                    "of order 1 from the finest pair of grids whose coarser one has dx ≤ 1.6 ρ, plus the spread of "
+                    f"of order 1 from the finest pair of grids whose coarser one has w dx/(E\\* ρ²) ≤ {REFINEMENT_BISTABILITY:g}, plus the spread of "
                     "the other estimates), not the family's: "
                     + "; ".join(own_refinement_words(o, w, u) for o, w, u in ((own_ar, "a_r", ""), (own_gap, "mean gap", " m"))
                                 if o).replace("+-", "±")

@@ -47,7 +47,7 @@ sys.path.insert(0, os.path.join(ROOT, "reports"))
 from challenge_report import (Run, _centers, _find_runs, _merged_sweeps, _observables,  # noqa: E402
                               _reference_load_runs, band_floor, finer_sweep, grid_change, hardwall_sweep_band,
                               profile_band, refinement_band, sweep_band)  # (the report's extraction)
-from common import (CHALLENGE, FAMILY_STORE, REFINEMENT_RESOLVED, STRATEGY_WORDS, condition_checks,  # noqa: E402
+from common import (CHALLENGE, FAMILY_STORE, REFINEMENT_BISTABILITY, STRATEGY_WORDS, condition_checks,  # noqa: E402
                     condition_summary, load_bands, load_json, own_refinement_words, run_band,
                     read_reference_csv, roundoff_note, run_strategy, run_strategy_error, transfer_caveat)
 
@@ -573,7 +573,8 @@ def tabor_curves(runs, hw):
                 c["estimated_error"] = (
                     f"band per point ({', '.join(per)}). "
                     + (f"Where the sweep was refined on the challenge itself and the finer pair of grids resolves "
-                       f"rho (dx <= {REFINEMENT_RESOLVED} rho on its coarser grid; scripts/tabor_sweep.sh --grid N): the "
+                       f"the adhesion (bistability number w dx/(E* rho^2) <= {REFINEMENT_BISTABILITY:g} on its coarser grid, "
+                       "as on the family's refinement grids; scripts/tabor_sweep.sh --grid N): the "
                        "challenge's own grid error, Richardson extrapolation of order 1 plus the spread of the other "
                        "estimates of the converged value (reports/common.py own_refinement; " + "; ".join(owns)
                        + "). Elsewhere: " if owns else "")
@@ -684,8 +685,9 @@ def _own_refinement_sentence(banded):
     return "".join(
         f"At μ_T = {', '.join(f'{m:.3g}' for m in mus)} the band{'s' if len(files) > 1 else ''} of "
         f"{' and '.join(files)} {'are' if len(files) > 1 else 'is'} instead the challenge's own grid error, measured "
-        "by refining the sweep itself (`scripts/tabor_sweep.sh --grid N`) where the finer pair of grids resolves ρ "
-        f"(dx ≤ {REFINEMENT_RESOLVED} ρ on its coarser grid): Richardson extrapolation of order 1 plus the spread of "
+        "by refining the sweep itself (`scripts/tabor_sweep.sh --grid N`) where the finer pair of grids resolves the "
+        f"adhesion (bistability number w dx/(E\\* ρ²) ≤ {REFINEMENT_BISTABILITY:g} on its coarser grid, as on the "
+        "family's refinement grids): Richardson extrapolation of order 1 plus the spread of "
         "the other estimates of the converged value (`reports/common.py` `own_refinement`); it needs no transfer "
         "from the family. " for mus, files in by.items())
 

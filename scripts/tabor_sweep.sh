@@ -6,8 +6,8 @@
 #   with -DCMC_WISDOM_MAX_N=8192 for --grid 8192, whose FFTs the default build plans by estimate).
 # Results: results/challenge-tabor-sweep/mu_T_<value>/ on the case's 2048² grid, or
 # results/challenge-tabor-sweep-n<N>/mu_T_<value>/ with --grid N (the refinement of the
-# sweep on the challenge itself: scripts/challenge_reference.py reads the 4096² sweep for
-# the bands at low mu_T, where 4096² resolves rho). Finished runs are kept, an
+# sweep on the challenge itself: scripts/challenge_reference.py reads the 4096² and 8192²
+# sweeps for the bands at low mu_T, where those grids resolve the adhesion). Finished runs are kept, an
 # interrupted one resumes. Then scripts/report.sh draws the two figures.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -180,8 +180,9 @@ def own_refinement():
     import common
     import challenge_report
 
-    def grid(nx, k, v, corrected=None):
-        return {"nx": nx, "dx_over_rho": k, "value": v, "corrected": corrected}
+    def grid(nx, k, v, corrected=None, b=None):
+        # b: the bistability number; at mu_T = 3 about dx/rho (the family: 0.99-1.04 dx/rho)
+        return {"nx": nx, "dx_over_rho": k, "bistability": k if b is None else b, "value": v, "corrected": corrected}
     # v = 0.02 (1 + 0.14 * 2048 / n): first order in dx, as the counted contact area.
     v = {n: 0.02 * (1 + 0.14 * 2048 / n) for n in (2048, 4096, 8192)}
     got = common.own_refinement([grid(2048, 0.44, v[2048]), grid(4096, 0.22, v[4096]),
@@ -189,7 +190,7 @@ def own_refinement():
     assert abs(got["v_inf"] - 0.02) < 1e-12, got
     assert abs(got["band"] - (v[2048] - 0.02 + 0.0001) / v[2048]) < 1e-9, got
     assert abs(got["order"] - 1.0) < 1e-9 and len(got["estimates"]) == 4, got
-    # The pair 2048/4096 at 2.5 rho is not extrapolated: v_inf comes from 4096/8192 alone; the order
+    # The pair 2048/4096 at b = 2.5 is not extrapolated: v_inf comes from 4096/8192 alone; the order
     # the three grids show (3.6 here) gives the only other estimate.
     got = common.own_refinement([grid(2048, 2.5, 0.03), grid(4096, 1.25, v[4096]), grid(8192, 0.62, v[8192])])
     assert abs(got["v_inf"] - 0.02) < 1e-12 and len(got["estimates"]) == 2, got
@@ -198,12 +199,22 @@ def own_refinement():
     assert abs(got["band"] - (0.01 + abs(with_p - 0.02)) / 0.03) < 1e-9, got
     assert common.own_refinement([grid(2048, 2.5, 0.03), grid(4096, 1.25, v[4096])]) is None
     assert common.own_refinement([grid(2048, 0.4, 0.03), grid(3000, 0.3, v[4096])]) is None
+    # The rule is the bistability number, not dx/rho: where rho is long (low mu_T) a grid of 4.4 rho
+    # with b = 0.8 resolves the cohesive zone better than the family's refinement grid (1.6 rho,
+    # b = 1.66) and is extrapolated; one with b just above the bound is not.
+    low = [grid(2048, 4.4, v[2048], b=0.8), grid(4096, 2.2, v[4096], b=0.4)]
+    got = common.own_refinement(low)
+    assert got is not None and abs(got["v_inf"] - 0.02) < 1e-12, got
+    assert common.own_refinement([grid(2048, 1.2, v[2048], b=common.REFINEMENT_BISTABILITY * 1.01),
+                                  grid(4096, 0.6, v[4096], b=0.5 * common.REFINEMENT_BISTABILITY * 1.01)]) is None
 
     def summary(n, tabor, ar, gap):
         return {"case": {"case": {"name": "challenge-tabor-sweep"},
                          "interaction": {"kind": "exponential", "tabor": tabor}},
                 "status": "converged", "grid": {"nx": n, "ny": n, "dx": 1e-4 / n},
-                "surface_facts": {"dx_over_range": 1e-4 / n / (2.071e-9 * 3 / tabor)},
+                # rho = 2.071 nm * 3 / mu_T; b = w dx / (E* rho^2) = 0.965 dx/rho at mu_T = 3 (the challenge's)
+                "surface_facts": {"dx_over_range": 1e-4 / n / (2.071e-9 * 3 / tabor),
+                                  "bistability_number": 0.965 * tabor / 3 * 1e-4 / n / (2.071e-9 * 3 / tabor)},
                 "steps": [{"observables": {"mean_pressure": 250e3, "contact_fraction": ar,
                                            "contact_fraction_corrected": 0.9 * ar, "mean_gap": gap}}]}
     challenge_report.run_band = lambda s, short: (1.0, 0.33, 0.01, 0.33, [])  # the family's, say
@@ -211,7 +222,7 @@ def own_refinement():
             for n in (2048, 4096) for mu in (0.1, 1.0)]
     assert all(r.name == "challenge-tabor-sweep" for r in runs), [r.name for r in runs]
     at = {(r.nx, r.run_tabor): r for r in runs}
-    band, own = challenge_report.sweep_band(at[2048, 0.1], "a_r", runs)  # dx = 0.79 rho: own refinement
+    band, own = challenge_report.sweep_band(at[2048, 0.1], "a_r", runs)  # b = 0.025 (0.79 rho): own refinement
     assert own is not None and abs(own["v_inf"] - 0.02 * 1.1) < 1e-12, own
     assert abs(band - (v[2048] * 1.1 - 0.022 + abs(0.022 - 0.9 * v[4096] * 1.1)) / (v[2048] * 1.1)) < 1e-9, band
     band, own = challenge_report.sweep_band(at[2048, 0.1], "mean_gap", runs)
@@ -219,7 +230,7 @@ def own_refinement():
     band, own = challenge_report.sweep_band(at[4096, 0.1], "a_r", runs)  # the finest grid: its own distance
     assert own is not None and abs(band - (v[4096] * 1.1 - 0.022 + abs(0.022 - 0.9 * v[4096] * 1.1))
                                    / (v[4096] * 1.1)) < 1e-9, band
-    band, own = challenge_report.sweep_band(at[2048, 1.0], "a_r", runs)  # dx = 7.9 rho: the family's
+    band, own = challenge_report.sweep_band(at[2048, 1.0], "a_r", runs)  # b = 2.5: the family's
     assert own is None and band == 0.33, (band, own)
 
 
