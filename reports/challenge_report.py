@@ -21,7 +21,7 @@ import re
 
 import numpy as np
 
-from common import (CHALLENGE, FAMILY_QUANTITIES, REFINEMENT_BISTABILITY, own_refinement, own_refinement_words, condition_check_lines, condition_checks, condition_summary, load_bands, realization_members, realization_rows, case_name, family_members, finite, fmt, get, gpu_row_head, gpu_section, h5_open, load_json,
+from common import (CHALLENGE, FAMILY_QUANTITIES, REFINEMENT_BISTABILITY, own_refinement, condition_check_lines, condition_checks, condition_summary, load_bands, realization_members, realization_rows, case_name, family_members, finite, fmt, get, gpu_row_head, gpu_section, h5_open, load_json,
                     md_table, plt, read_reference_csv, rel, roundoff_note, run_band, run_strategy, STRATEGIES, s_extrapolation,
                     s_extrapolation_verdict, savefig, step_groups, transfer_caveat, write_csv)
 
@@ -756,6 +756,63 @@ def _load_sweep(runs, out_dir, data_dir, case_dir, reference_dir):
     return res
 
 
+def _own_refinement_lines(refined, runs, out_dir):
+    """Section 6's account of the Tabor sweep refined on the challenge itself (rows marked ‡): a
+    table of each grid's a_r and mean gap with its own band and the family's, the converged values
+    estimated, and a figure of the change between successive grids against dx (log-log: its slope
+    is the observed order). refined: mu_T -> (a run of that point, own_band a_r, own_band mean gap)."""
+    rows, est_rows = [], []
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    for mu, (run, own_ar, own_gap) in sorted(refined.items()):
+        grids = refinement_grids(run, runs)
+        for q in grids:
+            st = q.reference_step()
+            cells = [fmt(mu, 4), f"{q.nx}²", fmt(get(q.s, "surface_facts", "dx_over_range"), 3),
+                     fmt(get(q.s, "surface_facts", "bistability_number"), 2)]
+            for short, key, scale, digits in (("a_r", "ar", 1.0, 5), ("mean_gap", "gap", 1e9, 7)):
+                own = own_band(q, short, runs)
+                fam = _band(q, short)
+                cells += [fmt(st[key] * scale, digits), "–" if own is None else f"±{100 * own['band']:.3g} %",
+                          "–" if fam is None else f"±{100 * fam:.3g} %"]
+            rows.append(cells)
+        for own, name, scale, unit, digits in ((own_ar, "a_r", 1.0, "", 5), (own_gap, "mean gap", 1e9, " nm", 7)):
+            if own:
+                pairs = [w for w, _ in own["estimates"] if "/" in w]  # the last: v_inf's (own_refinement)
+                est_rows.append([fmt(mu, 4), name, fmt(own["order"], 3), f"{fmt(own['v_inf'] * scale, digits)}{unit}",
+                                 "; ".join(f"{w}: {fmt(v * scale, digits)}" for w, v in own["estimates"] if w != pairs[-1])])
+        for ax, key in zip(axes, ("ar", "gap")):
+            vals = [(q.dx, q.reference_step()[key]) for q in grids]
+            pts = [(a[0] * 1e9, abs(a[1] - b[1]) / abs(b[1])) for a, b in zip(vals, vals[1:]) if a[1] != b[1]]
+            if pts:
+                ax.loglog([p[0] for p in pts], [p[1] for p in pts], "o-", ms=4, label=f"μ_T = {mu:g}")
+    for ax, title, slope in zip(axes, ("a_r", "mean gap"), (1, 4)):
+        x = np.array(ax.get_xlim())
+        if ax.lines:  # a guide through the first point
+            x0, y0 = ax.lines[0].get_data()
+            ax.loglog(x, y0[0] * (x / x0[0]) ** slope, "k:", lw=0.8, label=f"slope {slope}")
+        ax.set_xlabel("dx of the coarser grid (nm)")
+        ax.set_ylabel("|change to the grid with twice the points| / value")
+        ax.set_title(f"{title}: the Tabor sweep refined on the challenge", fontsize=9)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    path = os.path.join(out_dir, "tabor_refinement.png")
+    savefig(fig, path)
+    return "\n".join([
+        "‡ **The Tabor sweep refined on the challenge itself** (`scripts/tabor_sweep.sh --grid N`): at these μ_T the "
+        "band is the challenge's own grid error, not the family's (reports/common.py `own_refinement`: the distance "
+        "from the converged value estimated by Richardson extrapolation of order 1 from the finest pair of grids "
+        f"whose coarser grid has w dx/(E\\* ρ²) ≤ {REFINEMENT_BISTABILITY:g}, as on the family's refinement grids, plus "
+        "the largest distance of the other estimates from it). w dx/(E\\* ρ²) is the spacing in units of the "
+        "adhesion's cohesive zone (`surface_facts.bistability_number`).", "",
+        md_table(["μ_T", "grid", "dx/ρ", "w dx/(E\\* ρ²)", "a_r", "band (own)", "band (family)", "mean gap (nm)",
+                  "band (own)", "band (family)"], rows), "",
+        md_table(["μ_T", "quantity", "observed order", "converged (Richardson, order 1, finest pair)",
+                  "other estimates"], est_rows), "",
+        f"![the Tabor sweep refined on the challenge]({rel(path, out_dir)})", "",
+        "The change between successive grids against the coarser grid's spacing, log-log: the slope is the "
+        "observed order (1 for a band of pixels along the contact lines; the dotted lines are guides of slope 1 and 4)."])
+
+
 def _tabor(runs, out_dir, data_dir, case_dir, reference_dir):
     pts = []
     for r in runs:
@@ -787,6 +844,7 @@ def _tabor(runs, out_dir, data_dir, case_dir, reference_dir):
     rows = []
     csvs = []
     band_of = {}  # (id(run), short) -> sweep_band: for the table and the figures
+    refined = {}  # mu_T -> (a run of it, own_band a_r, own_band mean gap): refined on the challenge itself
     for key, items in sorted(groups.items()):
         items.sort(key=lambda t: t[1]["tabor"])
         cols = [("tabor", [st["tabor"] for _, st in items])]
@@ -809,16 +867,9 @@ def _tabor(runs, out_dir, data_dir, case_dir, reference_dir):
                          _pm(st["ar"], b_ar), fmt(st["rep"], 4), _pm(st["gap"], b_gap, 5, 1e9)])
             if own_ar or own_gap:
                 res["own_refined"] = True
-                fam = [f"{w} ±{100 * b:.3g} %" for w, b in (("a_r", _band(r, "a_r")), ("mean gap", _band(r, "mean_gap")))
-                       if b is not None]
-                res.setdefault("notes", []).append(
-                    f"‡ μ_T = {st['tabor']:.3g} on {r.nx}²: the band is the challenge's own refinement "
-                    "(`scripts/tabor_sweep.sh --grid N`; reports/common.py `own_refinement`: Richardson extrapolation "
-                    f"of order 1 from the finest pair of grids whose coarser one has w dx/(E\\* ρ²) ≤ {REFINEMENT_BISTABILITY:g}, plus the spread of "
-                    "the other estimates), not the family's: "
-                    + "; ".join(own_refinement_words(o, w, u) for o, w, u in ((own_ar, "a_r", ""), (own_gap, "mean gap", " m"))
-                                if o).replace("+-", "±")
-                    + (f". The family's band there: {', '.join(fam)}." if fam else "."))
+                refined.setdefault(round(st["tabor"], 6), (r, own_ar, own_gap))
+    if refined:
+        res.setdefault("notes", []).append(_own_refinement_lines(refined, runs, out_dir))
     for what, ylabel, scale, fname, title in (("ar", "relative contact area a_r", 1.0, "contact_area_vs_tabor.png",
                                                "6. contact area vs Tabor coefficient"),
                                               ("gap", "mean gap ū (nm)", 1e9, "mean_gap_vs_tabor.png",

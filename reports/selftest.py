@@ -102,6 +102,17 @@ def make_inputs(root, np, h5py):
                            "observables": {"contact_fraction": 0.031 + 0.01 * math.log(1 + mu),
                                            "mean_gap": 0.99e-6 - 2e-8 * mu, "mean_pressure": 250e3}}
                           for k, mu in enumerate([0.3, 1.0, 3.0, 10.0])]})
+    # A Tabor point refined on the challenge itself (scripts/tabor_sweep.sh --grid N): one case on 256²
+    # and 512², first order in dx, the cohesive zone resolved (bistability number below 1.49).
+    for n in (256, 512):
+        write_json(os.path.join(res, f"challenge-tabor-refined-n{n}", "summary.json"),
+                   {"case": challenge_case("challenge-tabor-refined", {"kind": "exponential", "tabor": 0.1}),
+                    "grid": grid(n), "status": "converged", "timing": {"wall_s": 5.0, "fft_pairs": 500},
+                    "surface_facts": {"dx_over_range": 0.4 * 2048 / n, "bistability_number": 0.013 * 2048 / n},
+                    "steps": [{"index": 0, "mean_pressure": 250e3, "converged": True,
+                               "observables": {"contact_fraction": 0.02 * (1 + 0.14 * 2048 / n),
+                                               "mean_gap": 1.0e-6 * (1 + 1e-4 * (2048 / n) ** 4),
+                                               "mean_pressure": 250e3}}]})
     # A run of another project in the same folder must be ignored.
     write_json(os.path.join(res, "challenge-not", "summary.json"),
                {"case": {"case": {"name": "hertz-free"}}, "grid": grid(64), "steps": []})
@@ -359,7 +370,7 @@ def main(argv):
             "challenge": ["index.md", "patch_size_distribution.png", "contact_area_vs_pressure.png",
                           "gap_distribution.png", "stress_distribution.png", "stress_spectrum.png",
                           "contact_area_vs_tabor.png", "mean_gap_vs_tabor.png", "mean_gap_vs_pressure.png",
-                          "cross_section.png"],
+                          "cross_section.png", "tabor_refinement.png"],
         }
         for sub, files in expect.items():
             for f in files:
@@ -369,6 +380,9 @@ def main(argv):
             os.path.join(out, "challenge", "index.md")) else ""
         if "not computed yet" in idx:
             failures.append("challenge/index.md says 'not computed yet' although every input exists")
+        # The refined Tabor point: its band is its own refinement (v_inf = 2 v_512 - v_256 = 0.02), in the table.
+        if "The Tabor sweep refined on the challenge itself" not in idx or "| 0.1 | 256² | 3.2 | 0.1 | 0.0424 |" not in idx:
+            failures.append("challenge/index.md lacks the table of the Tabor point refined on the challenge itself")
         if "cluster-measure" in idx:
             failures.append("challenge/index.md uses a run of results/cluster-measure/ (cost measurements)")
         if "challenge-scaled-hardwall-s32" in idx or "seeds/seed29" in idx:
