@@ -8,11 +8,12 @@
 #   - the reference-load runs on the next finer grid (4096²), which give the distributions,
 #     the spectrum and the headline numbers their bands, and the hard-wall sweep at five loads
 #     on 4096², which gives the hard-wall sweep its band.
-# All at the challenge's default grid (2048²) but the 4096² ones. The main job
+# All at the challenge's default grid (2048²) but the 4096² and 8192² ones. The main job
 # (scripts/main.sh) runs the reference-load runs and the two adhesive sweeps itself; this
 # adds the rest (on 2 cores: 6 min for the hard-wall sweep, about 5 min for the two 4096²
 # reference-load runs, 51 min for the 4096² hard-wall sweep, measured with another job
-# beside it), and the report draws their stored curves until they run. Every run resumes
+# beside it, and about 75 min for the Tabor sweep's 4096² and 8192² runs), and the report
+# draws their stored curves until they run. Every run resumes
 # where it stopped: run this again after an interruption.
 # cmc prints a progress line per load step (iterations, elapsed, estimated remaining).
 #   scripts/sweeps.sh            (then scripts/report.sh --only challenge)
