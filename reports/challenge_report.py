@@ -838,8 +838,12 @@ def _tabor(runs, out_dir, data_dir, case_dir, reference_dir):
                                          "(one run each, or one run with a \"tabor\" value per step)")
         return {"area": msg, "gap": msg}
     groups = {}
+    unconverged = []  # listed in the table as such; neither drawn, written to the CSVs, nor banded
     for r, st in pts:
-        groups.setdefault((r.nx, r.ny), []).append((r, st))
+        if st["converged"] is False or r.status == "not_converged":
+            unconverged.append((r, st))
+        else:
+            groups.setdefault((r.nx, r.ny), []).append((r, st))
     res = {}
     rows = []
     csvs = []
@@ -868,6 +872,13 @@ def _tabor(runs, out_dir, data_dir, case_dir, reference_dir):
             if own_ar or own_gap:
                 res["own_refined"] = True
                 refined.setdefault(round(st["tabor"], 6), (r, own_ar, own_gap))
+    for r, st in sorted(unconverged, key=lambda t: (t[0].nx, t[1]["tabor"])):
+        rows.append([fmt(st["tabor"], 4), r.name, f"{r.nx}² (NOT CONVERGED)", fmt(st["p"] / 1e3 if st["p"] else None, 4),
+                     fmt(st["ar"], 4), fmt(st["rep"], 4), fmt(st["gap"] * 1e9 if st["gap"] else None, 5)])
+        res.setdefault("notes", []).append(
+            f"NOT CONVERGED: μ_T = {st['tabor']:.3g} on {r.nx}² (`{r.folder}`) stopped before its tolerance "
+            f"({st['iterations'] if st['iterations'] is not None else '?'} iterations; its `summary.json` says why). Its row is the "
+            "last state, not a result: it is not drawn, not in the CSVs and has no band.")
     if refined:
         res.setdefault("notes", []).append(_own_refinement_lines(refined, runs, out_dir))
     for what, ylabel, scale, fname, title in (("ar", "relative contact area a_r", 1.0, "contact_area_vs_tabor.png",

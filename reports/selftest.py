@@ -113,6 +113,12 @@ def make_inputs(root, np, h5py):
                                "observables": {"contact_fraction": 0.02 * (1 + 0.14 * 2048 / n),
                                                "mean_gap": 1.0e-6 * (1 + 1e-4 * (2048 / n) ** 4),
                                                "mean_pressure": 250e3}}]})
+    # A Tabor run that stopped before its tolerance: listed as such, not drawn, not in the CSVs.
+    write_json(os.path.join(res, "challenge-tabor-stopped", "summary.json"),
+               {"case": challenge_case("challenge-tabor-stopped", {"kind": "exponential", "tabor": 0.7}),
+                "grid": grid(256), "status": "not_converged", "timing": {"wall_s": 5.0, "fft_pairs": 500},
+                "steps": [{"index": 0, "mean_pressure": 250e3, "contact_fraction": 0.05, "mean_gap": 1.0e-6,
+                           "converged": False, "iterations": 1000}]})
     # A run of another project in the same folder must be ignored.
     write_json(os.path.join(res, "challenge-not", "summary.json"),
                {"case": {"case": {"name": "hertz-free"}}, "grid": grid(64), "steps": []})
@@ -383,6 +389,11 @@ def main(argv):
         # The refined Tabor point: its band is its own refinement (v_inf = 2 v_512 - v_256 = 0.02), in the table.
         if "The Tabor sweep refined on the challenge itself" not in idx or "| 0.1 | 256² | 3.2 | 0.1 | 0.0424 |" not in idx:
             failures.append("challenge/index.md lacks the table of the Tabor point refined on the challenge itself")
+        if "| 0.7 | challenge-tabor-stopped | 256² (NOT CONVERGED) |" not in idx:
+            failures.append("challenge/index.md does not mark the Tabor run that stopped before its tolerance")
+        tabor_csv = os.path.join(out, "challenge", "data", "tabor_sweep__256x256.csv")
+        if not os.path.isfile(tabor_csv) or any(ln.startswith("7.0") for ln in open(tabor_csv)):
+            failures.append("challenge/data/tabor_sweep__256x256.csv is missing or holds the run that did not converge")
         if "cluster-measure" in idx:
             failures.append("challenge/index.md uses a run of results/cluster-measure/ (cost measurements)")
         if "challenge-scaled-hardwall-s32" in idx or "seeds/seed29" in idx:

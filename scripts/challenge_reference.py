@@ -520,6 +520,9 @@ def tabor_curves(runs, hw):
     by_grid = {}
     for r in runs:
         st = r.reference_step()
+        # A run that stopped before its tolerance is no reference point (the report lists it as such).
+        if r.status == "not_converged" or (st is not None and st["converged"] is False):
+            continue
         if r.run_tabor is not None and st is not None and not r.is_load_sweep():
             by_grid.setdefault((r.nx, r.ny), {})[round(r.run_tabor, 9)] = (r, st)
     grids = [g for g in sorted(by_grid, key=lambda g: (-len(by_grid[g]), g[0] * g[1])) if len(by_grid[g]) >= 2]

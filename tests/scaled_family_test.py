@@ -233,6 +233,28 @@ def own_refinement():
     band, own = challenge_report.sweep_band(at[2048, 1.0], "a_r", runs)  # b = 2.5: the family's
     assert own is None and band == 0.33, (band, own)
 
+    # A run that stopped before its tolerance is no point of the reference curves (items 6, 7).
+    sys.path.insert(0, os.path.join(ROOT, "scripts"))
+    import challenge_reference
+    tmp = tempfile.mkdtemp(prefix="cmc_scaled_family_test_")
+    try:
+        sweep = []
+        for mu, status in ((0.1, "converged"), (0.3, "not_converged"), (1.0, "converged"), (3.0, "converged")):
+            d = os.path.join(tmp, f"mu_T_{mu}")
+            os.makedirs(d)
+            s = summary(2048, mu, 0.03, 1e-6)
+            s["status"] = status
+            s["steps"][0]["converged"] = status == "converged"
+            s["grid"].update(size_x=1e-4, size_y=1e-4)
+            with open(os.path.join(d, "summary.json"), "w", encoding="utf-8") as f:
+                json.dump(s, f)
+            sweep.append(challenge_report.Run(s, d))
+        curves = challenge_reference.tabor_curves(sweep, None)
+        assert len(curves) == 2 and all(c["columns"][0][3] == [0.1, 1.0, 3.0] for c in curves), \
+            [c["columns"][0][3] for c in curves]
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
 
 if __name__ == "__main__":
     main(sys.argv[1])
