@@ -233,18 +233,47 @@ def _find_runs(results_dir, notes):
     return runs
 
 
-def _reference_load_runs(runs, adhesive):
-    """The runs of one problem (adhesive: the challenge's, mu_T = 3; else the hard wall) at the
-    reference load that the headline and the distributions use: runs with a step within 5 % of
-    250 kPa that are not load sweeps, grouped by case name; the group with the most grids (then
-    with result.h5, then the first by name). Returns [(run, step)], one per grid, coarsest first:
-    the first is the one shown, the next finer one measures its grid error."""
-    groups = {}
+def _stopped(run, step):
+    """Whether a run (or its step) stopped before its tolerance: its numbers are a last state, not a result."""
+    return run.status == "not_converged" or step["converged"] is False
+
+
+def _reference_load_candidates(runs, adhesive):
+    """[(run, step at 250 kPa)] of one problem (adhesive: the challenge's, mu_T = 3; else the hard wall),
+    load sweeps left out."""
+    out = []
     for r in runs:
         if r.adhesive != adhesive or r.is_load_sweep():
             continue
         st = r.reference_step()
         if st is None or (adhesive and not (r.run_tabor and abs(r.run_tabor / CHALLENGE["tabor"] - 1) < 0.01)):
+            continue
+        out.append((r, st))
+    return out
+
+
+def _stopped_reference_runs(runs, adhesive):
+    """The runs at the reference load that stopped before their tolerance (_reference_load_runs leaves
+    them out): one line saying so, or ""."""
+    stopped = [r for r, st in _reference_load_candidates(runs, adhesive) if _stopped(r, st)]
+    if not stopped:
+        return ""
+    return ("NOT CONVERGED: " + ", ".join(f"{r.label} (`{r.folder}`)" for r in stopped)
+            + f" at 250 kPa {'with' if adhesive else 'without'} adhesion stopped before "
+            + ("its" if len(stopped) == 1 else "their") + " tolerance (`summary.json` says why): a last state, not a "
+            "result, so nothing here is drawn from " + ("it" if len(stopped) == 1 else "them")
+            + ". `cmc run ... --resume` with a larger `solver.max_outer_steps` or `max_iterations` continues a run.")
+
+
+def _reference_load_runs(runs, adhesive):
+    """The runs of one problem (adhesive: the challenge's, mu_T = 3; else the hard wall) at the
+    reference load that the headline and the distributions use: converged runs with a step within
+    5 % of 250 kPa that are not load sweeps, grouped by case name; the group with the most grids (then
+    with result.h5, then the first by name). Returns [(run, step)], one per grid, coarsest first:
+    the first is the one shown, the next finer one measures its grid error."""
+    groups = {}
+    for r, st in _reference_load_candidates(runs, adhesive):
+        if _stopped(r, st):  # not a result: _stopped_reference_runs lists it
             continue
         groups.setdefault(r.name, {}).setdefault(r.nx, (r, st))
     if not groups:
@@ -408,7 +437,9 @@ def _headline(runs, reference_dir):
     lines = ["## Headline numbers at the reference load p = 250 kPa (p̃ = p/(E*ḡ) = 0.01)", ""]
     probs = [(True, _reference_load_runs(runs, True)), (False, _reference_load_runs(runs, False))]
     if not any(pair for _, pair in probs):
-        return lines + ["Not computed yet: run `scripts/main.sh` (the challenge at 250 kPa with and without adhesion).", ""]
+        stopped = [t for t in (_stopped_reference_runs(runs, a) for a in (True, False)) if t]
+        return lines + (sum(([t, ""] for t in stopped), []) if stopped else
+                        ["Not computed yet: run `scripts/main.sh` (the challenge at 250 kPa with and without adhesion).", ""])
     errs, kappa = [], {}
     for adhesive, pair in probs:
         errs.append(_headline_errors(pair, adhesive, reference_dir) if pair else {})
@@ -418,7 +449,8 @@ def _headline(runs, reference_dir):
         row = [label]
         for (adhesive, pair), err in zip(probs, errs):
             if not pair:
-                row.append("not computed yet (`scripts/main.sh`)")
+                row.append("not converged (below)" if _stopped_reference_runs(runs, adhesive) else
+                           "not computed yet (`scripts/main.sh`)")
                 continue
             r, st = pair[0]
             src = {"kappa": "ar", "kappa_corr": "ar_corr"}.get(key, key)
@@ -435,6 +467,7 @@ def _headline(runs, reference_dir):
               f"`{pair[0][0].folder}`" if pair else "–") for _, pair in probs]
     rows.append(["run shown"] + shown)
     lines += [md_table(["quantity", "with adhesion (μ_T = 3)", "without adhesion (hard wall)"], rows), ""]
+    lines += [ln for a in (True, False) for ln in (_stopped_reference_runs(runs, a), "") if _stopped_reference_runs(runs, a)]
     for (adhesive, pair), err in zip(probs, errs):
         if not pair:
             continue
@@ -1449,7 +1482,10 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
     dists = _distribution_runs(runs, notes)
     ref_hint = _hint(case_dir, ["reference"], "a run at the reference load 250 kPa with observables and fields "
                                               "(result.h5 step_*/observables)")
-    if not dists and runs and any(r.reference_step() for r in runs):
+    stopped = " ".join(t for t in (_stopped_reference_runs(runs, a) for a in (True, False)) if t)
+    if not dists and stopped:
+        ref_hint = stopped
+    elif not dists and runs and any(r.reference_step() for r in runs):
         ref_hint = ("not computed yet — runs at 250 kPa exist but their result.h5 has no step_*/observables "
                     "group (enable [observables] and fields in the case). " + ref_hint)
 

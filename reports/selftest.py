@@ -119,6 +119,13 @@ def make_inputs(root, np, h5py):
                 "grid": grid(256), "status": "not_converged", "timing": {"wall_s": 5.0, "fft_pairs": 500},
                 "steps": [{"index": 0, "mean_pressure": 250e3, "contact_fraction": 0.05, "mean_gap": 1.0e-6,
                            "converged": False, "iterations": 1000}]})
+    # The reference-load case on a finer grid that stopped before its tolerance: not the headline's
+    # grid error (its last state is not a result); the headline says that it stopped.
+    write_json(os.path.join(res, "challenge-reference-test-n512", "summary.json"),
+               {"case": challenge_case("challenge-reference-test"), "grid": grid(512), "status": "not_converged",
+                "steps": [{"index": 0, "mean_pressure": 250e3, "contact_fraction": 0.9, "mean_gap": 1e-8,
+                           "converged": False, "iterations": 5000,
+                           "observables": {"contact_fraction": 0.9, "mean_gap": 1e-8, "mean_pressure": 250e3}}]})
     # A run of another project in the same folder must be ignored.
     write_json(os.path.join(res, "challenge-not", "summary.json"),
                {"case": {"case": {"name": "hertz-free"}}, "grid": grid(64), "steps": []})
@@ -389,6 +396,10 @@ def main(argv):
         # The refined Tabor point: its band is its own refinement (v_inf = 2 v_512 - v_256 = 0.02), in the table.
         if "The Tabor sweep refined on the challenge itself" not in idx or "| 0.1 | 256² | 3.2 | 0.1 | 0.0424 |" not in idx:
             failures.append("challenge/index.md lacks the table of the Tabor point refined on the challenge itself")
+        head = idx.split("## 1.")[0]
+        if "NOT CONVERGED: challenge-reference-test (512²)" not in head or "without adhesion (± the larger of the " \
+                "sources): relative contact area a_r: grid change" in head:
+            failures.append("challenge/index.md uses the reference-load run that did not converge, or does not say so")
         if "| 0.7 | challenge-tabor-stopped | 256² (NOT CONVERGED) |" not in idx:
             failures.append("challenge/index.md does not mark the Tabor run that stopped before its tolerance")
         tabor_csv = os.path.join(out, "challenge", "data", "tabor_sweep__256x256.csv")
