@@ -436,9 +436,10 @@ def _headline(runs, reference_dir):
     problem definition's statements."""
     lines = ["## Headline numbers at the reference load p = 250 kPa (p̃ = p/(E*ḡ) = 0.01)", ""]
     probs = [(True, _reference_load_runs(runs, True)), (False, _reference_load_runs(runs, False))]
+    stopped = {a: _stopped_reference_runs(runs, a) for a in (True, False)}
+    stopped_lines = [ln for a in (True, False) if stopped[a] for ln in (stopped[a], "")]
     if not any(pair for _, pair in probs):
-        stopped = [t for t in (_stopped_reference_runs(runs, a) for a in (True, False)) if t]
-        return lines + (sum(([t, ""] for t in stopped), []) if stopped else
+        return lines + (stopped_lines or
                         ["Not computed yet: run `scripts/main.sh` (the challenge at 250 kPa with and without adhesion).", ""])
     errs, kappa = [], {}
     for adhesive, pair in probs:
@@ -449,8 +450,7 @@ def _headline(runs, reference_dir):
         row = [label]
         for (adhesive, pair), err in zip(probs, errs):
             if not pair:
-                row.append("not converged (below)" if _stopped_reference_runs(runs, adhesive) else
-                           "not computed yet (`scripts/main.sh`)")
+                row.append("not converged (below)" if stopped[adhesive] else "not computed yet (`scripts/main.sh`)")
                 continue
             r, st = pair[0]
             src = {"kappa": "ar", "kappa_corr": "ar_corr"}.get(key, key)
@@ -467,7 +467,7 @@ def _headline(runs, reference_dir):
               f"`{pair[0][0].folder}`" if pair else "–") for _, pair in probs]
     rows.append(["run shown"] + shown)
     lines += [md_table(["quantity", "with adhesion (μ_T = 3)", "without adhesion (hard wall)"], rows), ""]
-    lines += [ln for a in (True, False) for ln in (_stopped_reference_runs(runs, a), "") if _stopped_reference_runs(runs, a)]
+    lines += stopped_lines
     for (adhesive, pair), err in zip(probs, errs):
         if not pair:
             continue
@@ -789,11 +789,12 @@ def _load_sweep(runs, out_dir, data_dir, case_dir, reference_dir):
     return res
 
 
-def _own_refinement_lines(refined, runs, out_dir):
+def _own_refinement_lines(refined, runs, band_of, out_dir):
     """Section 6's account of the Tabor sweep refined on the challenge itself (rows marked ‡): a
     table of each grid's a_r and mean gap with its own band and the family's, the converged values
     estimated, and a figure of the change between successive grids against dx (log-log: its slope
-    is the observed order). refined: mu_T -> (a run of that point, own_band a_r, own_band mean gap)."""
+    is the observed order). refined: mu_T -> (a run of that point, own_band a_r, own_band mean gap);
+    band_of: (id(run), short) -> sweep_band of every run of the sweep (_tabor)."""
     rows, est_rows = [], []
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
     for mu, (run, own_ar, own_gap) in sorted(refined.items()):
@@ -803,7 +804,7 @@ def _own_refinement_lines(refined, runs, out_dir):
             cells = [fmt(mu, 4), f"{q.nx}²", fmt(get(q.s, "surface_facts", "dx_over_range"), 3),
                      fmt(get(q.s, "surface_facts", "bistability_number"), 2)]
             for short, key, scale, digits in (("a_r", "ar", 1.0, 5), ("mean_gap", "gap", 1e9, 7)):
-                own = own_band(q, short, runs)
+                own = (band_of.get((id(q), short)) or sweep_band(q, short, runs))[1]
                 fam = _band(q, short)
                 cells += [fmt(st[key] * scale, digits), "–" if own is None else f"±{100 * own['band']:.3g} %",
                           "–" if fam is None else f"±{100 * fam:.3g} %"]
@@ -873,7 +874,7 @@ def _tabor(runs, out_dir, data_dir, case_dir, reference_dir):
     groups = {}
     unconverged = []  # listed in the table as such; neither drawn, written to the CSVs, nor banded
     for r, st in pts:
-        if st["converged"] is False or r.status == "not_converged":
+        if _stopped(r, st):
             unconverged.append((r, st))
         else:
             groups.setdefault((r.nx, r.ny), []).append((r, st))
@@ -913,7 +914,7 @@ def _tabor(runs, out_dir, data_dir, case_dir, reference_dir):
             f"({st['iterations'] if st['iterations'] is not None else '?'} iterations; its `summary.json` says why). Its row is the "
             "last state, not a result: it is not drawn, not in the CSVs and has no band.")
     if refined:
-        res.setdefault("notes", []).append(_own_refinement_lines(refined, runs, out_dir))
+        res.setdefault("notes", []).append(_own_refinement_lines(refined, runs, band_of, out_dir))
     for what, ylabel, scale, fname, title in (("ar", "relative contact area a_r", 1.0, "contact_area_vs_tabor.png",
                                                "6. contact area vs Tabor coefficient"),
                                               ("gap", "mean gap ū (nm)", 1e9, "mean_gap_vs_tabor.png",

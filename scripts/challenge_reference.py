@@ -45,7 +45,7 @@ import numpy as np
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 sys.path.insert(0, os.path.join(ROOT, "reports"))
 from challenge_report import (Run, _centers, _find_runs, _merged_sweeps, _observables,  # noqa: E402
-                              _reference_load_runs, band_floor, finer_sweep, grid_change, hardwall_sweep_band,
+                              _reference_load_runs, _stopped, band_floor, finer_sweep, grid_change, hardwall_sweep_band,
                               profile_band, refinement_band, sweep_band)  # (the report's extraction)
 from common import (CHALLENGE, FAMILY_STORE, REFINEMENT_BISTABILITY, STRATEGY_WORDS, condition_checks,  # noqa: E402
                     condition_summary, load_bands, load_json, own_refinement_words, run_band,
@@ -521,9 +521,7 @@ def tabor_curves(runs, hw):
     for r in runs:
         st = r.reference_step()
         # A run that stopped before its tolerance is no reference point (the report lists it as such).
-        if r.status == "not_converged" or (st is not None and st["converged"] is False):
-            continue
-        if r.run_tabor is not None and st is not None and not r.is_load_sweep():
+        if r.run_tabor is not None and st is not None and not r.is_load_sweep() and not _stopped(r, st):
             by_grid.setdefault((r.nx, r.ny), {})[round(r.run_tabor, 9)] = (r, st)
     grids = [g for g in sorted(by_grid, key=lambda g: (-len(by_grid[g]), g[0] * g[1])) if len(by_grid[g]) >= 2]
     if grids:
