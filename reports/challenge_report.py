@@ -262,7 +262,9 @@ def _stopped_reference_runs(runs, adhesive):
             + f" at 250 kPa {'with' if adhesive else 'without'} adhesion stopped before "
             + ("its" if len(stopped) == 1 else "their") + " tolerance (`summary.json` says why): a last state, not a "
             "result, so nothing here is drawn from " + ("it" if len(stopped) == 1 else "them")
-            + ". `cmc run ... --resume` with a larger `solver.max_outer_steps` or `max_iterations` continues a run.")
+            + ". A quasi-static run stopped at `solver.max_outer_steps` keeps its checkpoint: the same `cmc run` "
+            "command with `--resume --set solver.max_outer_steps=N` and a larger N continues it (`summary.json`, "
+            "key `continue`).")
 
 
 def _reference_load_runs(runs, adhesive):

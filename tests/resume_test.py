@@ -39,6 +39,13 @@ TEST is one of
                     limit 6 bit for bit, also from a checkpoint written before the key
                     existed; a limit the checkpoint has reached (4) is refused (exit 2),
                     the checkpoint untouched
+  stopped_run       a run whose quasi-static solve stopped at solver.max_outer_steps keeps its
+                    checkpoint: its summary says how to continue (key "continue"); --resume
+                    with the same limit leaves the folder as it is (exit 3), with a smaller one
+                    is refused (exit 2); with a larger one it goes on and equals a fresh run
+                    with that limit bit for bit (one step stopped after 4 of 7 outer steps,
+                    continued to 6 and then to the default; a load sweep whose step 1 stops
+                    and whose later steps ran from it, continued with fields written)
   D7_lock           a second cmc run / validate / refine on a folder in use stops at once
                     with exit code 4, naming the folder and the first run's process id,
                     and the first run's results are intact
@@ -416,6 +423,65 @@ def test_stopping_limit(cmc, work):
           f"a limit already reached: exit {p.returncode} (expected 2, naming the limit and the steps made):\n{p.stderr}")
     check(os.path.getmtime(os.path.join(out, ".partial", "checkpoint.h5")) == before,
           "a limit already reached: the refused resume touched the checkpoint")
+
+
+def test_stopped_run(cmc, work):
+    def fresh(case, name, *args):
+        out = os.path.join(work, name)
+        shutil.rmtree(out, ignore_errors=True)
+        p = cmc_run(cmc, case, out, *args)
+        check(p.returncode in (0, 3), f"{name}: exit {p.returncode}:\n{p.stderr}")
+        return out
+
+    def kept(out):
+        return os.path.exists(os.path.join(out, ".partial", "checkpoint.h5"))
+
+    grid = ["--set", "grid.n=128"]
+    limit = lambda m: ["--set", f"solver.max_outer_steps={m}"]  # noqa: E731
+    ref6, ref = fresh(FAMILY_CASE, "limit-6", *grid, *limit(6)), fresh(FAMILY_CASE, "default", *grid)
+    out = fresh(FAMILY_CASE, "stopped", *grid, *limit(4))
+    s = summary(out)
+    if not check(s["status"] == "not_converged" and "after 4 outer steps" in s["steps"][0]["message"]
+                 and s.get("continue", {}).get("max_outer_steps") == 4 and "--resume" in s["continue"].get("how", "")
+                 and kept(out) and not os.path.exists(os.path.join(out, "INCOMPLETE")),
+                 f"a run stopped at limit 4: expected not_converged, a 'continue' record, a kept checkpoint and no "
+                 f"INCOMPLETE: {s.get('continue')}, {os.listdir(out)}"):
+        return
+    stamps = lambda: [os.path.getmtime(os.path.join(out, f)) for f in ("summary.json", ".partial/checkpoint.h5")]  # noqa: E731
+    before = stamps()
+    p = cmc_run(cmc, FAMILY_CASE, out, *grid, *limit(4), resume=True)
+    check(p.returncode == 3 and "left as it is" in p.stderr and stamps() == before,
+          f"resumed with the limit it stopped at: exit {p.returncode} (expected 3, the folder untouched):\n{p.stderr}")
+    p = cmc_run(cmc, FAMILY_CASE, out, *grid, *limit(3), resume=True)
+    check(p.returncode == 2 and "a smaller limit cannot continue it" in p.stderr and stamps() == before,
+          f"resumed with a smaller limit: exit {p.returncode} (expected 2, the folder untouched):\n{p.stderr}")
+    # Without --quiet: it says where it goes on from, the point before the last allowed outer
+    # step (written whatever --checkpoint-every says), so only that step is redone.
+    p = subprocess.run([cmc, "run", FAMILY_CASE, "--out", out, "--resume", *grid, *limit(6)], env=env(),
+                       capture_output=True, text=True)
+    check("step 0 inside: 3 outer steps" in p.stderr,
+          f"continued to limit 6: expected it to resume inside step 0 after 3 outer steps:\n{p.stderr}")
+    if check(p.returncode == 3, f"continued to limit 6: exit {p.returncode}, expected 3:\n{p.stderr}"):
+        compare(ref6, out, "stopped at 4, continued to limit 6")
+        check(kept(out), "continued to limit 6 and stopped again: its checkpoint is not kept")
+    resume(cmc, FAMILY_CASE, out, *grid)
+    compare(ref, out, "stopped at 4, continued to 6, then to the default limit")
+
+    # A load sweep: step 1 stops at limit 2, the later steps run from its state (and stop or
+    # not); the checkpoint stays the one from before step 1, without the later steps' fields.
+    fields = grid + ["--set", "output.fields=true"]
+    ref = fresh(QUASI_STATIC_CASE, "sweep-default", *fields)
+    out = fresh(QUASI_STATIC_CASE, "sweep-stopped", *fields, *limit(2))
+    s = summary(out)
+    stopped = [st["index"] for st in s["steps"] if not st["converged"]]
+    if not check(stopped and stopped[0] == 1 and len(s["steps"]) == 14 and s["continue"]["step"] == 1 and kept(out),
+                 f"load sweep at limit 2: expected step 1 to stop first, all 14 steps run, the checkpoint kept: "
+                 f"{stopped}, {s.get('continue')}"):
+        return
+    left = sorted(f for f in os.listdir(os.path.join(out, ".partial")) if f.startswith("step_"))
+    check(left == ["step_0000.h5"], f"load sweep at limit 2: the kept .partial/ holds {left}, expected step 0's only")
+    resume(cmc, QUASI_STATIC_CASE, out, *fields)
+    compare(ref, out, "load sweep stopped at limit 2, continued to the default limit")
 
 
 def test_D7_lock(cmc, work):

@@ -28,7 +28,10 @@ solver between two of its outer steps, at most every SECONDS (--checkpoint-every
 600; 0: after every outer step): a step that takes hours loses at most that much.
 --resume continues an interrupted run of the same case (same file and --set values) from
 its last checkpoint, with the same results, bit for bit, as a run that was not
-interrupted (on the same machine and thread count).
+interrupted (on the same machine and thread count). A run whose quasi-static solve stopped
+at solver.max_outer_steps keeps its checkpoint (summary.json "continue"): --resume with a
+larger --set solver.max_outer_steps=N goes on from the solve's last outer step and gives
+what a fresh run with that limit gives; with the same limit the folder is left as it is.
 --start-from COARSE_DIR starts the solve from the last state of a finished run of the
 same case on a coarser grid (its points dividing this grid's by a whole factor, written
 with --set output.fields=true), prolonged onto this grid: the quasi-static solver's

@@ -2,6 +2,7 @@
 #include "commands.hpp"
 
 #include "cmc/grid/Ranks.hpp"
+#include "cmc/output/Writer.hpp"
 #include "cmc/run/TestPoints.hpp"
 
 #include <cstdio>
@@ -88,6 +89,9 @@ int dispatch(int argc, char** argv) {
     if (cmd == "surface") return cmd_surface(argc, argv);
     std::fprintf(stderr, "cmc: unknown command '%s' (see cmc --help)\n", cmd.c_str());
     return kUsage;
+  } catch (const cmc::RunStopped& e) {  // a run that stopped at its limit, resumed with it: unchanged
+    if (cmc::is_root()) std::fprintf(stderr, "cmc run: %s\n", e.what());
+    return kNotConverged;
   } catch (const cmc::CaseError& e) {
     return fail(kUsage, e.what(), true);
   } catch (const std::bad_alloc&) {

@@ -77,8 +77,12 @@ RunSummary run_case_to(const Case& c, Scene& scene, const std::string& out, bool
         make_progress(quiet, &step, t0, int(scene.targets.size()), step), writer.resuming() || started ? &rp : nullptr,
         [&](const ContactState& st, const PathState* path, const OuterPoint* inside) {
           const auto now = std::chrono::steady_clock::now();
-          // The same choice on every rank of a distributed run (each writes its slab).
-          if (inside && !any_rank(std::chrono::duration<double>(now - last_checkpoint).count() >= checkpoint_every_s))
+          // The same choice on every rank of a distributed run (each writes its slab). The
+          // point before a solve's last allowed outer step is always written: should the
+          // solve stop at its limit, a larger one continues from there (Writer.hpp).
+          const bool last_before_limit = inside && inside->outer + 1 >= c.solver.max_outer_steps;
+          if (inside && !last_before_limit &&
+              !any_rank(std::chrono::duration<double>(now - last_checkpoint).count() >= checkpoint_every_s))
             return;
           writer.checkpoint(st, path, inside);
           last_checkpoint = std::chrono::steady_clock::now();

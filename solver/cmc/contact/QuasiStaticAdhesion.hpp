@@ -97,6 +97,10 @@ struct OuterPoint {
   SolveResult so_far;   // iterations, FFT pairs, wall time and diagnostics of the steps done
 };
 
+// How the message of a solve that reached Options::max_outer begins. A run that stops so
+// keeps its last checkpoint (Writer.hpp): resumed with a larger limit, it goes on.
+inline constexpr const char* kOuterLimitMessage = "quasi-static adhesion stopped after ";
+
 class QuasiStaticAdhesion {
  public:
   struct Options : SolverOptions {

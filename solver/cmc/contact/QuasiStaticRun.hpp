@@ -189,7 +189,7 @@ SolveResult solve(B& b, HalfSpace& hs, const ExponentialAdhesion& adh, const Qua
   if (!pk_ok) return finish(false, pk_message);
   if (residual > opt.tension_tolerance) {
     std::ostringstream s;
-    s << "quasi-static adhesion stopped after " << outer + 1 << " outer steps at tension change " << residual
+    s << kOuterLimitMessage << outer + 1 << " outer steps at tension change " << residual
       << " > tension_tolerance " << opt.tension_tolerance;
     return finish(false, s.str());
   }

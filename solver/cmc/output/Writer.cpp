@@ -308,6 +308,8 @@ Writer::Writer(fs::path dir, const Case& c, const Scene& s, bool resume)
   if (!is_root()) return;
   // An earlier run's results must not pass for this run's.
   for (const char* f : {"summary.json", "result.h5", "result.xdmf"}) fs::remove(dir_ / f, ec);
+  // A run that stopped at its outer-step limit goes on now: it is unfinished again.
+  if (resuming_) fs::remove(partial_ / "stopped.toml", ec);
   if (!resuming_) {
     for (const char* f : {".progress.toml", ".checkpoint.h5", ".result.h5.partial"}) fs::remove(dir_ / f, ec);
     fs::remove_all(partial_, ec);
@@ -356,6 +358,36 @@ void Writer::load_partial() {
   if (!diff.same())
     throw CaseError(dir_.string() + " holds a partial run of a different case (or other --set values; first difference: " +
                     diff.mismatch + "): run without --resume to start afresh, or use another --out");
+  // A finished run that stopped at its outer-step limit (finish() kept its checkpoint):
+  // continued only with a larger limit, which is what makes it go further (checked before
+  // the fields are read: at 8192² they are a gigabyte).
+  std::string stopped;
+  if (is_root() && fs::exists(partial_ / "stopped.toml")) {
+    std::ifstream in(partial_ / "stopped.toml");
+    std::stringstream text;
+    text << in.rdbuf();
+    stopped = text.str();
+  }
+  broadcast(stopped);
+  if (!stopped.empty()) {
+    toml::table st;
+    try {
+      st = toml::parse(stopped, (partial_ / "stopped.toml").string());
+    } catch (const toml::parse_error&) {
+    }
+    const auto* lim = st["max_outer_steps"].as_integer();
+    if (!lim) throw damaged(".partial/stopped.toml: expected max_outer_steps = N");
+    const long long was = lim->get();
+    const std::string why = dir_.string() + ": this run stopped at solver.max_outer_steps = " + std::to_string(was) +
+                            " before its tolerance (step " + std::to_string(st["step"].value_or(0LL)) +
+                            ", summary.json); ";
+    const std::string how = "to continue it, resume with a larger limit, e.g. --set solver.max_outer_steps=" +
+                            std::to_string(2 * was) + " (and the --set options it was run with)";
+    // The same limit: a rerun would stop where it did, with the same bits; nothing changes.
+    if (case_.solver.max_outer_steps == was) throw RunStopped(why + "left as it is; " + how);
+    if (case_.solver.max_outer_steps < was)
+      throw CaseError(why + "a smaller limit cannot continue it; " + how + ", or run without --resume to start afresh");
+  }
   auto notice = [&](const std::string& what) {
     notice_ += (notice_.empty() ? "" : "\n") + ("the checkpoint in " + dir_.string() + " ") + what;
   };
@@ -475,7 +507,15 @@ void Writer::load_partial() {
 
 Writer::~Writer() = default;
 
+bool Writer::stopped_at_limit(const StepRecord& rec) const {
+  return case_.solver.kind == SolverKind::QuasiStatic && !rec.result.converged &&
+         rec.result.message.rfind(kOuterLimitMessage, 0) == 0;
+}
+
 void Writer::add_step(const StepRecord& rec, const ContactState& st) {
+  // From the first step stopped at its limit on, the checkpoint stays where it is: the
+  // last one before that stop, from which a larger limit continues (finish() keeps it).
+  if (stopped_step_ < 0 && stopped_at_limit(rec)) stopped_step_ = rec.index;
   if (case_.write_fields) {
     // The step's fields in a file of its own, renamed into place when complete: kept
     // only when a checkpoint names the step (a step redone after an interruption
@@ -525,6 +565,7 @@ void Writer::checkpoint(const ContactState& st, const PathState* path, const Out
   // Everything in one file, renamed over the last checkpoint: a run interrupted at any
   // moment is continued from the last complete one. Inside a step, the step's solve
   // (`inside`) replaces the state it started from.
+  if (stopped_step_ >= 0) return;  // kept for a larger limit (add_step)
   const fs::path tmp = partial_ / "checkpoint.h5.tmp";
   if (inside && inside->fetch) inside->fetch();  // the solve's fields live on the GPU
   const bool with_state = !inside && !st.empty();
@@ -645,7 +686,20 @@ toml::table Writer::summary_base() const {
 void Writer::finish(const RunSummary& run, const toml::table& extra) {
   toml::table s = summary_base();
   s.insert("status", status_name(run.status));
-  s.insert("message", run.message);
+  // A step stopped at its outer-step limit, with a checkpoint from before that stop: kept.
+  const bool keep = stopped_step_ >= 0 && is_root() && fs::exists(checkpoint_);
+  const int limit = case_.solver.max_outer_steps;
+  s.insert("message", run.message + (keep ? " (its checkpoint is kept: resume with a larger solver.max_outer_steps "
+                                            "to continue it, see \"continue\")"
+                                          : ""));
+  if (keep)
+    s.insert("continue",
+             toml::table{{"step", stopped_step_},
+                         {"max_outer_steps", limit},
+                         {"checkpoint", ".partial/checkpoint.h5"},
+                         {"how", "the command of this run (case file, --out and --set options) with --resume "
+                                 "--set solver.max_outer_steps=N, any N above " +
+                                     std::to_string(limit) + " (e.g. " + std::to_string(2 * limit) + ")"}});
   s.insert("timing", toml::table{{"wall_s", run.wall_s},
                                  {"fft_pairs", run.fft_pairs},
                                  {"iterations", run.iterations},
@@ -720,11 +774,21 @@ void Writer::finish(const RunSummary& run, const toml::table& extra) {
     x << "</Grid>\n</Domain>\n</Xdmf>\n";
     write_atomically(dir_ / "result.xdmf", x.str());
   }
+  // Says which limit stopped it: a resume must raise that limit (load_partial). The fields
+  // of the stopped step and those after it are in result.h5; a resume redoes them.
+  if (keep) {
+    std::error_code gone;
+    for (const auto& r : run.steps)
+      if (r.index >= stopped_step_) fs::remove(step_file(r.index), gone);
+  }
+  if (keep)
+    write_atomically(partial_ / "stopped.toml", "max_outer_steps = " + std::to_string(limit) +
+                                                    "\nstep = " + std::to_string(stopped_step_) + "\n");
   write_atomically(dir_ / "summary.json", to_json(s));
-  // The run is complete: its partial files go.
+  // The run is complete: its partial files go, unless it can be continued.
   std::error_code ec;
   fs::remove(marker_, ec);
-  fs::remove_all(partial_, ec);
+  if (!keep) fs::remove_all(partial_, ec);
 }
 
 void Writer::fail(const std::string& message) {

@@ -14,17 +14,34 @@
 //                                it), replaced atomically at every checkpoint; --resume
 //                                continues from it exactly as if the run had not stopped;
 //   DIR/.cmc.lock                the lock of the process writing there (OutputLock.hpp).
+//
+// A run whose quasi-static solve stopped at its outer-step limit (solver.max_outer_steps)
+// finishes like any other (summary.json with status "not_converged", result.h5), but keeps
+// .partial/ with the last checkpoint from before that stop (checkpoints are not replaced
+// after it: the later steps start from a state that is not the answer) and a file
+// .partial/stopped.toml naming the limit. --resume with a larger limit continues that solve
+// where the checkpoint stood, and gives the results a fresh run with the larger limit gives,
+// bit for bit; --resume with the same or a smaller one is refused. summary.json's
+// "continue" says how. So a solve that creeps towards its tolerance for hours is not lost
+// at its limit.
 #pragma once
 
 #include "cmc/output/OutputLock.hpp"
 #include "cmc/run/Driver.hpp"
 
 #include <filesystem>
+#include <stdexcept>
 #include <string>
 
 #include <toml++/toml.h>
 
 namespace cmc {
+
+// --resume of a run that stopped at its outer-step limit, with the same limit: the folder
+// is left as it is (the run's status stays "not_converged"; `cmc run` exits 3).
+struct RunStopped : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
 class Writer {
  public:
@@ -71,10 +88,13 @@ class Writer {
   std::string fft_plans() const;  // where the transforms ran (summary.json grid.fft_plans)
   void load_partial();
   std::filesystem::path step_file(int index) const;
+  // Whether `rec` is a quasi-static solve stopped at the case's outer-step limit.
+  bool stopped_at_limit(const StepRecord& rec) const;
   OutputLock lock_;
   std::filesystem::path dir_, partial_, checkpoint_, marker_;
   RunPoint resume_;
   bool resuming_ = false;
+  int stopped_step_ = -1;  // the first step stopped at its outer-step limit (-1: none)
   std::string notice_;
   toml::array records_;
   toml::table start_;
