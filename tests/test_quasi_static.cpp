@@ -301,3 +301,30 @@ TEST(QuasiStatic, LineThroughJumpIn) {
   report("line: mean pressure, queue vs none and rounds / scale", worst / scale);
   EXPECT_TRUE(jumped) << "the path should reach contact";
 }
+
+// The iteration is monotone (tensions only rise), so a tension that falls between outer
+// steps measures the inner (Polonsky-Keer) solves' error. A solve stopped at its cap says
+// so when the falls reach the tension tolerance, and names the inner tolerance as the
+// cause; with tight inner solves the falls stay below it (the claim the message rests on).
+TEST(QuasiStatic, TensionFallsNameTheInnerTolerance) {
+  RoughPatch s;
+  PeriodicHalfSpace hs(s.map.grid, 1.0);
+  auto solve = [&](double inner) {
+    QuasiStaticAdhesion::Options o;
+    o.tolerance = inner;
+    o.tension_tolerance = 1e-6;
+    o.max_outer = 40;
+    QuasiStaticAdhesion qs(hs, s.map.heights, ExponentialAdhesion(s.w, s.rho), o);
+    ContactState st;
+    return qs.solve({Control::MeanPressure, s.load}, st);
+  };
+  const SolveResult loose = solve(1e-4);
+  EXPECT_FALSE(loose.converged);
+  EXPECT_NE(loose.message.find("tensions also fell"), std::string::npos) << loose.message;
+  EXPECT_NE(loose.message.find("inner tolerance 0.0001"), std::string::npos) << loose.message;
+  const SolveResult tight = solve(1e-10);
+  report("falls.loose_outer_steps", loose.diagnostics.outer_iterations);
+  report("falls.tight_outer_steps", tight.diagnostics.outer_iterations);
+  EXPECT_EQ(tight.message.find("tensions also fell"), std::string::npos) << tight.message;
+  EXPECT_TRUE(tight.converged) << tight.message;
+}

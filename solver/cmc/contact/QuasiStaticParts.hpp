@@ -145,6 +145,14 @@ struct Max {
   double v = 0.0;
   CMC_HD void merge(const Max& o) { v = v < o.v ? o.v : v; }  // std::max(v, o.v)
 };
+// The largest rise and the largest fall of a quantity over the points (both >= 0).
+struct RiseFall {
+  double rise = 0.0, fall = 0.0;
+  CMC_HD void merge(const RiseFall& o) {
+    rise = rise < o.rise ? o.rise : rise;
+    fall = fall < o.fall ? o.fall : fall;
+  }
+};
 
 // The cascade in rounds (Jacobi instead of the CPU's Gauss-Seidel queue; for a periodic
 // grid held by one process). Every point with a gap keeps x (its predicted gap) and a (the
