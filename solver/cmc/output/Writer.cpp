@@ -780,10 +780,9 @@ void Writer::finish(const RunSummary& run, const toml::table& extra) {
     std::error_code gone;
     for (const auto& r : run.steps)
       if (r.index >= stopped_step_) fs::remove(step_file(r.index), gone);
-  }
-  if (keep)
     write_atomically(partial_ / "stopped.toml", "max_outer_steps = " + std::to_string(limit) +
                                                     "\nstep = " + std::to_string(stopped_step_) + "\n");
+  }
   write_atomically(dir_ / "summary.json", to_json(s));
   // The run is complete: its partial files go, unless it can be continued.
   std::error_code ec;

@@ -21,7 +21,8 @@
 // after it: the later steps start from a state that is not the answer) and a file
 // .partial/stopped.toml naming the limit. --resume with a larger limit continues that solve
 // where the checkpoint stood, and gives the results a fresh run with the larger limit gives,
-// bit for bit; --resume with the same or a smaller one is refused. summary.json's
+// bit for bit; --resume with the same limit leaves the folder as it is (RunStopped, exit 3)
+// and with a smaller one is refused (exit 2). summary.json's
 // "continue" says how. So a solve that creeps towards its tolerance for hours is not lost
 // at its limit.
 #pragma once
