@@ -123,8 +123,9 @@ SolveResult solve(B& b, HalfSpace& hs, const ExponentialAdhesion& adh, const Qua
     double* tp = b.t();
     // The residual is the largest change either way. Falls come from the inner solves'
     // error as the outer iteration sees it (the jump prediction near a fold amplifies it),
-    // and also, with exact inner solves, from the periodic grid's far field during jumps
-    // and under penetration control (the top of QuasiStaticAdhesion.hpp, "Measured").
+    // and also, with exact inner solves, from the jump prediction during jumps and, under
+    // penetration control, from gaps that open far from contact (the top of
+    // QuasiStaticAdhesion.hpp, "Measured").
     const RiseFall rf = b.template reduce<RiseFall>(n, [=] CMC_HD(std::size_t i, RiseFall& a) {
       const double d = next(i) - tp[i];
       a.rise = a.rise < d ? d : a.rise;  // std::max(a.rise, d)
