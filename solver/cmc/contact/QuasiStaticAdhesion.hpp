@@ -40,8 +40,8 @@
 // fixed, so the tension that lifts the contact lowers the surface elsewhere, and the
 // cooperative argument above does not hold. Under mean-pressure control no gap opens (the
 // penetration follows the mean tension), so there the falls are the jump prediction's: a
-// point predicted lower than the next solve and prediction bear out (the cascade counts
-// its neighbours' predicted moves as made). A fall is therefore not by itself the inner
+// point is predicted lower than the next solve and the next prediction bear out (the
+// cascade counts its neighbours' predicted moves as made). A fall is therefore not by itself the inner
 // solves' error (the residual below; README, "Creep that is the inner solves' error").
 //
 // Jump prediction. Near a bistable point (the grid spacing of the challenge is 24 ρ: every
