@@ -119,7 +119,8 @@ std::vector<QuasiStaticRun> quasi_static(const Patch& s, bool device, OuterPoint
     QuasiStaticRun r;
     if (device) {
       qs::DeviceSteps b(hs, s.map.heights, o, host.near_stiffness());
-      r.result = qs::solve(b, hs, adh, o, qs::JumpPrediction(host.self_stiffness(), adh), t, st, nullptr);
+      r.result = qs::solve(b, hs, adh, o, qs::JumpPrediction(host.self_stiffness(), adh), host.move_floor(), t, st,
+                            nullptr);
     } else {
       r.result = host.solve(t, st);
     }
@@ -170,7 +171,7 @@ TEST(DeviceCode, QuasiStaticContinuesFromAnOuterStep) {
   const Target t{Control::MeanPressure, s.load};
   auto solve = [&](const QuasiStaticAdhesion::Options& opt, ContactState& st, OuterPoint* from) {
     qs::DeviceSteps b(hs, s.map.heights, opt, host.near_stiffness());
-    return qs::solve(b, hs, adh, opt, jump, t, st, from);
+    return qs::solve(b, hs, adh, opt, jump, host.move_floor(), t, st, from);
   };
   ContactState whole;
   const SolveResult a = solve(o, whole, nullptr);
@@ -224,7 +225,7 @@ TEST(DeviceCode, QuasiStaticOnALineUnderDisplacementControl) {
   for (const Target& t : s.targets) {
     const SolveResult ra = host.solve(t, a);
     qs::DeviceSteps steps(*s.half_space, s.topography.heights, o, host.near_stiffness());
-    const SolveResult rb = qs::solve(steps, *s.half_space, adh, o, jump, t, b, nullptr);
+    const SolveResult rb = qs::solve(steps, *s.half_space, adh, o, jump, host.move_floor(), t, b, nullptr);
     ASSERT_TRUE(ra.converged) << ra.message;
     ASSERT_TRUE(rb.converged) << rb.message;
     EXPECT_EQ(contact(a.gap), contact(b.gap));

@@ -279,21 +279,22 @@ QuasiStaticAdhesion::QuasiStaticAdhesion(HalfSpace& hs, const Field& heights, Ex
             hs.transform_entry(response, (dy + my) % my, (dx + mx) % mx);
   }
   if (!(k_self_ > 0.0)) throw std::logic_error("QuasiStaticAdhesion: the half-space's self-stiffness is not positive");
+  move_floor_ = qs::move_floor(adh_.range(), opt_.tolerance, PolonskyKeer::residual_scale(heights));
 }
 
 #ifndef CMC_CUDA
 // A build without the CUDA backend: the case parser refuses backend = "cuda" before a solve.
 SolveResult solve_on_device(HalfSpace&, const Field&, const ExponentialAdhesion&, const QuasiStaticAdhesion::Options&,
-                            double, const std::vector<double>&, const Target&, ContactState&, OuterPoint*) {
+                            double, const std::vector<double>&, double, const Target&, ContactState&, OuterPoint*) {
   throw std::runtime_error("quasi-static adhesion: this build of cmc has no CUDA backend (configure with -DCMC_CUDA=ON)");
 }
 #endif
 
 SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st, OuterPoint* from) {
   if (opt_.backend == Backend::Cuda && opt_.outer_on_device)
-    return solve_on_device(hs_, h_, adh_, opt_, k_self_, k_near_, target, st, from);
+    return solve_on_device(hs_, h_, adh_, opt_, k_self_, k_near_, move_floor_, target, st, from);
   HostSteps b(hs_, h_, k_near_, opt_);
-  return qs::solve(b, hs_, adh_, opt_, qs::JumpPrediction(k_self_, adh_), target, st, from);
+  return qs::solve(b, hs_, adh_, opt_, qs::JumpPrediction(k_self_, adh_), move_floor_, target, st, from);
 }
 
 }  // namespace cmc

@@ -160,6 +160,8 @@ class QuasiStaticAdhesion {
   double self_stiffness() const { return k_self_; }
   // K to the 3 x 3 nearest points, entry (dy + 1) 3 + dx + 1 (the cascade's stencil).
   const std::vector<double>& near_stiffness() const { return k_near_; }
+  // The cascade's move floor, a length (qs::move_floor, QuasiStaticParts.hpp).
+  double move_floor() const { return move_floor_; }
 
  private:
   HalfSpace& hs_;
@@ -168,13 +170,14 @@ class QuasiStaticAdhesion {
   Options opt_;
   double k_self_ = 0.0;
   std::vector<double> k_near_;  // K to the 3 x 3 nearest points (the cascade's stencil)
+  double move_floor_ = 0.0;
 };
 
 // The solve with the outer step on the GPU (contact/QuasiStaticDevice.cu); a build without
 // CUDA throws.
 SolveResult solve_on_device(HalfSpace& hs, const Field& heights, const ExponentialAdhesion& adhesion,
                             const QuasiStaticAdhesion::Options& options, double self_stiffness,
-                            const std::vector<double>& k_near, const Target& target, ContactState& state,
-                            OuterPoint* from);
+                            const std::vector<double>& k_near, double move_floor, const Target& target,
+                            ContactState& state, OuterPoint* from);
 
 }  // namespace cmc

@@ -21,8 +21,8 @@ namespace cmc {
 
 SolveResult solve_on_device(HalfSpace& hs, const Field& heights, const ExponentialAdhesion& adhesion,
                             const QuasiStaticAdhesion::Options& o, double self_stiffness,
-                            const std::vector<double>& k_near, const Target& target, ContactState& st,
-                            OuterPoint* from) {
+                            const std::vector<double>& k_near, double move_floor, const Target& target,
+                            ContactState& st, OuterPoint* from) {
   if (!hs.periodic() || hs.grid().split())
     throw std::invalid_argument("quasi-static adhesion on CUDA: periodic boundary and one process only");
   std::string why;
@@ -34,7 +34,8 @@ SolveResult solve_on_device(HalfSpace& hs, const Field& heights, const Exponenti
     cuda::ProfileScope ps(cuda::profile().setup_s);
     b = std::make_unique<qs::DeviceSteps>(hs, heights, o, k_near);
   }
-  return qs::solve(*b, hs, adhesion, o, qs::JumpPrediction(self_stiffness, adhesion), target, st, from);
+  return qs::solve(*b, hs, adhesion, o, qs::JumpPrediction(self_stiffness, adhesion), move_floor, target, st,
+                   from);
 }
 
 }  // namespace cmc

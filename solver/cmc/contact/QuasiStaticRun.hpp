@@ -47,10 +47,12 @@ struct NextTension {
 };
 
 // One solve for `target` on the loading branch (QuasiStaticAdhesion::solve). `hs` counts
-// the transforms and holds the elastic energy; `heights` are the case's.
+// the transforms and holds the elastic energy; `move_floor`: the cascade's (move_floor(),
+// QuasiStaticParts.hpp), a length.
 template <class B>
 SolveResult solve(B& b, HalfSpace& hs, const ExponentialAdhesion& adh, const QuasiStaticAdhesion::Options& opt,
-                  const JumpPrediction& jump, const Target& target, ContactState& st, OuterPoint* from) {
+                  const JumpPrediction& jump, double move_floor, const Target& target, ContactState& st,
+                  OuterPoint* from) {
   const SolveClock clock(hs);
   SolveResult res;
   // A continued solve counts the outer steps of the process before it.
@@ -104,7 +106,7 @@ SolveResult solve(B& b, HalfSpace& hs, const ExponentialAdhesion& adh, const Qua
   std::string pk_message;
   bool confirming = false;  // this solve repeats the last one (same t) on the exact u
   double worst_fall = 0.0;  // the largest fall of a tension between outer steps, over w/ρ
-  const double floor = opt.cascade ? kMoveFloor * adh.range() : HUGE_VAL;
+  const double floor = opt.cascade ? move_floor : HUGE_VAL;
   for (;; ++outer) {
     if (!confirming && (outer > 0 || warm)) b.shift_heights();
     Target tk = target;
