@@ -198,6 +198,15 @@ def own_refinement():
     with_p = v[8192] - (v[4096] - v[8192]) / (2 ** p - 1)
     assert abs(got["band"] - (0.01 + abs(with_p - 0.02)) / 0.03) < 1e-9, got
     assert common.own_refinement([grid(2048, 2.5, 0.03), grid(4096, 1.25, v[4096])]) is None
+    # Not in the asymptotic range: the finest change shrinks by less than 2^-MIN_ORDER (the challenge at
+    # mu_T = 1: changes 1.28e-3 and 1.26e-3); just inside it, a band.
+    flat = [grid(2048, 2.5, 0.0333), grid(4096, 1.25, 0.0320), grid(8192, 0.62, 0.0307)]
+    assert common.own_refinement(flat) is None
+    c2 = 0.0013 * 2 ** -common.MIN_ORDER
+    assert common.own_refinement([grid(2048, 2.5, 0.0333), grid(4096, 1.25, 0.0320),
+                                  grid(8192, 0.62, 0.0320 - 1.01 * c2)]) is None
+    assert common.own_refinement([grid(2048, 2.5, 0.0333), grid(4096, 1.25, 0.0320),
+                                  grid(8192, 0.62, 0.0320 - 0.99 * c2)]) is not None
     assert common.own_refinement([grid(2048, 0.4, 0.03), grid(3000, 0.3, v[4096])]) is None
     # The rule is the bistability number, not dx/rho: where rho is long (low mu_T) a grid of 4.4 rho
     # with b = 0.8 resolves the cohesive zone better than the family's refinement grid (1.6 rho,
