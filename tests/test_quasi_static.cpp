@@ -335,6 +335,30 @@ TEST(QuasiStatic, TensionFallsNameTheInnerTolerance) {
   EXPECT_TRUE(tight.converged) << tight.message;
 }
 
+// The cascade's move floor (qs::move_floor): kNoiseMargin times the inner solves' gap error,
+// tolerance x rms height, held between kMinMoveFloor and kMoveFloor ρ. On the challenge at
+// μ_T = 1 (ρ = 6.217 nm, rms height 750.4 nm): the case's inner tolerance 1e-6 keeps the old
+// floor 1e-3 ρ (the stored runs' bits), 1e-8 gives 1.207e-4 ρ (the 8192² run), and a
+// tolerance of 0 the smallest floor, not 0 (a cascade that never stops). The solver uses the
+// rule with Polonsky-Keer's residual scale of its heights.
+TEST(QuasiStatic, MoveFloorFollowsTheInnerTolerance) {
+  const double rho = 6.217e-9, h = 750.4e-9;
+  EXPECT_EQ(qs::move_floor(rho, 1e-6, h), qs::kMoveFloor * rho);
+  EXPECT_NEAR(qs::move_floor(rho, 1e-8, h) / rho, qs::kNoiseMargin * 1e-8 * h / rho, 1e-12);
+  EXPECT_NEAR(qs::move_floor(rho, 1e-8, h) / rho, 1.207e-4, 1e-7);
+  EXPECT_EQ(qs::move_floor(rho, 0.0, h), qs::kMinMoveFloor * rho);
+  EXPECT_EQ(qs::move_floor(rho, 1e-14, h), qs::kMinMoveFloor * rho);
+  RoughPatch s;
+  PeriodicHalfSpace hs(s.map.grid, 1.0);
+  const ExponentialAdhesion adh(s.w, s.rho);
+  for (double tol : {1e-4, 1e-10}) {
+    QuasiStaticAdhesion::Options o;
+    o.tolerance = tol;
+    const QuasiStaticAdhesion qs(hs, s.map.heights, adh, o);
+    EXPECT_EQ(qs.move_floor(), qs::move_floor(adh.range(), tol, PolonskyKeer::residual_scale(s.map.heights))) << tol;
+  }
+}
+
 // The loading-branch state is one state, whichever quantity the load step fixes: solved at
 // the mean pressure of the patch and then, cold, at the penetration that solve ended at,
 // the two agree. What they agree to: the same contact set, and gaps within the cascade's

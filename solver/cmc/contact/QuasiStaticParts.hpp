@@ -114,13 +114,12 @@ constexpr double kNoiseMargin = 100.0;  // the floor over the inner solves' gap 
 // rms gap error on the contact set over the rms height h_scale), between kMinMoveFloor ρ
 // and kMoveFloor ρ. At the challenge cases' inner tolerance 1e-6 (h_scale 750 nm, ρ =
 // 2.1 to 6.2 nm at mu_T = 3 to 1) that is kMoveFloor, as before this rule. Measured
-// (2026-11-27, 2 threads; mu_T = 1 at 250 kPa, inner tolerance 1e-8, floor 1.2e-4 ρ
-// against 1e-3 ρ): 2048² 18 outer steps against 50, 4096² 39 against 74 (649 inner
-// iterations against 1084, 226 s against 428 s), a_r 0.0320333 against 0.0320330, mean gap
-// within 4e-7. The floor at the noise itself (1e-4 ρ at inner tolerance 1e-6, mu_T = 1,
+// (2026-11-27, 2 threads; mu_T = 1 at 250 kPa, inner tolerance 1e-8, this rule's 1.2e-4 ρ
+// against 1e-3 ρ): 2048² 21 outer steps against 50, 4096² 39 against 74 (648 inner
+// iterations against 1084, 220 s against 428 s), a_r 0.0320333 against 0.0320330, mean gap
+// within 2e-7. The floor at the noise itself (1e-4 ρ at inner tolerance 1e-6, mu_T = 1,
 // 2048²) crept: 52 outer steps against 41 at 1e-3 ρ. Smaller floors cost cascade time
-// (2048², inner tolerance 1e-8: 1e-5 ρ 17 outer steps, 1e-6 ρ 18, the cascade's share of
-// the wall time 0.29 and 0.55 against 0.31 at 1e-4 ρ).
+// (2048², inner tolerance 1e-8: 1e-6 ρ 18 outer steps and 45 s, against 30.5 s at 1e-4 ρ).
 inline double move_floor(double range, double inner_tolerance, double h_scale) {
   const double f = kNoiseMargin * inner_tolerance * h_scale;
   return std::min(kMoveFloor * range, std::max(kMinMoveFloor * range, f));
