@@ -89,9 +89,10 @@ std::string refinement_markdown(const std::string& case_file, const std::vector<
   md += "\n";
   for (const auto& r : rows) {
     md += "| " + r.observable + " |";
-    for (const auto& v : r.values) md += " " + num(v) + " |";
-    for (const auto& c : r.changes) md += " " + num(c, "%.2e") + " |";
-    md += " " + num(r.order, "%.2f") + " |\n";
+    // Appended piece by piece: `" " + num(...)` trips GCC 12's -Wrestrict false positive.
+    for (const auto& v : r.values) md.append(" ").append(num(v)).append(" |");
+    for (const auto& c : r.changes) md.append(" ").append(num(c, "%.2e")).append(" |");
+    md.append(" ").append(num(r.order, "%.2f")).append(" |\n");
   }
   md += "\n| grid | dx (m) | dx / λ_s | modes dropped | status |\n|---|---|---|---|---|\n";
   for (const auto& g : grids)
