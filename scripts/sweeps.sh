@@ -12,7 +12,8 @@
 # (scripts/main.sh) runs the reference-load runs and the two adhesive sweeps itself; this
 # adds the rest (on 2 cores: 6 min for the hard-wall sweep, about 5 min for the two 4096²
 # reference-load runs, 51 min for the 4096² hard-wall sweep, measured with another job
-# beside it, and about 75 min for the Tabor sweep's 4096² and 8192² runs), and the report
+# beside it, and about 75 min for the Tabor sweep's 4096² and 8192² runs at mu_T <= 0.562 and
+# over an hour for mu_T = 1's), and the report
 # draws their stored curves until they run. Every run resumes
 # where it stopped: run this again after an interruption.
 # cmc prints a progress line per load step (iterations, elapsed, estimated remaining).
@@ -52,7 +53,8 @@ scripts/tabor_sweep.sh --grid 8192 --tabor "0.0562 0.1 0.178 0.316 0.562"
 # case's 1e-6 that run's outer iteration is held up by the inner solves' error and stops at its
 # cap after 1000 outer steps (README, "Creep that is the inner solves' error"); 4 min on 2 cores.
 # On 8192² the same (at 1e-6 it crept for 156 outer steps and was stopped; README, the
-# Tabor sweep's mu_T = 1 bullet).
+# Tabor sweep's mu_T = 1 bullet). The stored run was started from the 4096² one (--start-from) and
+# took 66 min on 2 cores; this line starts from out of contact (not timed).
 scripts/tabor_sweep.sh --grid 4096 --tabor 1.0 --set solver.tolerance=1e-8
 scripts/tabor_sweep.sh --grid 8192 --tabor 1.0 --set solver.tolerance=1e-8
 # The adhesive sweep: one quasi-static loading path from out of contact, 12.5 kPa .. 100 MPa.
