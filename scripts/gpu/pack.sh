@@ -18,6 +18,16 @@ pack=${2:-.gpucarry}
   { echo "scripts/gpu/pack.sh: $build/cmc or $build/cmc_gpu_tests missing: configure with -DCMC_CUDA=ON and build" >&2; exit 1; }
 grep -q '^CMC_CUDA:BOOL=ON' "$build/CMakeCache.txt" ||
   { echo "scripts/gpu/pack.sh: $build is not a CUDA build (CMC_CUDA=ON)" >&2; exit 1; }
+# nvcc keeps the host side of each __host__ __device__ lambda in per-unit statics, while the
+# linker merges the lambda's wrapper code across units: two .cu files that instantiate the
+# same such lambda make a program that calls a null pointer (PolonskyKeerDevice.cu, the note
+# at pk::run_on_device). Refuse such a build before it travels to a GPU.
+objs=$(find "$build/CMakeFiles" -name '*.cu.o' | sort)
+shared=$(for o in $objs; do nm "$o" | awk '$2 ~ /^[WVT]$/ && $3 ~ /__nv_hdl_wrapper_t/ {print $3}' | sort -u; done |
+  sort | uniq -d | head -3)
+[ -z "$shared" ] ||
+  { echo "scripts/gpu/pack.sh: a __host__ __device__ lambda is instantiated in more than one .cu file of $build (a null call on the GPU); first of them:" >&2
+    echo "$shared" | c++filt | cut -c1-300 >&2; exit 1; }
 rm -rf "$pack"
 mkdir -p "$pack/bin" "$pack/lib"
 progs=("$build/cmc" "$build/cmc_gpu_tests")

@@ -30,6 +30,11 @@
 
 namespace cmc {
 void pk::report_profile(const PolonskyKeer::Device&) {}
+// PolonskyKeerDevice.cu's, which a CPU build does not compile.
+pk::End pk::run_on_device(PolonskyKeer::Device& d, const PolonskyKeer::Options& o, double h_scale,
+                          const Target& target, const Start& start, SolveResult& res) {
+  return iterate(d, o, h_scale, target, start, res);
+}
 }  // namespace cmc
 
 using namespace cmc;

@@ -55,9 +55,7 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
     if (!work_) work_ = std::make_unique<Work>();
     {  // the backend counts its transforms when it goes, before its work arrays do
       pk::Host host(hs_, h_, st, *work_, start.warm, start.precondition, opt_.fused_sweeps);
-      pk::Run<pk::Host> run(host, opt_, h_scale_, target, start);
-      run.run(res);
-      end = {run.sigma(), run.delta(), run.failure};
+      end = pk::iterate(host, opt_, h_scale_, target, start, res);
     }
     if (!opt_.keep_work) work_.reset();
   }

@@ -18,9 +18,11 @@ void pk::report_profile(const PolonskyKeer::Device& d) {
   const cuda::Profile& pr = cuda::profile();
   std::fprintf(stderr,
                "cuda profile, so far: transforms %.3f s (%ld + %ld), passes %.3f s (%ld), reductions %.3f s (%ld), "
-               "uploads %.3f s (%.2f GB), downloads %.3f s (%.2f GB), set-up %.3f s\n",
+               "uploads %.3f s (%.2f GB), downloads %.3f s (%.2f GB), set-up %.3f s; "
+               "quasi-static cascade %.3f s (%ld rounds in %ld cascades, its passes and reductions counted above too)\n",
                d.fft.seconds, d.fft.forwards, d.fft.inverses, pr.pass_s, pr.passes, pr.reduce_s, pr.reductions,
-               pr.upload_s, 1e-9 * pr.upload_bytes, pr.download_s, 1e-9 * pr.download_bytes, pr.setup_s);
+               pr.upload_s, 1e-9 * pr.upload_bytes, pr.download_s, 1e-9 * pr.download_bytes, pr.setup_s,
+               pr.cascade_s, pr.rounds, pr.cascades);
 }
 
 std::size_t pk::check_device_memory(const char* who, int nx, int ny, std::size_t need) {
@@ -34,6 +36,19 @@ std::size_t pk::check_device_memory(const char* who, int nx, int ny, std::size_t
     throw std::runtime_error(s.str());
   }
   return free_b;
+}
+
+// The one translation unit that instantiates pk::Run over the device. nvcc keeps the host
+// side of a __host__ __device__ lambda (its copy, call and delete functions) in statics of
+// an anonymous namespace, one set per translation unit, while the lambda's wrapper type and
+// the templates that copy it are merged across units by the linker. A Run<Device> member
+// instantiated in two .cu files could then be copied by one unit's code with the other
+// unit's statics, never set: a call through a null pointer, as on the H200 on 2026-11-27
+// (every solve after QuasiStaticDevice.cu began to instantiate Run<Device> too).
+// scripts/gpu/pack.sh refuses a build whose .cu objects share such a wrapper.
+pk::End pk::run_on_device(PolonskyKeer::Device& d, const PolonskyKeer::Options& o, double h_scale,
+                          const Target& target, const Start& start, SolveResult& res) {
+  return iterate(d, o, h_scale, target, start, res);
 }
 
 pk::End pk::solve_on_device(std::unique_ptr<PolonskyKeer::Device, PolonskyKeer::DeviceDelete>& dev, HalfSpace& hs,
@@ -55,12 +70,7 @@ pk::End pk::solve_on_device(std::unique_ptr<PolonskyKeer::Device, PolonskyKeer::
   const double s0 = d.fft.seconds;
   d.H.upload(heights.data(), d.n);
   if (start.warm) d.P.upload(st.pressure.data(), d.n);
-  End end;
-  {
-    Run<PolonskyKeer::Device> run(d, o, h_scale, target, start);
-    run.run(res);
-    end = {run.sigma(), run.delta(), run.failure};
-  }
+  const End end = run_on_device(d, o, h_scale, target, start, res);
   st.pressure.resize(d.n);
   st.displacement.resize(d.n);
   d.P.download(st.pressure.data(), d.n);

@@ -116,6 +116,11 @@ struct PolonskyKeer::Device : pk::Fields {
 namespace pk {
 // With $CMC_CUDA_PROFILE set: where the device's time went so far, on stderr.
 void report_profile(const PolonskyKeer::Device& d);
+// Polonsky-Keer on the device's fields (pk::iterate over the device backend). Defined in
+// PolonskyKeerDevice.cu alone, so that one translation unit instantiates the iteration's
+// __host__ __device__ lambdas (why: the note there); other units call this.
+End run_on_device(PolonskyKeer::Device& d, const PolonskyKeer::Options& o, double h_scale, const Target& target,
+                  const Start& start, SolveResult& res);
 // Throws, naming the grid and the GiB, where `need` bytes exceed the device's free memory;
 // returns the free bytes.
 std::size_t check_device_memory(const char* who, int nx, int ny, std::size_t need);

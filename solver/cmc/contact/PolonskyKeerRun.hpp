@@ -489,6 +489,15 @@ void Run<B>::run(SolveResult& res) {
   }
 }
 
+// One solve over backend b from `start`: the iteration, then σ, δ and why it failed.
+template <class B>
+End iterate(B& b, const PolonskyKeer::Options& o, double h_scale, const Target& target, const Start& start,
+            SolveResult& res) {
+  Run<B> run(b, o, h_scale, target, start);
+  run.run(res);
+  return {run.sigma(), run.delta(), run.failure};
+}
+
 // The solve on the GPU (contact/PolonskyKeerDevice.cu): uploads the heights (and a warm
 // start), runs Run over the device backend, and leaves p (times sigma) and w = h + u in
 // st.pressure and st.displacement, as the CPU backend does. `dev` holds the device's work

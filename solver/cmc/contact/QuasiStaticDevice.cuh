@@ -91,12 +91,7 @@ struct DeviceSteps {
     const bool warm = have_p_ && d_.sum(d_.p) > 0.0;
     const pk::Start start = pk::make_start(hs_, tk, warm, delta_, opt_.precondition);
     SolveResult res;
-    pk::End end;
-    {
-      pk::Run<PolonskyKeer::Device> run(d_, po_, h_scale_, tk, start);
-      run.run(res);
-      end = {run.sigma(), run.delta(), run.failure};
-    }
+    const pk::End end = pk::run_on_device(d_, po_, h_scale_, tk, start, res);
     double* p = d_.p;
     double* g = d_.t;
     const double* w = d_.w;
@@ -120,8 +115,10 @@ struct DeviceSteps {
     }
     // x and a in two spectra's buffers, the flags in the contact mask's and the scratch
     // spectrum's (each at least n bytes); the gap is in the direction's.
-    qs::cascade_rounds(*this, n, d_.t, TEN.data(), jump, stencil_, nx_, ny_, floor, d_.p_hat, d_.h_hat, d_.m,
-                       reinterpret_cast<std::uint8_t*>(d_.out));
+    cuda::ProfileScope ps(cuda::profile().cascade_s);
+    cuda::profile().rounds += qs::cascade_rounds(*this, n, d_.t, TEN.data(), jump, stencil_, nx_, ny_, floor, d_.p_hat,
+                                                 d_.h_hat, d_.m, reinterpret_cast<std::uint8_t*>(d_.out));
+    ++cuda::profile().cascades;
     x_ = d_.p_hat;
   }
   double* t() { return TEN.data(); }

@@ -273,14 +273,15 @@ struct Pull {  // x = min(x, gap(g, t, pull)) where a neighbour was told, pull =
 };
 
 // Runs the rounds over a backend b (b.all, b.reduce<Acc>) on the backend's buffers x, a
-// (n doubles) and moved, told (n bytes); on return x holds the predicted gaps.
+// (n doubles) and moved, told (n bytes); on return x holds the predicted gaps. Returns the
+// number of rounds that moved something.
 template <class B>
-void cascade_rounds(B& b, std::size_t n, const double* g, const double* t, const JumpPrediction& jp, const Stencil& st,
+long cascade_rounds(B& b, std::size_t n, const double* g, const double* t, const JumpPrediction& jp, const Stencil& st,
                     int nx, int ny, double floor, double* x, double* a, std::uint8_t* moved, std::uint8_t* told) {
   b.all(n, RoundStart{g, t, x, a, moved, jp});
-  for (;;) {
+  for (long rounds = 0;; ++rounds) {
     const Count c = b.template reduce<Count>(n, Propagate{x, a, moved, told, floor});
-    if (c.n == 0.0) break;
+    if (c.n == 0.0) return rounds;
     b.all(n, Pull{g, t, a, x, told, moved, jp, st, nx, ny});
   }
 }

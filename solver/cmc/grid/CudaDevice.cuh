@@ -40,6 +40,8 @@ struct Profile {
   double pass_s = 0.0, reduce_s = 0.0, upload_s = 0.0, download_s = 0.0, setup_s = 0.0;
   long passes = 0, reductions = 0;
   double upload_bytes = 0.0, download_bytes = 0.0;
+  double cascade_s = 0.0;  // the quasi-static cascade's rounds (their passes and reductions counted above too)
+  long cascades = 0, rounds = 0;
 };
 Profile& profile();
 class ProfileScope {
