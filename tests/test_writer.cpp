@@ -78,19 +78,40 @@ TEST(Writer, WritesSummaryAndFieldsOnlyWhenFinished) {
   fs::remove_all(dir);
 }
 
+// After a run's last solve only the output follows: no checkpoint of a state that is written
+// next anyway (three fields: 26 GB at 32768²). Three load steps, two checkpoints, and the
+// test point of the last step still passed (resume_test.py kills there).
+TEST(Writer, NoCheckpointAfterTheLastStep) {
+  const Case c = small_case();
+  Scene s = build_scene(c);
+  ASSERT_EQ(s.targets.size(), 3u);
+  int checkpoints = 0;
+  run_scene(c, s, {}, {}, nullptr, [&](const ContactState&, const PathState*, const OuterPoint*) { ++checkpoints; });
+  EXPECT_EQ(checkpoints, 2);
+}
+
 TEST(Writer, ResumesAnInterruptedRun) {
   const Case c = small_case();
   const auto full_dir = fresh_dir("full"), dir = fresh_dir("resume");
   // Reference: an uninterrupted run.
   Scene s0 = build_scene(c);
   RunSummary full = run_scene(c, s0, {});
-  // An interrupted run: two of three steps, then the program "dies" (no finish()).
+  // An interrupted run: two of three steps, then the program "dies" (no finish()) while the
+  // third is being recorded, before its checkpoint. (Not by stopping at two targets: after a
+  // run's last step no checkpoint is written, Driver.cpp's after_step.)
+  struct Died {};
   {
     Scene s = build_scene(c);
-    s.targets.resize(2);
     Writer w(dir, c, s);
-    run_scene(c, s, [&](const StepRecord& r, const ContactState& st) { w.add_step(r, st); }, {}, nullptr,
-              [&](const ContactState& st, const PathState* p, const OuterPoint* in) { w.checkpoint(st, p, in); });
+    EXPECT_THROW(run_scene(
+                     c, s,
+                     [&](const StepRecord& r, const ContactState& st) {
+                       if (r.index == 2) throw Died{};
+                       w.add_step(r, st);
+                     },
+                     {}, nullptr,
+                     [&](const ContactState& st, const PathState* p, const OuterPoint* in) { w.checkpoint(st, p, in); }),
+                 Died);
   }
   EXPECT_FALSE(fs::exists(dir / "summary.json"));
   EXPECT_TRUE(fs::exists(dir / "INCOMPLETE"));

@@ -23,7 +23,8 @@ Solves every load step of CASE.toml and writes, atomically:
 Progress goes to stderr when it is a terminal; --quiet silences it.
 Until the run finishes DIR holds no summary.json (an earlier run's results are removed
 when it starts) but a file DIR/INCOMPLETE, and checkpoints (DIR/.partial/): after every
-load step and every pull-off refinement solve, and inside a load step of the quasi-static
+load step (but the last of a hard-wall or quasi-static run: only the output follows it)
+and every pull-off refinement solve, and inside a load step of the quasi-static
 solver between two of its outer steps, at most every SECONDS (--checkpoint-every, default
 600; 0: after every outer step): a step that takes hours loses at most that much.
 --resume continues an interrupted run of the same case (same file and --set values) from
