@@ -47,6 +47,20 @@ QuasiStaticAdhesion::Options plain_iteration(QuasiStaticAdhesion::Options o) {
   return o;
 }
 
+// The passes of a backend (qs::cascade_rounds' b), one point after another.
+struct Serial {
+  template <class F>
+  void all(std::size_t k, F f) {
+    for (std::size_t i = 0; i < k; ++i) f(i);
+  }
+  template <class Acc, class F>
+  Acc reduce(std::size_t k, F f) {
+    Acc a{};
+    for (std::size_t i = 0; i < k; ++i) f(i, a);
+    return a;
+  }
+};
+
 long count_contact(const Field& gap) {
   long c = 0;
   for (double g : gap) c += g <= 0.0 ? 1 : 0;
@@ -188,6 +202,58 @@ TEST(QuasiStatic, CascadeInRoundsKeepsTheState) {
   FreeHalfSpace free(s.map.grid, 1.0);
   EXPECT_THROW(QuasiStaticAdhesion(free, s.map.heights, adh, rounds).solve({Control::MeanPressure, s.load}, a),
                std::invalid_argument);
+}
+
+// The rounds' word passes (eight points a load where a word's flags are all clear) give the
+// point-by-point passes' bits: the same predictions, passed-on gaps, flags and rounds, on a
+// grid of whole words (64 x 48) with bistable points that jump and pull their neighbours.
+TEST(QuasiStatic, CascadeRoundsByWordsGiveThePointsBits) {
+  const int nx = 64, ny = 48;
+  const std::size_t n = std::size_t(nx) * ny;
+  const double rho = 1.0, w = 1.0;
+  const ExponentialAdhesion adh(w, rho);
+  const double k = 0.2 * w / (rho * rho);  // below the law's steepest slope w/ρ²: bistable
+  const qs::JumpPrediction jp(k, adh);
+  std::vector<double> k_near(qs::kSide * qs::kSide, -k / 12.0);
+  k_near[4] = 0.0;  // the point itself (not in the stencil)
+  const qs::Stencil st = qs::make_stencil(nx, ny, true, k_near);
+  // Gaps from 0 to 4 ρ (every seventh point in contact), each point at the tension of its
+  // gap (in equilibrium) but for a block of 5 x 5 points off the words' edges, solved under
+  // the tension of a gap 0.3 ρ wider: the attraction at their new gap is stronger, they
+  // close, the bistable ones jump, and the moves spread from there, across words and rows
+  // (the other words' flags stay clear until the front reaches them).
+  std::vector<double> g(n), t(n);
+  std::uint64_t r = 12345;
+  for (std::size_t i = 0; i < n; ++i) {
+    r = r * 6364136223846793005ull + 1442695040888963407ull;
+    g[i] = i % 7 == 0 ? 0.0 : 4.0 * rho * double(r >> 11) / double(1ull << 53);
+    const int ix = int(i % nx), iy = int(i / nx);
+    const bool block = ix >= 21 && ix < 26 && iy >= 10 && iy < 15;
+    t[i] = jp.tension(g[i] + (block ? 0.3 * rho : 0.0));
+  }
+  struct Out {
+    std::vector<double> x, a;
+    std::vector<std::uint8_t> moved, told;
+    long rounds = 0;
+  };
+  auto run = [&](bool words) {
+    Out o{std::vector<double>(n), std::vector<double>(n), std::vector<std::uint8_t>(n), std::vector<std::uint8_t>(n)};
+    Serial b;
+    o.rounds = qs::cascade_rounds(b, n, g.data(), t.data(), jp, st, nx, ny, 1e-3 * rho, o.x.data(), o.a.data(),
+                                  o.moved.data(), o.told.data(), words);
+    return o;
+  };
+  const Out p = run(false), q = run(true);
+  long moved = 0;
+  for (std::size_t i = 0; i < n; ++i) moved += p.x[i] < g[i] ? 1 : 0;
+  report("rounds.words.rounds", double(p.rounds));
+  report("rounds.words.points_predicted_closer", double(moved));
+  EXPECT_GT(p.rounds, 1) << "the case passes moves on (else it tests nothing)";
+  EXPECT_EQ(p.rounds, q.rounds);
+  EXPECT_TRUE(p.x == q.x);
+  EXPECT_TRUE(p.a == q.a);
+  EXPECT_TRUE(p.moved == q.moved);
+  EXPECT_TRUE(p.told == q.told);
 }
 
 // The shape coarse-graining's laws (Interaction.hpp): a linear head joined to an
