@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # On a GPU machine, from a build packed by scripts/gpu/pack.sh (issue 16; README, "GPU"):
-#   scripts/gpu/check.sh [--pack DIR] [--out DIR] [--cap SECONDS] STAGE...
+#   scripts/gpu/check.sh [--pack DIR] [--out DIR] [--cap SECONDS] [--set KEY=VALUE ...] STAGE...
+# --set: a case override added to every run of the stages (e.g. solver.tolerance=1e-8), and
+# to the command each run records.
 # Stages:
 #   tests         the 'gpu' tests (tests/gpu: the CUDA backend against the CPU backend)
 #   rerun         the 2048² adhesive challenge twice on the GPU: summary.json numbers compared
@@ -19,12 +21,13 @@
 # (default 300): a stopped run says so.
 set -uo pipefail
 cd "$(dirname "$0")/../.."
-pack=.gpucarry out=gpu-check cap=300
+pack=.gpucarry out=gpu-check cap=300 sets=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --pack) pack=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
     --cap) cap=$2; shift 2 ;;
+    --set) sets+=(--set "$2"); shift 2 ;;
     *) break ;;
   esac
 done
@@ -70,7 +73,7 @@ run_case() {  # kind (hardwall|hardwall_plain|adhesive|shape), n, backend
   nvidia-smi --query-gpu=memory.used --format=csv,noheader,nounits --loop-ms=200 >"$samples" 2>/dev/null &
   local mon=$!
   local args=(run "cases/challenge/$file.toml" --set "grid.n=$2" --set "grid.backend=$3" --set output.fields=false
-    "${extra[@]}" --out "$dir")
+    "${extra[@]}" "${sets[@]}" --out "$dir")
   # The command as run, for the record (scripts/gpu/store.py stores it with the run).
   { printf 'cmc'; printf ' %q' "${args[@]}"; printf '   (scripts/gpu/check.sh %s:%s)\n' "$1" "$2"; } >"$out/$tag.command"
   timeout "$cap" "$pack/bin/cmc" "${args[@]}" >"$out/$tag.log" 2>&1

@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# The GPU checks of one lease of a device machine, lent for minutes (issue 16; README, "GPU"):
+#   scripts/gpu/lease.sh [--deadline SECONDS] [--pack DIR] [--work DIR] [--tar FILE] STAGE[@CAP][,KEY=VALUE...] ...
+# Runs scripts/gpu/check.sh's stages (tests, rerun, adhesive:N, ...) one after another: each
+# stopped after CAP seconds (default 300; a stopped run prints its last progress lines), none
+# started with less than 25 s to the deadline (default 540 s after the start), each with its
+# own case overrides (KEY=VALUE, as cmc's --set). After every stage the results so far
+# (check.sh's --out folder, --work, default gpu-check: summaries, logs, the commands as run,
+# the GPU memory samples; no fields) are packed into FILE (default $OUT/gpu-check.tgz where
+# $OUT is set, else gpu-check.tgz), so a command stopped at its limit still returns every
+# finished stage. Example, on the device machine:
+#   DEADLINE=540 scripts/gpu/lease.sh tests rerun adhesive:8192@120 adhesive:16384@240,solver.tolerance=1e-8
+# then, here: tar xzf gpu-check.tgz; scripts/gpu/store.py --device ... --date ... gpu-check
+set -uo pipefail
+cd "$(dirname "$0")/../.."
+deadline=${DEADLINE:-540} pack=.gpucarry tar=${OUT:+$OUT/}gpu-check.tgz work=gpu-check
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --deadline) deadline=$2; shift 2 ;;
+    --pack) pack=$2; shift 2 ;;
+    --tar) tar=$2; shift 2 ;;
+    --work) work=$2; shift 2 ;;
+    --*) echo "scripts/gpu/lease.sh: unknown option $1" >&2; exit 2 ;;
+    *) break ;;
+  esac
+done
+[ $# -gt 0 ] || { echo "scripts/gpu/lease.sh: no stage given (e.g. tests rerun adhesive:8192@120)" >&2; exit 2; }
+t0=$(date +%s)
+left() { echo $((deadline - ($(date +%s) - t0))); }
+save() {
+  tar czf "$tar.tmp" --exclude='*.h5' --exclude='*.xdmf' --exclude='.partial' -C "$(dirname "$work")" "$(basename "$work")" &&
+    mv "$tar.tmp" "$tar"
+}
+mkdir -p "$work"
+for spec in "$@"; do
+  IFS=, read -r -a parts <<<"$spec"
+  stage=${parts[0]%@*} cap=300
+  [ "${parts[0]}" != "$stage" ] && cap=${parts[0]##*@}
+  case "$cap" in '' | *[!0-9]*) echo "scripts/gpu/lease.sh: $spec: expected STAGE@SECONDS" >&2; exit 2 ;; esac
+  sets=()
+  for kv in "${parts[@]:1}"; do sets+=(--set "$kv"); done
+  l=$(left)
+  if [ "$l" -lt 25 ]; then echo "== $spec: skipped ($l s to the deadline)"; continue; fi
+  [ "$cap" -gt "$l" ] && cap=$l
+  echo "== $spec (cap $cap s, $l s to the deadline)"
+  # check.sh stops each run at its cap; the outer timeout is for a stage of several runs.
+  timeout $((2 * cap + 30)) scripts/gpu/check.sh --pack "$pack" --out "$work" --cap "$cap" "${sets[@]}" "$stage"
+  pkill -f "^$pack/bin/cmc" 2>/dev/null  # a run the timeout left behind (cmc, cmc_gpu_tests)
+  save
+done
+echo "== done after $(($(date +%s) - t0)) s; results in $tar"
