@@ -251,6 +251,14 @@ TEST(Case, SolverKindAutoAndExplicit) {
   EXPECT_NE(e.find("needs [interaction] kind = \"exponential\""), std::string::npos) << e;
   e = error_of(adhesive + "[solver]\ntension_tolerance = -1\n");
   EXPECT_NE(e.find("[solver] tension_tolerance"), std::string::npos) << e;
+  // The time limit: none by default, seconds >= 0.
+  EXPECT_EQ(load_case(write(adhesive)).solver.max_seconds, 0.0);
+  EXPECT_EQ(load_case(write(adhesive + "[solver]\nmax_seconds = 200\n")).solver.max_seconds, 200.0);
+  e = error_of(adhesive + "[solver]\nmax_seconds = -1\n");
+  EXPECT_NE(e.find("[solver] max_seconds: expected seconds a load step's solve may take (quasi_static), 0 for no "
+                   "limit (>= 0)"),
+            std::string::npos)
+      << e;
   // Polonsky-Keer's stiffness preconditioner: on by default, off on request, a boolean.
   EXPECT_TRUE(load_case(write(adhesive)).solver.precondition);
   c = load_case(write(std::string(kGood) + "\n[solver]\nprecondition = false\n"));

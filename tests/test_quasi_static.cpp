@@ -401,6 +401,38 @@ TEST(QuasiStatic, TensionFallsNameTheInnerTolerance) {
   EXPECT_TRUE(tight.converged) << tight.message;
 }
 
+// solver.max_seconds: a solve that reaches it stops at the end of an outer step, not
+// converged, with a message that names the key, and leaves the state of that outer step
+// (the same as a solve capped at that many outer steps, bit for bit). A limit the solve
+// does not reach changes nothing.
+TEST(QuasiStatic, TimeLimitStopsWithTheStateItReached) {
+  RoughPatch s;
+  PeriodicHalfSpace hs(s.map.grid, 1.0);
+  auto solve = [&](double seconds, int max_outer, ContactState& st) {
+    QuasiStaticAdhesion::Options o;
+    o.tolerance = 1e-10;
+    o.max_seconds = seconds;
+    o.max_outer = max_outer;
+    return QuasiStaticAdhesion(hs, s.map.heights, ExponentialAdhesion(s.w, s.rho), o)
+        .solve({Control::MeanPressure, s.load}, st);
+  };
+  ContactState timed, capped, free_run, limited;
+  const SolveResult t = solve(1e-9, 1000, timed);  // out of time after the first outer step
+  EXPECT_FALSE(t.converged);
+  EXPECT_EQ(t.message.rfind(kTimeLimitMessage, 0), 0u) << t.message;
+  EXPECT_NE(t.message.find("solver.max_seconds"), std::string::npos) << t.message;
+  EXPECT_EQ(t.diagnostics.outer_iterations, 1);
+  const SolveResult c = solve(0.0, 1, capped);
+  EXPECT_EQ(c.message.rfind(kOuterLimitMessage, 0), 0u) << c.message;
+  ASSERT_EQ(timed.gap.size(), capped.gap.size());
+  EXPECT_TRUE(timed.gap == capped.gap);
+  EXPECT_TRUE(timed.pressure == capped.pressure);
+  const SolveResult f = solve(0.0, 1000, free_run), l = solve(3600.0, 1000, limited);
+  EXPECT_TRUE(f.converged) << f.message;
+  EXPECT_TRUE(l.converged) << l.message;
+  EXPECT_TRUE(free_run.gap == limited.gap);
+}
+
 // The cascade's move floor (qs::move_floor): kNoiseMargin times the inner solves' gap error,
 // tolerance x rms height, held between kMinMoveFloor and kMoveFloor ρ. On the challenge at
 // μ_T = 1 (ρ = 6.217 nm, rms height 750.4 nm): the case's inner tolerance 1e-6 keeps the old

@@ -118,6 +118,9 @@ struct OuterPoint {
 // How the message of a solve that reached Options::max_outer begins. A run that stops so
 // keeps its last checkpoint (Writer.hpp): resumed with a larger limit, it goes on.
 inline constexpr const char* kOuterLimitMessage = "quasi-static adhesion stopped after ";
+// How the message of a solve that reached Options::max_seconds begins. Its run ends (no
+// checkpoint is kept: where it stopped depends on the machine's speed).
+inline constexpr const char* kTimeLimitMessage = "quasi-static adhesion reached its time limit ";
 
 class QuasiStaticAdhesion {
  public:
@@ -127,6 +130,9 @@ class QuasiStaticAdhesion {
     // Outer convergence: the largest tension change of one more outer step, over w/ρ.
     double tension_tolerance = 1e-3;
     int max_outer = 1000;
+    // Seconds the solve may take in this process (0: no limit): reached, it stops at the end
+    // of an outer step with the state it stands at (message kTimeLimitMessage...).
+    double max_seconds = 0.0;
     int recompute_every = 32;  // passed to Polonsky-Keer
     bool precondition = true;  // passed to Polonsky-Keer (its stiffness preconditioner)
     bool predict_jumps = true;  // the nonlinear Jacobi prediction (off: the plain iteration)

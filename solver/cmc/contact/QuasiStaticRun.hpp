@@ -106,6 +106,7 @@ SolveResult solve(B& b, HalfSpace& hs, const ExponentialAdhesion& adh, const Qua
   std::string pk_message;
   bool confirming = false;  // this solve repeats the last one (same t) on the exact u
   double worst_fall = 0.0;  // the largest fall of a tension between outer steps, over w/ρ
+  bool out_of_time = false;  // stopped at opt.max_seconds
   const double floor = opt.cascade ? move_floor : HUGE_VAL;
   for (;; ++outer) {
     if (!confirming && (outer > 0 || warm)) b.shift_heights();
@@ -147,6 +148,10 @@ SolveResult solve(B& b, HalfSpace& hs, const ExponentialAdhesion& adh, const Qua
       continue;
     }
     if (outer + 1 >= opt.max_outer) break;
+    if (opt.max_seconds > 0.0 && clock.seconds() >= opt.max_seconds) {
+      out_of_time = true;
+      break;
+    }
     confirming = false;
     // Warm start of the next solve: keep the total pressure p − t of the points in contact,
     // i.e. raise their repulsion by the change of their tension. The first solve after the
@@ -197,6 +202,14 @@ SolveResult solve(B& b, HalfSpace& hs, const ExponentialAdhesion& adh, const Qua
     res.energy = hs.energy(st.pressure, st.displacement) + adhesion * hs.grid().cell_area();
   }
   if (!pk_ok) return finish(false, pk_message);
+  if (out_of_time) {
+    std::ostringstream s;
+    s << kTimeLimitMessage << "(solver.max_seconds = " << opt.max_seconds << ") after " << outer + 1
+      << " outer steps and " << clock.seconds() << " s, at tension change " << residual << " > tension_tolerance "
+      << opt.tension_tolerance << ": its state is where the outer iteration stood (not converged; a larger limit, or "
+      << "none, goes further)";
+    return finish(false, s.str());
+  }
   if (residual > opt.tension_tolerance) {
     std::ostringstream s;
     s << kOuterLimitMessage << outer + 1 << " outer steps at tension change " << residual

@@ -423,6 +423,8 @@ void parse_solver(Section s, const InteractionSpec& in, const LoadingSpec& l, So
                                   "a relative change of the adhesive tension (quasi_static)", true);
   sv.max_outer_steps = int(s.integer("max_outer_steps", sv.max_outer_steps,
                                      "a positive number of outer steps (quasi_static)", 1, CaseLimits::kMaxIterations));
+  sv.max_seconds = s.number("max_seconds", sv.max_seconds,
+                             "seconds a load step's solve may take (quasi_static), 0 for no limit", false, true);
   sv.precondition = s.boolean("precondition", sv.precondition);
   s.finish();
 }
@@ -632,6 +634,7 @@ std::vector<DocumentedDefault> case_defaults() {
       {"solver", "recompute_every", n(sv.recompute_every)},
       {"solver", "tension_tolerance", n(sv.tension_tolerance)},
       {"solver", "max_outer_steps", n(sv.max_outer_steps)},
+      {"solver", "max_seconds", n(sv.max_seconds)},
       {"solver", "precondition", b(sv.precondition)},
       {"output", "fields", b(c.write_fields)},
       {"observables", "enabled", b(o.enabled)},

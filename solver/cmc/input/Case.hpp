@@ -100,6 +100,11 @@ struct SolverSpec {
   // quasi_static only: the most outer steps a load step may take; one that reaches it stops
   // with status not_converged. A stopping limit: a resumed run may change it (CaseDiff.hpp).
   int max_outer_steps = 1000;
+  // quasi_static only: the most seconds a load step's solve may take in one process (0: no
+  // limit); one that reaches it stops at the end of an outer step, not_converged, with the
+  // state it stands at. For a machine lent for minutes; where it stops depends on the
+  // machine's speed, so such a run does not repeat bit for bit.
+  double max_seconds = 0.0;
   // Polonsky-Keer (also inside quasi_static): precondition its conjugate gradients with the
   // half-space's stiffness on a periodic boundary (PolonskyKeer.hpp).
   bool precondition = true;

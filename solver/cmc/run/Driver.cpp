@@ -127,6 +127,7 @@ void run_quasi_static(const Case& c, const Scene& s, Run& run, std::size_t first
   auto o = solver_options<QuasiStaticAdhesion::Options>(c.solver, progress);
   o.tension_tolerance = c.solver.tension_tolerance;
   o.max_outer = c.solver.max_outer_steps;
+  o.max_seconds = c.solver.max_seconds;
   o.precondition = c.solver.precondition;
   o.backend = backend_of(c);
   o.on_outer = [&](const OuterPoint& at) { run.checkpoint(state, nullptr, "outer", &at); };
