@@ -73,8 +73,8 @@ class Run {
   // After step k of n: a checkpoint, unless k was the last solve of the run. Then only the
   // observables and the writing remain, and a checkpoint would write three fields that are
   // written next (result.h5) or not wanted (output.fields = false): 26 GB at 32768², longer
-  // than a GPU's solve there. An interruption after it redoes the last step from the
-  // checkpoint before (or from the start of a one-step run).
+  // than a GPU's solve there. An interruption after it redoes the last step from the last
+  // checkpoint before it (after the step before, inside the step, or none: from the start).
   void after_step(std::size_t k, std::size_t n, const ContactState& st) {
     if (k + 1 < n) checkpoint(st, nullptr, "step");
     else test_point("step");
