@@ -173,15 +173,16 @@ def _gpu(reference_dir, notes):
     lines += ["The challenge at 250 kPa with `grid.backend = \"cuda\"` (command, device and date of each run in the "
               "store). The FFT pair is cuFFT's r2c + c2r of the grid, timed in the same run; the ratios divide the "
               "steps' solve time by it (per iteration, per FFT pair); \"in FFTs\" is the share of the solve time "
-              "inside the transforms. The adhesive solver's outer steps run on the host (README, \"GPU\").", ""]
+              "inside the transforms. The adhesive runs dated 2026-11-26 ran their outer steps on the host, those "
+              "from 2026-11-27 on the device (README, \"GPU\").", ""]
     rows = []
     for r in recs:
         peak = r.get("gpu_peak_mib")
-        rows.append(gpu_row_head(r) + [r["device"], r["iterations"],
+        rows.append(gpu_row_head(r) + [f"{r['device']}, {r.get('date', '?')}", r["iterations"],
                      fmt(r["fft_pairs"]), fmt(r["solve_s"], 4), fmt(r["fft_pair_s"] * 1e3, 4),
                      fmt(r["time_per_iteration"], 3), fmt(r["time_per_fft_pair"], 3), fmt(r["fft_share"], 2),
                      fmt(peak / 1024 if peak else None, 3), r["status"]])
-    lines += [md_table(["case", "grid", "device", "iterations", "FFT pairs", "solve (s)", "FFT pair (ms)",
+    lines += [md_table(["case", "grid", "device, date", "iterations", "FFT pairs", "solve (s)", "FFT pair (ms)",
                         "per iteration", "per FFT pair", "in FFTs", "GPU peak (GiB)", "status"], rows), ""]
     return lines
 
