@@ -225,10 +225,9 @@ std::pair<pk::End, SolveResult> run_backend(HalfSpace& hs, const Field& h, const
   start.overlap_k = std::numbers::pi;  // E* π / L with E* = L = 1
   start.longest_compliance = 1.0 / std::numbers::pi;
   B backend(hs, h, st, work, false, start.precondition);
-  pk::Run<B> run(backend, o, 1.0, target, start);
   SolveResult res;
-  run.run(res);
-  return {pk::End{run.sigma(), run.delta(), run.failure}, res};
+  const pk::End end = pk::iterate(backend, o, 1.0, target, start, res);
+  return {end, res};
 }
 }  // namespace
 

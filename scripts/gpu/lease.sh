@@ -25,6 +25,13 @@ while [ $# -gt 0 ]; do
   esac
 done
 [ $# -gt 0 ] || { echo "scripts/gpu/lease.sh: no stage given (e.g. tests rerun adhesive:8192@120)" >&2; exit 2; }
+# Every stage's cap is read before any stage runs: a typo stops the lease at once, not after
+# the stages before it.
+for spec in "$@"; do
+  first=${spec%%,*} cap=300
+  [ "$first" != "${first%@*}" ] && cap=${first##*@}
+  case "$cap" in '' | *[!0-9]*) echo "scripts/gpu/lease.sh: $spec: expected STAGE@SECONDS" >&2; exit 2 ;; esac
+done
 t0=$(date +%s)
 left() { echo $((deadline - ($(date +%s) - t0))); }
 save() {
@@ -36,7 +43,6 @@ for spec in "$@"; do
   IFS=, read -r -a parts <<<"$spec"
   stage=${parts[0]%@*} cap=300
   [ "${parts[0]}" != "$stage" ] && cap=${parts[0]##*@}
-  case "$cap" in '' | *[!0-9]*) echo "scripts/gpu/lease.sh: $spec: expected STAGE@SECONDS" >&2; exit 2 ;; esac
   sets=()
   for kv in "${parts[@]:1}"; do sets+=(--set "$kv"); done
   l=$(left)

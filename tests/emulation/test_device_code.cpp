@@ -61,9 +61,8 @@ ContactState device_hard_wall(HalfSpace& hs, const Field& h, bool precondition, 
   d.H.upload(h.data(), d.n);
   const pk::Start start = pk::make_start(hs, target, false, 0.0, precondition);
   SolveResult res;
-  pk::Run<PolonskyKeer::Device> run(d, o, PolonskyKeer::residual_scale(h), target, start);
-  run.run(res);
-  EXPECT_TRUE(run.failure.empty()) << run.failure;
+  const pk::End end = pk::run_on_device(d, o, PolonskyKeer::residual_scale(h), target, start, res);
+  EXPECT_TRUE(end.failure.empty()) << end.failure;
   EXPECT_LE(res.residual, o.tolerance);
   iterations = res.iterations;
   ContactState st;
@@ -71,8 +70,8 @@ ContactState device_hard_wall(HalfSpace& hs, const Field& h, bool precondition, 
   d.P.download(st.pressure.data(), d.n);
   d.W.download(st.displacement.data(), d.n);
   for (std::size_t i = 0; i < d.n; ++i) {
-    st.pressure[i] *= run.sigma();
-    st.gap[i] = st.pressure[i] > 0.0 ? 0.0 : std::max(0.0, st.displacement[i] - run.delta());
+    st.pressure[i] *= end.sigma;
+    st.gap[i] = st.pressure[i] > 0.0 ? 0.0 : std::max(0.0, st.displacement[i] - end.delta);
   }
   return st;
 }
