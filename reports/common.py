@@ -829,4 +829,6 @@ GPU_KIND = {"hardwall": "hard wall", "hardwall_plain": "hard wall, no preconditi
 
 def gpu_row_head(r):
     """A stored GPU run's first two cells: the case and the grid."""
+    if r["kind"].startswith("tabor_mu"):  # check.sh's tabor:N:MU, one point of the Tabor sweep
+        return [f"Tabor sweep, μ_T = {r['kind'][len('tabor_mu'):]}", f"{r['n']}²"]
     return [GPU_KIND.get(r["kind"], r["kind"]), f"{r['n']}²"]

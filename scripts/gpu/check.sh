@@ -13,7 +13,10 @@
 #                 at 32768² the count is 77 GiB with it and 69 GiB without)
 #   adhesive:N    the adhesive challenge at 250 kPa (quasi-static solver), on the GPU
 #   shape:N       the same with the shape coarse-graining (issue 13), at most 170 outer steps
-#   cpu-hardwall:N, cpu-adhesive:N   the same on the CPU backend of the same build
+#   tabor:N:MU    the challenge's Tabor sweep at mu_T = MU (cases/challenge/tabor-sweep.toml, one of
+#                 scripts/tabor_sweep.sh's eight values) on an N² grid, on the GPU: the sweep's
+#                 refinement beyond the grids the CPU runs (run tag cuda-tabor_muMU-N)
+#   cpu-hardwall:N, cpu-adhesive:N, cpu-tabor:N:MU   the same on the CPU backend of the same build
 # Each run prints one line: iterations, FFT pairs, solve time, the FFT pair time measured in
 # the same run (cuFFT on the GPU, FFTW on the CPU), time per iteration and per pair in units
 # of it, the share inside the transforms, a_r, repulsive a_r, mean gap, the GPU memory
@@ -58,9 +61,11 @@ print(f"{label:26s} {t['iterations']:6d} {t['fft_pairs']:8.1f} {solve_s:9.2f} {1
 PY
 }
 
-run_case() {  # kind (hardwall|hardwall_plain|adhesive|shape), n, backend
+run_case() {  # kind (hardwall|hardwall_plain|adhesive|shape|tabor_muMU), n, backend
   local file=reference-load-hardwall extra=()
   [ "$1" = adhesive ] && file=reference-load
+  # The Tabor sweep as scripts/tabor_sweep.sh runs it (its case, its tolerance), at one mu_T.
+  case "$1" in tabor_mu*) file=tabor-sweep extra=(--set "interaction.tabor=${1#tabor_mu}") ;; esac
   [ "$1" = hardwall_plain ] && extra=(--set solver.precondition=false)
   # The challenge (s = 1 of the scaled family) with the shape coarse-graining, stopped at
   # 170 outer steps as its stored 8192² CPU run was (reference/challenge-scaled).
@@ -75,7 +80,7 @@ run_case() {  # kind (hardwall|hardwall_plain|adhesive|shape), n, backend
   local args=(run "cases/challenge/$file.toml" --set "grid.n=$2" --set "grid.backend=$3" --set output.fields=false
     "${extra[@]}" "${sets[@]}" --out "$dir")
   # The command as run, for the record (scripts/gpu/store.py stores it with the run).
-  { printf 'cmc'; printf ' %q' "${args[@]}"; printf '   (scripts/gpu/check.sh %s:%s)\n' "$1" "$2"; } >"$out/$tag.command"
+  { printf 'cmc'; printf ' %q' "${args[@]}"; printf '   (scripts/gpu/check.sh %s)\n' "$stage"; } >"$out/$tag.command"
   timeout "$cap" "$pack/bin/cmc" "${args[@]}" >"$out/$tag.log" 2>&1
   local rc=$?
   kill "$mon" 2>/dev/null; wait "$mon" 2>/dev/null
@@ -116,6 +121,16 @@ PY
       ;;
     hardwall:*|hardwall_plain:*|adhesive:*|shape:*) header; run_case "${stage%%:*}" "${stage#*:}" cuda ;;
     cpu-hardwall:*|cpu-hardwall_plain:*|cpu-adhesive:*|cpu-shape:*) k=${stage#cpu-}; header; run_case "${k%%:*}" "${k#*:}" cpu ;;
+    tabor:*:*|cpu-tabor:*:*)
+      backend=cuda k=$stage
+      [ "${stage#cpu-}" != "$stage" ] && backend=cpu k=${stage#cpu-}
+      n=${k#tabor:} n=${n%%:*} mu=${k##*:}
+      case " 0.0562 0.1 0.178 0.316 0.562 1.0 1.78 3.0 " in
+        *" $mu "*) ;;
+        *) echo "scripts/gpu/check.sh: $stage: mu_T $mu is not one of the Tabor sweep's (0.0562 0.1 0.178 0.316 0.562 1.0 1.78 3.0)" >&2; exit 2 ;;
+      esac
+      case "$n" in '' | *[!0-9]*) echo "scripts/gpu/check.sh: $stage: expected tabor:N:MU (N points a side)" >&2; exit 2 ;; esac
+      header; run_case "tabor_mu$mu" "$n" "$backend" ;;
     *) echo "scripts/gpu/check.sh: unknown stage $stage" >&2; exit 2 ;;
   esac
 done

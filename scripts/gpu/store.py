@@ -19,6 +19,7 @@ import os
 import sys
 
 KINDS = ("hardwall", "hardwall_plain", "adhesive", "shape")  # check.sh's stages
+TABOR = "tabor_mu"  # check.sh's tabor:N:MU stage: kind tabor_mu<MU>, one point of the Tabor sweep
 
 
 def dx_over_rho(s):
@@ -30,7 +31,7 @@ def dx_over_rho(s):
 def record(run_dir, device):
     tag = os.path.basename(run_dir)
     parts = tag.split("-")
-    if len(parts) != 3 or parts[1] not in KINDS:
+    if len(parts) != 3 or not (parts[1] in KINDS or parts[1].startswith(TABOR)):
         return None
     backend, kind, n = parts[0], parts[1], int(parts[2])
     s = json.load(open(os.path.join(run_dir, "summary.json")))
@@ -63,6 +64,9 @@ def record(run_dir, device):
         "dx_over_rho": dx_over_rho(s),
         "a_r": last["contact_fraction"], "a_rep": obs.get("repulsive_fraction"), "mean_gap_m": last["mean_gap"],
         "gpu_peak_mib": peak,
+        # the Tabor sweep's runs (kind tabor_mu<MU>): the mu_T the run had
+        "tabor": s.get("case", {}).get("interaction", {}).get("tabor"),
+        "bistability_number": s.get("surface_facts", {}).get("bistability_number"),
     }
 
 
