@@ -404,7 +404,8 @@ TEST(QuasiStatic, TensionFallsNameTheInnerTolerance) {
 // solver.max_seconds: a solve that reaches it stops at the end of an outer step, not
 // converged, with a message that names the key, and leaves the state of that outer step
 // (the same as a solve capped at that many outer steps, bit for bit). A limit the solve
-// does not reach changes nothing.
+// does not reach changes nothing. (The inner solves' limit is off here, so that the limit
+// falls at the end of the first outer step whatever the machine's speed; next test.)
 TEST(QuasiStatic, TimeLimitStopsWithTheStateItReached) {
   RoughPatch s;
   PeriodicHalfSpace hs(s.map.grid, 1.0);
@@ -412,6 +413,7 @@ TEST(QuasiStatic, TimeLimitStopsWithTheStateItReached) {
     QuasiStaticAdhesion::Options o;
     o.tolerance = 1e-10;
     o.max_seconds = seconds;
+    o.limit_inner = false;
     o.max_outer = max_outer;
     return QuasiStaticAdhesion(hs, s.map.heights, ExponentialAdhesion(s.w, s.rho), o)
         .solve({Control::MeanPressure, s.load}, st);
@@ -431,6 +433,35 @@ TEST(QuasiStatic, TimeLimitStopsWithTheStateItReached) {
   EXPECT_TRUE(f.converged) << f.message;
   EXPECT_TRUE(l.converged) << l.message;
   EXPECT_TRUE(free_run.gap == limited.gap);
+}
+
+// solver.max_seconds inside an outer step: the limit also stops the Polonsky-Keer solve in
+// flight (an H200 run at 16384² outlasted its limit by more than 38 s, 2026-11-27), and the
+// message says that the state is that solve's last iterate. A limit of 1e-9 s is past when
+// the first inner iteration ends: the solve stops there, after fewer iterations than its
+// first outer step takes, with a finite state.
+TEST(QuasiStatic, TimeLimitAlsoStopsAnInnerSolve) {
+  RoughPatch s;
+  PeriodicHalfSpace hs(s.map.grid, 1.0);
+  auto solve = [&](double seconds, int max_outer, ContactState& st) {
+    QuasiStaticAdhesion::Options o;
+    o.tolerance = 1e-10;
+    o.max_seconds = seconds;
+    o.max_outer = max_outer;
+    return QuasiStaticAdhesion(hs, s.map.heights, ExponentialAdhesion(s.w, s.rho), o)
+        .solve({Control::MeanPressure, s.load}, st);
+  };
+  ContactState stopped, one_step;
+  const SolveResult t = solve(1e-9, 1000, stopped);
+  EXPECT_FALSE(t.converged);
+  EXPECT_EQ(t.message.rfind(kTimeLimitMessage, 0), 0u) << t.message;
+  EXPECT_NE(t.message.find("inside outer step 1's Polonsky-Keer solve"), std::string::npos) << t.message;
+  EXPECT_NE(t.message.find(kInnerTimeLimitMessage), std::string::npos) << t.message;
+  EXPECT_EQ(t.diagnostics.outer_iterations, 1);
+  const SolveResult c = solve(0.0, 1, one_step);
+  EXPECT_LT(t.iterations, c.iterations) << c.message;
+  ASSERT_EQ(stopped.gap.size(), s.map.heights.size());
+  for (std::size_t i = 0; i < stopped.gap.size(); ++i) ASSERT_TRUE(std::isfinite(stopped.gap[i])) << i;
 }
 
 // The cascade's move floor (qs::move_floor): kNoiseMargin times the inner solves' gap error,

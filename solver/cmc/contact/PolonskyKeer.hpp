@@ -28,6 +28,9 @@
 
 namespace cmc {
 
+// How the message of a Polonsky-Keer solve stopped at Options::stop_at begins.
+inline constexpr const char* kInnerTimeLimitMessage = "Polonsky-Keer reached its time limit ";
+
 class PolonskyKeer {
  public:
   struct Options : SolverOptions {
@@ -52,6 +55,11 @@ class PolonskyKeer {
     // quasi-static solver's outer steps), it saves touching fresh pages in every solve.
     // Off: they live within a solve only (what the memory estimate of a hard-wall run counts).
     bool keep_work = false;
+    // Stop, not converged, at the end of the first iteration after this moment of the steady
+    // clock (steady_seconds(), Solver.hpp); 0: never. The quasi-static solver's time limit
+    // (solver.max_seconds) sets it, so that one long inner solve cannot carry a run past its
+    // limit (message kInnerTimeLimitMessage...).
+    double stop_at = 0.0;
     // Where the iteration runs (grid/Backend.hpp). Cuda: the fields live on the GPU for
     // the whole solve (contact/PolonskyKeerDevice.cu; periodic boundary, one process); the
     // heights and a warm start go up at its start, p and u come down at its end, and the
@@ -71,6 +79,7 @@ class PolonskyKeer {
   // Solve for `target`, starting from `state` when it holds a pressure field.
   SolveResult solve(const Target& target, ContactState& state);
   void set_confirm(bool on) { opt_.confirm = on; }
+  void set_stop_at(double t) { opt_.stop_at = t; }
   // The scale of the residual: the rms height fluctuation of `heights` (1 for a flat one).
   static double residual_scale(const Field& heights);
   struct Work;    // a solve's work arrays (PolonskyKeer.cpp)

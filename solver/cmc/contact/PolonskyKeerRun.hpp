@@ -463,6 +463,13 @@ void Run<B>::run(SolveResult& res) {
       continue;
     }
     if (it >= opt_.max_iterations) return;
+    if (opt_.stop_at > 0.0 && steady_seconds() >= opt_.stop_at) {
+      std::ostringstream s;
+      s << kInnerTimeLimitMessage << "after " << it << " iterations at residual " << res.residual << " > tolerance "
+        << opt_.tolerance;
+      failure = s.str();
+      return;
+    }
 
     const double beta = conjugate_ ? G / G_old : 0.0;
     if (beta == 0.0) ++res.diagnostics.restarts;

@@ -183,6 +183,7 @@ class HostSteps {
     all(n, [=](std::size_t i) { hp[i] = h[i] - gt[i]; });
   }
   double mean_tension() const { return Grid::mean(at_->tension); }
+  void stop_inner_at(double t) { pk_.set_stop_at(t); }
   SolveResult inner(const Target& tk, bool confirm, int outer, int iterations_before) {
     outer_ = outer, before_ = iterations_before;
     pk_.set_confirm(confirm);

@@ -131,8 +131,15 @@ class QuasiStaticAdhesion {
     double tension_tolerance = 1e-3;
     int max_outer = 1000;
     // Seconds the solve may take in this process (0: no limit): reached, it stops at the end
-    // of an outer step with the state it stands at (message kTimeLimitMessage...).
+    // of an outer step with the state it stands at (message kTimeLimitMessage...), or, where
+    // an outer step's Polonsky-Keer solve is still running then (limit_inner), inside it, with
+    // that solve's last iterate (the message says so). Measured on an H200 (2026-11-27): a
+    // 16384² run with max_seconds = 142 and inner tolerance 1e-8 was still running at 180 s,
+    // where the lease's cap killed it and left nothing.
     double max_seconds = 0.0;
+    // max_seconds also stops a Polonsky-Keer solve in flight (off: only at the ends of outer
+    // steps, which a long inner solve can put far past the limit; tests).
+    bool limit_inner = true;
     int recompute_every = 32;  // passed to Polonsky-Keer
     bool precondition = true;  // passed to Polonsky-Keer (its stiffness preconditioner)
     bool predict_jumps = true;  // the nonlinear Jacobi prediction (off: the plain iteration)

@@ -84,6 +84,7 @@ struct DeviceSteps {
   // Polonsky-Keer on the device's heights from its own pressure, as PolonskyKeer::solve
   // does on the host: then p times σ, and the gap (zero where p > 0) into the direction's
   // buffer, which the next solve overwrites.
+  void stop_inner_at(double t) { po_.stop_at = t; }
   SolveResult inner(const Target& tk, bool confirm, int outer, int iterations_before) {
     Counted c(*this);
     outer_ = outer, before_ = iterations_before;

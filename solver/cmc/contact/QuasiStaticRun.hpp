@@ -15,6 +15,7 @@
 //                                      interrupted solve's OuterPoint (moved from)
 //   shift_heights()                    hp = h − G t (one FFT pair)
 //   mean_tension()                     the mean of t over the grid
+//   stop_inner_at(t)                   the inner solves stop at steady_seconds() t (max_seconds)
 //   inner(target, confirm, outer, its) Polonsky-Keer on hp from its own state; then g()
 //                                      (outer, its: the step and the iterations before it,
 //                                      for progress lines)
@@ -54,6 +55,7 @@ SolveResult solve(B& b, HalfSpace& hs, const ExponentialAdhesion& adh, const Qua
                   const JumpPrediction& jump, double move_floor, const Target& target, ContactState& st,
                   OuterPoint* from) {
   const SolveClock clock(hs);
+  if (opt.max_seconds > 0.0 && opt.limit_inner) b.stop_inner_at(steady_seconds() + opt.max_seconds);
   SolveResult res;
   // A continued solve counts the outer steps of the process before it.
   double pairs_before = 0.0, seconds_before = 0.0, fft_s_before = 0.0;
@@ -107,6 +109,7 @@ SolveResult solve(B& b, HalfSpace& hs, const ExponentialAdhesion& adh, const Qua
   bool confirming = false;  // this solve repeats the last one (same t) on the exact u
   double worst_fall = 0.0;  // the largest fall of a tension between outer steps, over w/ρ
   bool out_of_time = false;  // stopped at opt.max_seconds
+  bool inner_stopped = false;  // ... inside an outer step's Polonsky-Keer solve
   const double floor = opt.cascade ? move_floor : HUGE_VAL;
   for (;; ++outer) {
     if (!confirming && (outer > 0 || warm)) b.shift_heights();
@@ -116,6 +119,11 @@ SolveResult solve(B& b, HalfSpace& hs, const ExponentialAdhesion& adh, const Qua
     res.iterations += r.iterations;
     res.diagnostics += r.diagnostics;
     if (!r.converged) {
+      if (r.message.rfind(kInnerTimeLimitMessage, 0) == 0) {  // solver.max_seconds inside the solve
+        out_of_time = inner_stopped = true;
+        pk_message = r.message;
+        break;
+      }
       pk_ok = false;
       pk_message = "outer step " + std::to_string(outer) + ": " + r.message;
       break;
@@ -204,10 +212,15 @@ SolveResult solve(B& b, HalfSpace& hs, const ExponentialAdhesion& adh, const Qua
   if (!pk_ok) return finish(false, pk_message);
   if (out_of_time) {
     std::ostringstream s;
-    s << kTimeLimitMessage << "(solver.max_seconds = " << opt.max_seconds << ") after " << outer + 1
-      << " outer steps and " << clock.seconds() << " s, at tension change " << residual << " > tension_tolerance "
-      << opt.tension_tolerance << ": its state is where the outer iteration stood (not converged; a larger limit, or "
-      << "none, goes further)";
+    s << kTimeLimitMessage << "(solver.max_seconds = " << opt.max_seconds << ") ";
+    if (inner_stopped)
+      s << "inside outer step " << outer + 1 << "'s Polonsky-Keer solve, after " << clock.seconds() << " s ("
+        << pk_message << "): its state is that solve's last iterate, not an equilibrium of the outer step (not "
+        << "converged; a larger limit, or none, goes further)";
+    else
+      s << "after " << outer + 1 << " outer steps and " << clock.seconds() << " s, at tension change " << residual
+        << " > tension_tolerance " << opt.tension_tolerance << ": its state is where the outer iteration stood (not "
+        << "converged; a larger limit, or none, goes further)";
     return finish(false, s.str());
   }
   if (residual > opt.tension_tolerance) {

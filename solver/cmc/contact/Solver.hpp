@@ -44,6 +44,11 @@ struct SolveResult {
   SolveDiagnostics diagnostics;
 };
 
+// Seconds of the steady clock (a deadline's unit: PolonskyKeer::Options::stop_at).
+inline double steady_seconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
 // The cost of one solve, measured from construction: wall time, and the FFT pairs of an
 // operator (anything with fft_pairs() and fft_seconds(), e.g. the HalfSpace) and the
 // seconds spent in them. finish() stamps a result.
