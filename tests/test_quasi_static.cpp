@@ -401,6 +401,19 @@ TEST(QuasiStatic, TensionFallsNameTheInnerTolerance) {
   EXPECT_TRUE(tight.converged) << tight.message;
 }
 
+// The rough patch at its load with a time limit (max_seconds, 0: none), at most max_outer
+// outer steps, inner tolerance 1e-10; limit_inner as QuasiStaticAdhesion::Options.
+static SolveResult solve_timed(const RoughPatch& s, PeriodicHalfSpace& hs, double seconds, int max_outer,
+                               bool limit_inner, ContactState& st) {
+  QuasiStaticAdhesion::Options o;
+  o.tolerance = 1e-10;
+  o.max_seconds = seconds;
+  o.limit_inner = limit_inner;
+  o.max_outer = max_outer;
+  return QuasiStaticAdhesion(hs, s.map.heights, ExponentialAdhesion(s.w, s.rho), o)
+      .solve({Control::MeanPressure, s.load}, st);
+}
+
 // solver.max_seconds: a solve that reaches it stops at the end of an outer step, not
 // converged, with a message that names the key, and leaves the state of that outer step
 // (the same as a solve capped at that many outer steps, bit for bit). A limit the solve
@@ -410,13 +423,7 @@ TEST(QuasiStatic, TimeLimitStopsWithTheStateItReached) {
   RoughPatch s;
   PeriodicHalfSpace hs(s.map.grid, 1.0);
   auto solve = [&](double seconds, int max_outer, ContactState& st) {
-    QuasiStaticAdhesion::Options o;
-    o.tolerance = 1e-10;
-    o.max_seconds = seconds;
-    o.limit_inner = false;
-    o.max_outer = max_outer;
-    return QuasiStaticAdhesion(hs, s.map.heights, ExponentialAdhesion(s.w, s.rho), o)
-        .solve({Control::MeanPressure, s.load}, st);
+    return solve_timed(s, hs, seconds, max_outer, false, st);
   };
   ContactState timed, capped, free_run, limited;
   const SolveResult t = solve(1e-9, 1000, timed);  // out of time after the first outer step
@@ -444,12 +451,7 @@ TEST(QuasiStatic, TimeLimitAlsoStopsAnInnerSolve) {
   RoughPatch s;
   PeriodicHalfSpace hs(s.map.grid, 1.0);
   auto solve = [&](double seconds, int max_outer, ContactState& st) {
-    QuasiStaticAdhesion::Options o;
-    o.tolerance = 1e-10;
-    o.max_seconds = seconds;
-    o.max_outer = max_outer;
-    return QuasiStaticAdhesion(hs, s.map.heights, ExponentialAdhesion(s.w, s.rho), o)
-        .solve({Control::MeanPressure, s.load}, st);
+    return solve_timed(s, hs, seconds, max_outer, true, st);
   };
   ContactState stopped, one_step;
   const SolveResult t = solve(1e-9, 1000, stopped);
