@@ -170,8 +170,8 @@ def _gpu(reference_dir, notes):
     recs, lines = gpu_section(reference_dir, "The CUDA backend (one GPU)", notes)
     if not recs:
         return lines
-    lines += ["The challenge at 250 kPa with `grid.backend = \"cuda\"` (command, device and date of each run in the "
-              "store). The FFT pair is cuFFT's r2c + c2r of the grid, timed in the same run; the ratios divide the "
+    lines += ["The challenge at 250 kPa with `grid.backend = \"cuda\"` (the Tabor sweep's rows at their own μ_T; "
+              "command, device and date of each run in the store). The FFT pair is cuFFT's r2c + c2r of the grid, timed in the same run; the ratios divide the "
               "steps' solve time by it (per iteration, per FFT pair); \"in FFTs\" is the share of the solve time "
               "inside the transforms. The adhesive runs dated 2026-11-26 ran their outer steps on the host, those "
               "from 2026-11-27 on the device (README, \"GPU\").", ""]
