@@ -134,8 +134,8 @@ class Run:
         self.nx, self.ny = g.get("nx"), g.get("ny")
         self.dx = g.get("dx")
         self.size = g.get("size_x")
-        # Where it ran (issue 13: the tables say which grids ran on a GPU, grid.backend = "cuda")
-        self.on_gpu = g.get("backend") == "cuda"
+        # Where it ran (issue 13: the tables mark the grids that ran on a GPU, grid.backend = "cuda")
+        self.gpu_mark = " (GPU)" if g.get("backend") == "cuda" else ""
         self.status = summary.get("status", "?")
         self.wall_s = get(summary, "timing", "wall_s")
         self.h5path = os.path.join(folder, "result.h5")
@@ -805,7 +805,7 @@ def _own_refinement_lines(refined, runs, band_of, out_dir):
         grids = refinement_grids(run, runs)
         for q in grids:
             st = q.reference_step()
-            cells = [fmt(mu, 4), f"{q.nx}²" + (" (GPU)" if q.on_gpu else ""), fmt(get(q.s, "surface_facts", "dx_over_range"), 3),
+            cells = [fmt(mu, 4), f"{q.nx}²{q.gpu_mark}", fmt(get(q.s, "surface_facts", "dx_over_range"), 3),
                      fmt(get(q.s, "surface_facts", "bistability_number"), 2)]
             for short, key, scale, digits in (("a_r", "ar", 1.0, 5), ("mean_gap", "gap", 1e9, 7)):
                 own = (band_of.get((id(q), short)) or sweep_band(q, short, runs))[1]
@@ -907,14 +907,14 @@ def _tabor(runs, out_dir, data_dir, case_dir, reference_dir):
                 band_of[id(r), short] = sweep_band(r, short, runs)
             (b_ar, own_ar), (b_gap, own_gap) = band_of[id(r), "a_r"], band_of[id(r), "mean_gap"]
             rows.append([fmt(st["tabor"], 4), r.name,
-                         f"{r.nx}²" + (" (GPU)" if r.on_gpu else "") + (" ‡" if own_ar or own_gap else ""),
+                         f"{r.nx}²{r.gpu_mark}" + (" ‡" if own_ar or own_gap else ""),
                          fmt(st["p"] / 1e3 if st["p"] else None, 4),
                          _pm(st["ar"], b_ar), fmt(st["rep"], 4), _pm(st["gap"], b_gap, 5, 1e9)])
             if own_ar or own_gap:
                 res["own_refined"] = True
                 refined.setdefault(round(st["tabor"], 6), (r, own_ar, own_gap))
     for r, st in sorted(unconverged, key=lambda t: (t[0].nx, t[1]["tabor"])):
-        rows.append([fmt(st["tabor"], 4), r.name, f"{r.nx}²" + (" (GPU)" if r.on_gpu else "") + " (NOT CONVERGED)", fmt(st["p"] / 1e3 if st["p"] else None, 4),
+        rows.append([fmt(st["tabor"], 4), r.name, f"{r.nx}²{r.gpu_mark} (NOT CONVERGED)", fmt(st["p"] / 1e3 if st["p"] else None, 4),
                      fmt(st["ar"], 4), fmt(st["rep"], 4), fmt(st["gap"] * 1e9 if st["gap"] else None, 5)])
         res.setdefault("notes", []).append(
             f"NOT CONVERGED: μ_T = {st['tabor']:.3g} on {r.nx}² (`{r.folder}`) stopped before its tolerance "
@@ -1262,7 +1262,7 @@ def _grid_table(runs):
     rows = []
     for r in runs:
         dx = r.dx
-        rows.append([r.name, f"`{r.folder}`", f"{r.nx}×{r.ny}" + (" (GPU)" if r.on_gpu else ""), fmt(dx * 1e9 if dx else None, 4),
+        rows.append([r.name, f"`{r.folder}`", f"{r.nx}×{r.ny}{r.gpu_mark}", fmt(dx * 1e9 if dx else None, 4),
                      fmt(get(r.s, "surface_facts", "dx_over_cutoff_wavelength"), 4),
                      fmt(get(r.s, "surface_facts", "dx_over_range"), 4),
                      len(r.steps), r.status, fmt(r.wall_s, 4),

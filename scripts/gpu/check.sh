@@ -25,6 +25,7 @@
 set -uo pipefail
 cd "$(dirname "$0")/../.."
 pack=.gpucarry out=gpu-check cap=300 sets=()
+tabor_values="0.0562 0.1 0.178 0.316 0.562 1.0 1.78 3.0"  # scripts/tabor_sweep.sh's eight mu_T
 while [ $# -gt 0 ]; do
   case "$1" in
     --pack) pack=$2; shift 2 ;;
@@ -125,9 +126,9 @@ PY
       backend=cuda k=$stage
       [ "${stage#cpu-}" != "$stage" ] && backend=cpu k=${stage#cpu-}
       n=${k#tabor:} n=${n%%:*} mu=${k##*:}
-      case " 0.0562 0.1 0.178 0.316 0.562 1.0 1.78 3.0 " in
+      case " $tabor_values " in
         *" $mu "*) ;;
-        *) echo "scripts/gpu/check.sh: $stage: mu_T $mu is not one of the Tabor sweep's (0.0562 0.1 0.178 0.316 0.562 1.0 1.78 3.0)" >&2; exit 2 ;;
+        *) echo "scripts/gpu/check.sh: $stage: mu_T $mu is not one of the Tabor sweep's ($tabor_values)" >&2; exit 2 ;;
       esac
       case "$n" in '' | *[!0-9]*) echo "scripts/gpu/check.sh: $stage: expected tabor:N:MU (N points a side)" >&2; exit 2 ;; esac
       header; run_case "tabor_mu$mu" "$n" "$backend" ;;
