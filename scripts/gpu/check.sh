@@ -21,7 +21,13 @@
 # the same run (cuFFT on the GPU, FFTW on the CPU), time per iteration and per pair in units
 # of it, the share inside the transforms, a_r, repulsive a_r, mean gap, the GPU memory
 # peak (nvidia-smi --loop-ms=200) and the status. Runs stop after --cap seconds
-# (default 300): a stopped run says so.
+# (default 300): a stopped run says so, and leaves no numbers. So a quasi-static run (adhesive,
+# shape, tabor) also gets solver.max_seconds = cap - margin unless a --set names that key: the
+# solve then stops itself and the run still computes its observables and writes its summary
+# (not_converged, where it stood) inside the cap. The margin is what a run takes outside its
+# solve: 10 s + 20 s x (N/16384)² (measured on an H200, 2026-11-27, summary.json's run time
+# minus its solve time: 13-15 s at 16384², 3.5-4.5 s at 8192²; the set-up before the run's
+# clock adds a few seconds). A cap at or below the margin sets no limit.
 set -uo pipefail
 cd "$(dirname "$0")/../.."
 pack=.gpucarry out=gpu-check cap=300 sets=()
@@ -78,6 +84,14 @@ run_case() {  # kind (hardwall|hardwall_plain|adhesive|shape|tabor_muMU), n, bac
   : >"$samples"
   nvidia-smi --query-gpu=memory.used --format=csv,noheader,nounits --loop-ms=200 >"$samples" 2>/dev/null &
   local mon=$!
+  case "$1" in
+    adhesive | shape | tabor_mu*)
+      case " ${sets[*]} " in
+        *" solver.max_seconds="*) ;;
+        *) local margin=$(((10 * 16384 * 16384 + 20 * $2 * $2 + 16384 * 16384 - 1) / (16384 * 16384)))
+          [ "$cap" -gt "$margin" ] && extra+=(--set "solver.max_seconds=$((cap - margin))") ;;
+      esac ;;
+  esac
   local args=(run "cases/challenge/$file.toml" --set "grid.n=$2" --set "grid.backend=$3" --set output.fields=false
     "${extra[@]}" "${sets[@]}" --out "$dir")
   # The command as run, for the record (scripts/gpu/store.py stores it with the run).

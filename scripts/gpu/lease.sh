@@ -2,7 +2,8 @@
 # The GPU checks of one lease of a device machine, lent for minutes (issue 16; README, "GPU"):
 #   scripts/gpu/lease.sh [--deadline SECONDS] [--pack DIR] [--work DIR] [--tar FILE] STAGE[@CAP][,KEY=VALUE...] ...
 # Runs scripts/gpu/check.sh's stages (tests, rerun, adhesive:N, ...) one after another: each
-# stopped after CAP seconds (default 300; a stopped run prints its last progress lines), none
+# stopped after CAP seconds (default 300; a stopped run prints its last progress lines; a
+# quasi-static run stops its own solve before that, check.sh's solver.max_seconds), none
 # started with less than 25 s to the deadline (default 540 s after the start), each with its
 # own case overrides (KEY=VALUE, as cmc's --set). After every stage the results so far
 # (check.sh's --out folder, --work, default gpu-check: summaries, logs, the commands as run,
