@@ -152,10 +152,15 @@ class QuasiStaticAdhesion {
     Backend backend = Backend::Cpu;
     bool outer_on_device = true;
     // The cascade in parallel rounds (QuasiStaticParts.hpp), as the GPU runs it, instead of
-    // the queue (periodic grid, one process). The same state within the move floor; the
-    // CPU's default is the queue (fewer passes on a few cores, and the bits of every stored
-    // run). On for the GPU's outer step whatever is set here.
+    // the queues (periodic grid, one process). The same state within the move floor; the
+    // CPU's default is the queues (fewer passes on a few cores). On for the GPU's outer step
+    // whatever is set here.
     bool cascade_rounds = false;
+    // The height of the cascade's slabs in rows (QuasiStaticAdhesion.cpp: a queue per slab,
+    // the slabs in parallel, at most 64 of them; a grid of fewer than twice this many rows is
+    // one slab, the whole grid's queue). A number of the grid, not of the thread count, so
+    // that the answer is the same on any number of threads.
+    int cascade_slab_rows = 64;
     // Called after every outer step that leaves the solve unfinished, with where it stands
     // (the solver's own fields, not copies): a caller may save it and hand it back to
     // solve() in another process to continue.

@@ -1,6 +1,6 @@
 // The outer iteration of the quasi-static solver (QuasiStaticAdhesion.hpp), written once for
 // every backend: the CPU's (QuasiStaticAdhesion.cpp: host fields, Polonsky-Keer on either
-// backend, the cascade as a queue) and the GPU's (contact/QuasiStaticDevice.cu: every field
+// backend, the cascade as a queue per slab of rows) and the GPU's (contact/QuasiStaticDevice.cu: every field
 // of the outer step on the device, the cascade in rounds). The backend holds the fields and
 // runs the passes; the steps, the residual, the warm start and the end are here.
 //

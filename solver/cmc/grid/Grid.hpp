@@ -13,6 +13,7 @@
 // of E* (see Units.hpp for the single place where SI is converted).
 #pragma once
 
+#include <algorithm>
 #include <chrono>
 #include <complex>
 #include <cstring>
@@ -100,6 +101,12 @@ struct Grid {
   // The same without partial results (a pure per-point pass).
   template <class Body>
   static void parallel_for(std::size_t n, Body&& body, std::size_t work = 0);
+  // Tasks 0..k-1 of uneven size, each handed to the next thread that is free (OpenMP's
+  // dynamic schedule): for work split by the data, not by the thread count, so that the
+  // result does not depend on the thread count. task(i) writes only what task i owns.
+  // `work`: the points behind all of them (below parallel_min: one thread, in task order).
+  template <class Task>
+  static void parallel_tasks(std::size_t k, Task&& task, std::size_t work);
   // Passes smaller than this many points of work run on one thread: OpenMP's fork/join
   // costs more than it saves below it (measured on 2 cores, wave 1).
   static constexpr std::size_t parallel_min = std::size_t(1) << 15;
@@ -313,6 +320,17 @@ void Grid::parallel_for(std::size_t n, Body&& body, std::size_t work) {
     const std::size_t b = n * std::size_t(t) / std::size_t(m), e = n * std::size_t(t + 1) / std::size_t(m);
     if (e > b) body(b, e);
   }
+}
+
+template <class Task>
+void Grid::parallel_tasks(std::size_t k, Task&& task, std::size_t work) {
+  const std::size_t nt = std::min(std::size_t(detail::omp_threads_for(work)), k);
+  if (nt <= 1) {
+    for (std::size_t i = 0; i < k; ++i) task(i);
+    return;
+  }
+#pragma omp parallel for num_threads(int(nt)) schedule(dynamic, 1)
+  for (std::size_t i = 0; i < k; ++i) task(i);
 }
 
 template <class Pred>
