@@ -88,7 +88,7 @@ run_case() {  # kind (hardwall|hardwall_plain|adhesive|shape|tabor_muMU), n, bac
     adhesive | shape | tabor_mu*)
       case " ${sets[*]} " in
         *" solver.max_seconds="*) ;;
-        *) local margin=$(((10 * 16384 * 16384 + 20 * $2 * $2 + 16384 * 16384 - 1) / (16384 * 16384)))
+        *) local margin=$((10 + (20 * $2 * $2 + 16384 * 16384 - 1) / (16384 * 16384)))  # 10 s + ceil(20 s (N/16384)²)
           [ "$cap" -gt "$margin" ] && extra+=(--set "solver.max_seconds=$((cap - margin))") ;;
       esac ;;
   esac
