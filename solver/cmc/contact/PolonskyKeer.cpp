@@ -46,13 +46,14 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
     return finish(false, "Polonsky-Keer needs a non-negative mean pressure (no adhesion in a hard-wall solve)");
 
   const std::size_t n = h_.size();
-  const pk::Start start = pk::make_start(hs_, target, st.pressure.size() == n && Grid::sum(st.pressure) > 0.0,
-                                         st.penetration, opt_.precondition);
+  const double warm_sum = st.pressure.size() == n ? Grid::sum(st.pressure) : 0.0;
+  pk::Start start = pk::make_start(hs_, target, warm_sum > 0.0, st.penetration, opt_.precondition);
   pk::End end;
   if (opt_.backend == Backend::Cuda) {
     end = pk::solve_on_device(device_, hs_, h_, opt_, h_scale_, target, st, start, res);
   } else {
     if (!work_) work_ = std::make_unique<Work>();
+    start.warm_sum = warm_sum;  // what the CPU backend's b.sum(p) would give
     {  // the backend counts its transforms when it goes, before its work arrays do
       pk::Host host(hs_, h_, st, *work_, start.warm, start.precondition, opt_.fused_sweeps);
       end = pk::iterate(host, opt_, h_scale_, target, start, res);
@@ -62,19 +63,28 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
   // ---- the solved state. The reported gap is the solution's: zero where pressure is
   // carried, and the non-negative gap elsewhere; how far the iterate is from that is the
   // residual. w = h + u becomes the displacement again.
+  // One pass, which also sums p and p u (the mean pressure and the elastic energy
+  // (1/2) Σ p u ΔA, HalfSpace::energy's): a solve's last reads of p and u.
   Field &p = st.pressure, &u = st.displacement;
   const double sigma = end.sigma, delta = end.delta;
   st.gap.resize(n);
-  Grid::parallel_for(n, [&](std::size_t b, std::size_t e) {
+  struct Sums {
+    double p = 0.0, pu = 0.0;
+    void merge(const Sums& o) { p += o.p, pu += o.pu; }
+  };
+  const Sums sums = Grid::parallel_reduce<Sums>(n, [&](std::size_t b, std::size_t e, Sums& acc) {
+    Sums local;
     for (std::size_t i = b; i < e; ++i) {
       if (sigma != 1.0) p[i] *= sigma;
       st.gap[i] = p[i] > 0.0 ? 0.0 : std::max(0.0, u[i] - delta);
       u[i] -= h_[i];
+      local.p += p[i], local.pu += p[i] * u[i];
     }
+    acc.merge(local);
   });
   st.penetration = delta;
-  st.mean_pressure = Grid::mean(p);
-  res.energy = hs_.energy(p, u);
+  st.mean_pressure = sums.p / double(Grid::total(n));
+  res.energy = 0.5 * sums.pu * hs_.grid().cell_area();
   std::string msg;
   const bool ok = pk::converged(end, res, opt_.tolerance, msg);
   return finish(ok, msg);

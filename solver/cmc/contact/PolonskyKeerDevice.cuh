@@ -42,7 +42,11 @@ struct PolonskyKeer::Device : pk::Fields {
     return reducer.run<pk::Sum>(n, cuda::Everywhere{}, [=] __device__(std::size_t i, pk::Sum& a) { a.v += v[i]; }).v;
   }
   void forward_p() { fft.forward(p, p_hat); }
-  void forward_h() { fft.forward(h, h_hat); }
+  void forward_h(double scale) {
+    fft.forward(h, h_hat);
+    double* hh = h_hat;
+    cuda::all(2 * nspec, [=] __device__(std::size_t k) { hh[k] *= scale; });
+  }
   double curvature_t() {
     fft.forward(t, out);
     return quadratic_form(out, ker);

@@ -118,9 +118,12 @@ struct HostOf : Fields {
     nx = std::size_t(half_space.grid().nx);
     if (!warm) P.assign(n, 0.0);
     W.resize(n);
-    wk.t.assign(n, 0.0);
-    wk.ic.resize(n);  // filled by set_contact_set() before any pass reads it
-    if (precondition) wk.z.assign(n, 0.0);
+    // Not cleared: set_contact_set() fills t and the mask before any pass reads them, and
+    // the preconditioner's fill writes all of z before its transform (two passes over the
+    // grid less a solve; kept work arrays hold a previous solve's values).
+    wk.t.resize(n);
+    wk.ic.resize(n);
+    if (precondition) wk.z.resize(n);
     for (Spectrum* s : {&wk.p_hat, &wk.h_hat}) s->resize(nspec);
     p = P.data(), w = W.data(), t = wk.t.data(), z = wk.z.data(), m = wk.ic.data(), h = H.data();
     p_hat = reinterpret_cast<double*>(wk.p_hat.data());
@@ -188,9 +191,17 @@ struct HostOf : Fields {
     if (!rc) return hs.forward(P, wk.p_hat);
     forward_into(p, wk.p_hat.data());
   }
-  void forward_h() {
-    if (!rc) return hs.forward(H, wk.h_hat);
-    forward_into(h, wk.h_hat.data());
+  // ĥ = scale FFT(h): the scaling inside the column sweep, while a block is in cache.
+  void forward_h(double scale) {
+    Complex* hh = wk.h_hat.data();
+    if (!rc) {
+      hs.forward(H, wk.h_hat);
+      return all(nspec, [=](std::size_t k) { hh[k] *= scale; });
+    }
+    rc->forward_rows<None>(h, hh, no_row_pass);
+    rc->columns<None>(hh, RowColumnFourier::kForward, [&](const RowColumnFourier::Block& B, None&) {
+      for (std::size_t k = B.begin; k < B.end; ++k) hh[k] *= scale;
+    });
   }
   // Unfused only (the combined operations below use them when rc is null).
   double curvature_t() {

@@ -21,7 +21,7 @@
 //                                     calls f for the other points of a block of eight
 //                                     too, so f must be a no-op there
 //   sum(v)                            Σ v over the whole grid
-//   forward_p(), forward_h()          p_hat = FFT(p), h_hat = FFT(h) (unnormalised)
+//   forward_p(), forward_h(s)         p_hat = FFT(p) (unnormalised), h_hat = s FFT(h)
 //   three combined operations, each a pass, a transform and a pass; a backend may run
 //   them one after the other (compose:: below) or the passes inside the transforms'
 //   sweeps (the CPU's, PolonskyKeerHost.hpp). The spectra's layout is the backend's: Run
@@ -46,6 +46,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <numbers>
 #include <sstream>
@@ -143,6 +144,9 @@ struct Start {
   bool precondition = false;  // the stiffness preconditioner (periodic boundary only)
   double overlap_k = 0.0;     // E* π / L, the stiffness of the longest wave: overlap -> pressure
   double longest_compliance = 0.0;  // L / (π E*): the first step's compliance
+  // Σ p of the warm start where the caller has it (and the backend's own sum would give the
+  // same bits: the CPU's); NaN: the solve sums it.
+  double warm_sum = std::numeric_limits<double>::quiet_NaN();
 };
 // Where it ended: the lazy load scaling, the penetration, and why it failed (empty: it did not).
 struct End {
@@ -183,7 +187,8 @@ class Run {
   Run(B& b, const PolonskyKeer::Options& o, double h_scale, const Target& target, const Start& start)
       : b_(b), opt_(o), h_scale_(h_scale), force_(target.control == Control::MeanPressure),
         target_(force_ ? target.value : 0.0), delta_(start.delta), warm_(start.warm),
-        precondition_(start.precondition), overlap_k_(start.overlap_k), last_tau_(start.longest_compliance) {
+        precondition_(start.precondition), overlap_k_(start.overlap_k), last_tau_(start.longest_compliance),
+        warm_sum_(start.warm_sum) {
     heights_spectrum();
   }
 
@@ -194,12 +199,7 @@ class Run {
 
   // ---- the spectral state that makes an iteration cost one FFT pair
   // ĥ/N: the operator then returns w = h + G p without a pass that reads h.
-  void heights_spectrum() {
-    b_.forward_h();
-    const double norm = 1.0 / b_.transform_points;
-    double* hh = b_.h_hat;
-    b_.all(2 * b_.nspec, [=] CMC_HD(std::size_t k) { hh[k] *= norm; });
-  }
+  void heights_spectrum() { b_.forward_h(1.0 / b_.transform_points); }
   // p̂ = s FFT(p) (one forward) and w = h + G p̂ (one inverse).
   void set_pressure(double s) { step(s, 0.0, true); }
   // p̂ ← s (p̂ − τ t̂) and w = h + G p̂ (one inverse); from_p: p̂ taken from p first (one
@@ -251,15 +251,25 @@ class Run {
     const double d = delta_, k = overlap_k_;
     b_.all(b_.n, [=] CMC_HD(std::size_t i) { p[i] = (d - h[i] > 0.0 ? d - h[i] : 0.0) * k; });
   }
-  // Ic from p, after p was set wholesale; the direction is zero off Ic.
-  void set_contact_set() {
-    const double* p = b_.p;
+  // Ic from p, after p was set wholesale (scaled by s first, where s != 1); the direction
+  // is zero, so that t holds no value from before (the backends do not clear it): a
+  // steepest-descent step follows, which reads t only as 0 t.
+  void set_contact_set(double s = 1.0) {
+    double* p = b_.p;
     std::uint8_t* m = b_.m;
     double* t = b_.t;
-    b_.all(b_.n, [=] CMC_HD(std::size_t i) {
-      m[i] = p[i] > 0.0;
-      if (!m[i]) t[i] = 0.0;
-    });
+    if (s != 1.0) {
+      b_.all(b_.n, [=] CMC_HD(std::size_t i) {
+        p[i] *= s;
+        m[i] = p[i] > 0.0;
+        t[i] = 0.0;
+      });
+    } else {
+      b_.all(b_.n, [=] CMC_HD(std::size_t i) {
+        m[i] = p[i] > 0.0;
+        t[i] = 0.0;
+      });
+    }
   }
   void initial_pressure() {
     // Warm start, or PK's uniform guess (force control), or a guess proportional to the
@@ -273,15 +283,17 @@ class Run {
         overlap_pressure();
       }
     }
+    double s = 1.0;
     if (force_) {
       if (target_ == 0.0) {
         b_.all(b_.n, [=] CMC_HD(std::size_t i) { p[i] = 0.0; });
       } else {
-        const double s = target_ / (b_.sum(p) / b_.points);
-        b_.all(b_.n, [=] CMC_HD(std::size_t i) { p[i] *= s; });
+        // The caller's sum of a warm start (the same Σ p) saves a pass over p.
+        const double sum = warm_ && !std::isnan(warm_sum_) ? warm_sum_ : b_.sum(p);
+        s = target_ / (sum / b_.points);
       }
     }
-    set_contact_set();
+    set_contact_set(s);
     exact();  // w = h + G p, and p̂ kept
   }
   // (a) gap statistics over Ic = {p > 0} (σ > 0 does not change it), shifted by the
@@ -409,6 +421,7 @@ class Run {
   bool precondition_;
   double overlap_k_;
   double last_tau_;          // compliance of the last step (first: of the longest wave)
+  double warm_sum_;          // Start::warm_sum
   double sigma_ = 1.0;       // the pressure is sigma_ p: the last load scaling, applied lazily
   int since_exact_ = 0;      // linear spectral steps since p̂ was last taken from p
   bool conjugate_ = false;   // PK's δ flag: false restarts steepest descent
