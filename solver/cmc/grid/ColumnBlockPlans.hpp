@@ -12,9 +12,14 @@
 
 namespace cmc::detail {
 
-// Spectrum columns per block: 16 complex doubles are 256 bytes a row, so a block of a
-// 4096-row grid (1 MiB) stays in a core's L2 between its forward and inverse transforms.
-inline constexpr int kColumnBlock = 16;
+// Spectrum columns per block: 8 complex doubles are 128 bytes (two cache lines) a row, so
+// a block of a 4096-row grid is 512 KiB, and the passes that map one spectrum's block onto
+// another's between the forward and the inverse transforms (the Polonsky-Keer step, 2048²:
+// two blocks of 256 KiB) keep both in a core's L2 (1 MiB on the 2-core CI machine). 16
+// columns, before 2026-11-28, put two 512 KiB blocks there at 2048² and filled it; 8 took
+// 2-4 % off an iteration at 2048² and 5 % at 4096², 4 was slower than 8 (issue 11; README,
+// "Performance").
+inline constexpr int kColumnBlock = 8;
 
 // The plan of one block's column transforms (sign FFTW_FORWARD or FFTW_BACKWARD) on
 // `block` (FFTW-aligned, ny * width complex numbers); nullptr if FFTW made none (with

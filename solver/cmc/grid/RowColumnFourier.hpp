@@ -46,7 +46,7 @@ namespace cmc {
 class RowColumnFourier {
  public:
   enum : int { kForward = 1, kInverse = 2 };
-  static constexpr int kWidth = 16;  // columns per block (ColumnBlockPlans.hpp)
+  static constexpr int kWidth = 8;  // columns per block (ColumnBlockPlans.hpp)
   // The modes [begin, end) of one block: columns [iqx0, iqx0 + width) of all ny rows, mode
   // (iqx0 + c, iqy) at begin + iqy * width + c.
   struct Block {
