@@ -10,6 +10,7 @@
 #include <cstring>
 #if defined(__SSE2__)
 #include <emmintrin.h>
+#include <xmmintrin.h>
 #endif
 #include <stdexcept>
 
@@ -152,6 +153,15 @@ void RowColumnFourier::gather(int thread, const Complex* s, int j, int count) co
   for (int b = 0; b < blocks_; ++b) {
     const Block B = block(b);
     const Complex* src = s + B.begin + std::size_t(j) * std::size_t(B.width);
+#if defined(__SSE2__)
+    // The next group's modes of this block (the same number of rows, right after these):
+    // asked for now, so that they arrive while this group's rows are transformed.
+    if (j + 2 * count <= ny_) {
+      const char* next = reinterpret_cast<const char*>(src + std::size_t(count) * std::size_t(B.width));
+      const std::size_t bytes = std::size_t(count) * std::size_t(B.width) * sizeof(Complex);
+      for (std::size_t o = 0; o < bytes; o += 64) _mm_prefetch(next + o, _MM_HINT_T1);
+    }
+#endif
     for (int r = 0; r < count; ++r, src += B.width) {
       Complex* dst = rows + std::size_t(r) * ldq_ + std::size_t(B.iqx0);
       std::memcpy(static_cast<void*>(dst), src, std::size_t(B.width) * sizeof(Complex));
