@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -257,6 +259,37 @@ TEST(PolonskyKeer, BodiesActOnlyOnTheirPoints) {
       EXPECT_EQ(sa.pressure, sb.pressure);
       EXPECT_EQ(sa.displacement, sb.displacement);
     }
+}
+
+// The CPU backend does not clear its work arrays (kept between solves: the quasi-static
+// solver's one solve an outer step): the direction t and the preconditioned gap z must be
+// written before they are read. Arrays that hold NaN from before give the bits of fresh
+// ones; a pass that read a stale t or z (even as 0 t) would carry the NaN into the answer.
+// (Checked: with set_contact_set zeroing t off the contact set only, as before
+// 2026-11-28, this fails: the stale solve stops after 0 iterations, the fresh one takes 23.)
+TEST(PolonskyKeer, StaleWorkArraysAreNotRead) {
+  const auto surf = rough_surface(128, 11);
+  PeriodicHalfSpace hs(surf.map.grid, 1.0);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (bool precondition : {true, false}) {
+    SCOPED_TRACE(precondition ? "preconditioned" : "plain");
+    PolonskyKeer::Options o;
+    o.tolerance = 1e-10;
+    o.precondition = precondition;
+    const Target target{Control::MeanPressure, 0.05};
+    ContactState fresh_state, stale_state;
+    PolonskyKeer::Work fresh, stale;
+    stale.t.assign(surf.map.heights.size(), nan);
+    stale.z.assign(surf.map.heights.size(), nan);
+    const auto [ea, ra] = run_backend<pk::Host>(hs, surf.map.heights, o, target, fresh_state, fresh);
+    const auto [eb, rb] = run_backend<pk::Host>(hs, surf.map.heights, o, target, stale_state, stale);
+    ASSERT_TRUE(ea.failure.empty()) << ea.failure;
+    ASSERT_LE(ra.residual, o.tolerance);
+    EXPECT_EQ(ra.iterations, rb.iterations);
+    EXPECT_EQ(ea.sigma, eb.sigma);
+    EXPECT_EQ(fresh_state.pressure, stale_state.pressure);
+    EXPECT_EQ(fresh_state.displacement, stale_state.displacement);
+  }
 }
 
 // An indenter that just touches (displacement control at the lowest height, where the

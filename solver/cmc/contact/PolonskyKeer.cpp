@@ -53,7 +53,7 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
     end = pk::solve_on_device(device_, hs_, h_, opt_, h_scale_, target, st, start, res);
   } else {
     if (!work_) work_ = std::make_unique<Work>();
-    start.warm_sum = warm_sum;  // what the CPU backend's b.sum(p) would give
+    if (start.warm) start.warm_sum = warm_sum;  // what the CPU backend's b.sum(p) would give
     {  // the backend counts its transforms when it goes, before its work arrays do
       pk::Host host(hs_, h_, st, *work_, start.warm, start.precondition, opt_.fused_sweeps);
       end = pk::iterate(host, opt_, h_scale_, target, start, res);
@@ -63,8 +63,8 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
   // ---- the solved state. The reported gap is the solution's: zero where pressure is
   // carried, and the non-negative gap elsewhere; how far the iterate is from that is the
   // residual. w = h + u becomes the displacement again.
-  // One pass, which also sums p and p u (the mean pressure and the elastic energy
-  // (1/2) Σ p u ΔA, HalfSpace::energy's): a solve's last reads of p and u.
+  // One pass, which also sums p and p u (the mean pressure and the elastic energy): a
+  // solve's last reads of p and u.
   Field &p = st.pressure, &u = st.displacement;
   const double sigma = end.sigma, delta = end.delta;
   st.gap.resize(n);
@@ -84,7 +84,7 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
   });
   st.penetration = delta;
   st.mean_pressure = sums.p / double(Grid::total(n));
-  res.energy = 0.5 * sums.pu * hs_.grid().cell_area();
+  res.energy = hs_.energy_from_sum(sums.pu);
   std::string msg;
   const bool ok = pk::converged(end, res, opt_.tolerance, msg);
   return finish(ok, msg);

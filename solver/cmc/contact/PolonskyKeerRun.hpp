@@ -144,7 +144,7 @@ struct Start {
   bool precondition = false;  // the stiffness preconditioner (periodic boundary only)
   double overlap_k = 0.0;     // E* π / L, the stiffness of the longest wave: overlap -> pressure
   double longest_compliance = 0.0;  // L / (π E*): the first step's compliance
-  // Σ p of the warm start where the caller has it (and the backend's own sum would give the
+  // Σ p of a warm start where the caller has it (and the backend's own sum would give the
   // same bits: the CPU's); NaN: the solve sums it.
   double warm_sum = std::numeric_limits<double>::quiet_NaN();
 };
@@ -258,18 +258,11 @@ class Run {
     double* p = b_.p;
     std::uint8_t* m = b_.m;
     double* t = b_.t;
-    if (s != 1.0) {
-      b_.all(b_.n, [=] CMC_HD(std::size_t i) {
-        p[i] *= s;
-        m[i] = p[i] > 0.0;
-        t[i] = 0.0;
-      });
-    } else {
-      b_.all(b_.n, [=] CMC_HD(std::size_t i) {
-        m[i] = p[i] > 0.0;
-        t[i] = 0.0;
-      });
-    }
+    b_.all(b_.n, [=] CMC_HD(std::size_t i) {
+      if (s != 1.0) p[i] *= s;
+      m[i] = p[i] > 0.0;
+      t[i] = 0.0;
+    });
   }
   void initial_pressure() {
     // Warm start, or PK's uniform guess (force control), or a guess proportional to the
@@ -289,7 +282,7 @@ class Run {
         b_.all(b_.n, [=] CMC_HD(std::size_t i) { p[i] = 0.0; });
       } else {
         // The caller's sum of a warm start (the same Σ p) saves a pass over p.
-        const double sum = warm_ && !std::isnan(warm_sum_) ? warm_sum_ : b_.sum(p);
+        const double sum = std::isnan(warm_sum_) ? b_.sum(p) : warm_sum_;
         s = target_ / (sum / b_.points);
       }
     }

@@ -274,7 +274,7 @@ void HalfSpace::pressure(const Field& u, Field& p, double tol) {
   }
 }
 
-double HalfSpace::energy(const Field& p, const Field& u) const { return 0.5 * Grid::dot(p, u) * grid_.cell_area(); }
+double HalfSpace::energy(const Field& p, const Field& u) const { return energy_from_sum(Grid::dot(p, u)); }
 
 double HalfSpace::energy_from_displacement(const Field& u) {
   if (!periodic()) {

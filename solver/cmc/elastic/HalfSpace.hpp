@@ -58,6 +58,8 @@ class HalfSpace {
   void pressure(const Field& u, Field& p, double tol = 1e-12);
   // Elastic energy stored by the pair (p, u = G p): (1/2) ∫ p u dA.
   double energy(const Field& p, const Field& u) const;
+  // The same from Σ p u over the grid (for a caller that summed it in a pass of its own).
+  double energy_from_sum(double sum_pu) const { return 0.5 * sum_pu * grid_.cell_area(); }
   // Elastic energy from u alone. Periodic: U = A (E*/4) Σ_q |q| |ũ_q|² (ũ_q the
   // Fourier-series coefficients of u); free: (1/2) ∫ p u with p = G⁻¹ u.
   double energy_from_displacement(const Field& u);
