@@ -51,7 +51,7 @@ void plan_column_blocks(int nx, int ny) {
   plan_pair(nx, 1, 1);
   const int nq = nx / 2 + 1, full = std::min(nq, cmc::detail::kColumnBlock);
   const int last = nq - (nq - 1) / cmc::detail::kColumnBlock * cmc::detail::kColumnBlock;
-  fftw_complex* blk = fftw_alloc_complex(std::size_t(cmc::detail::kColumnBlock) * std::size_t(ny));
+  fftw_complex* blk = fftw_alloc_complex(std::size_t(cmc::detail::kColumnBlock) * std::size_t(ny + cmc::detail::kColumnPad));
   fftw_plan_with_nthreads(1);
   for (int width : {full, last})
     for (int sign : {FFTW_FORWARD, FFTW_BACKWARD}) fftw_destroy_plan(cmc::detail::plan_column_block(ny, width, blk, sign, FFTW_MEASURE));

@@ -124,28 +124,31 @@ struct HostOf : Fields {
     wk.t.resize(n);
     wk.ic.resize(n);
     if (precondition) wk.z.resize(n);
-    for (Spectrum* s : {&wk.p_hat, &wk.h_hat}) s->resize(nspec);
     p = P.data(), w = W.data(), t = wk.t.data(), z = wk.z.data(), m = wk.ic.data(), h = H.data();
-    p_hat = reinterpret_cast<double*>(wk.p_hat.data());
-    h_hat = reinterpret_cast<double*>(wk.h_hat.data());
     spec = hs.spectrum().data();
-    out = reinterpret_cast<double*>(spec);
     ker = hs.compliance().data();
+    std::size_t held = nspec;  // modes of a spectrum in the layout the solve works in
     const Grid& g = half_space.grid();
     if (fuse && half_space.periodic() && !g.split() && g.ny > 1) {
       if (!wk.rc || wk.rc->nx() != g.nx || wk.rc->ny() != g.ny) {
         wk.rc = std::make_unique<RowColumnFourier>(g.nx, g.ny);
         half_space.note_solver_plans("row-column (fused sweeps): " + wk.rc->plan_source());
-        wk.ker.resize(nspec);
+        wk.ker.assign(wk.rc->spectrum_size(), 0.0);
         wk.rc->reorder(hs.compliance().data(), wk.ker.data());
       }
       rc = wk.rc.get();
       ker = wk.ker.data();
+      held = rc->spectrum_size();
+      spec = hs.scratch_spectrum(held);  // its layout is longer than the half-space's
       f0 = rc->forward_count(), i0 = rc->inverse_count(), s0 = rc->seconds();
     } else {
       wk.rc.reset();
       wk.ker = Field();
     }
+    for (Spectrum* s : {&wk.p_hat, &wk.h_hat}) s->resize(held);
+    p_hat = reinterpret_cast<double*>(wk.p_hat.data());
+    h_hat = reinterpret_cast<double*>(wk.h_hat.data());
+    out = reinterpret_cast<double*>(spec);
   }
   // The fused sweeps' transforms count as the operator's (fft_pairs(), fft_seconds()).
   ~HostOf() {
@@ -199,9 +202,8 @@ struct HostOf : Fields {
       return all(nspec, [=](std::size_t k) { hh[k] *= scale; });
     }
     rc->forward_rows<None>(h, hh, no_row_pass);
-    rc->columns<None>(hh, RowColumnFourier::kForward, [&](const RowColumnFourier::Block& B, None&) {
-      for (std::size_t k = B.begin; k < B.end; ++k) hh[k] *= scale;
-    });
+    rc->columns<None>(hh, RowColumnFourier::kForward,
+                      [&](const RowColumnFourier::Block& B, None&) { B.each([&](std::size_t k) { hh[k] *= scale; }); });
   }
   // Unfused only (the combined operations below use them when rc is null).
   double curvature_t() {
@@ -234,11 +236,14 @@ struct HostOf : Fields {
     const Complex* s = spec;
     const int nxi = int(nx);
     curvature = rc->columns<SumReduction>(spec, RowColumnFourier::kForward, [&](const RowColumnFourier::Block& B, SumReduction& acc) {
-                    double wgt[RowColumnFourier::kWidth];
-                    for (int c = 0; c < B.width; ++c) wgt[c] = r2c_mode_weight(B.iqx0 + c, nxi);
+                    // Block B's columns one after the other, one weight a column.
                     double d = 0.0;
-                    for (std::size_t r = B.begin; r < B.end; r += std::size_t(B.width))
-                      for (int c = 0; c < B.width; ++c) d += wgt[c] * k[r + c] * std::norm(s[r + c]);
+                    for (int c = 0; c < B.width; ++c) {
+                      const std::size_t q0 = B.begin + std::size_t(c) * B.stride, q1 = q0 + std::size_t(B.rows);
+                      double dc = 0.0;
+                      for (std::size_t q = q0; q < q1; ++q) dc += k[q] * std::norm(s[q]);
+                      d += r2c_mode_weight(B.iqx0 + c, nxi) * dc;
+                    }
                     acc.v += d;
                   }).v;
     return a;
@@ -247,7 +252,7 @@ struct HostOf : Fields {
   Acc step_and_gap_sums(S step, const std::uint8_t* mask, double level, F f) {
     if (!rc) return compose::step_and_gap_sums<Acc>(*this, step, mask, level, f);
     rc->columns<None>(spec, RowColumnFourier::kInverse, [&](const RowColumnFourier::Block& B, None&) {
-      for (std::size_t k = B.begin; k < B.end; ++k) step(k);
+      B.each(step);
     });
     return inverse_and_gap_sums<Acc>(mask, level, f);
   }
@@ -260,7 +265,7 @@ struct HostOf : Fields {
     rc->columns<None>(
         ph, RowColumnFourier::kForward | RowColumnFourier::kInverse,
         [&](const RowColumnFourier::Block& B, None&) {
-          for (std::size_t k = B.begin; k < B.end; ++k) step(k);
+          B.each(step);
         },
         spec);
     return inverse_and_gap_sums<Acc>(mask, level, f);
@@ -283,7 +288,7 @@ struct HostOf : Fields {
     const double nn = 1.0 / (transform_points * transform_points);
     rc->columns<None>(spec, RowColumnFourier::kForward | RowColumnFourier::kInverse,
                       [&](const RowColumnFourier::Block& B, None&) {
-                        for (std::size_t q = B.begin; q < B.end; ++q) s[q] *= k[q] > 0.0 ? nn / k[q] : 0.0;
+                        B.each([&](std::size_t q) { s[q] *= k[q] > 0.0 ? nn / k[q] : 0.0; });
                       });
     return rc->inverse_rows<Acc>(spec, z, in_row<Acc>(mask, f));
   }

@@ -100,6 +100,8 @@ class HalfSpace {
   void forward(const Field& f);
   // The scratch spectrum that inverse() consumes.
   std::span<Complex> spectrum() { return fourier_.spectrum(); }
+  // That buffer made at least `modes` long, as a longer layout's scratch (Fourier::scratch).
+  Complex* scratch_spectrum(std::size_t modes) { return fourier_.scratch(modes); }
   // out = inverse FFT of spectrum() restricted to the contact grid (unnormalised; the
   // scratch spectrum is destroyed). One inverse transform.
   void inverse(Field& out);

@@ -332,6 +332,11 @@ void Fourier::inverse(Complex* in, double* out) {
   }
   ++n_inverse_;
 }
+Complex* Fourier::scratch(std::size_t modes) {
+  if (distributed_) throw std::logic_error("Fourier::scratch: a distributed transform works in place in its buffer");
+  if (spec_.size() < modes) Spectrum(modes).swap(spec_);
+  return spec_.data();
+}
 void Fourier::forward(const double* in) { forward(in, spec_.data()); }
 void Fourier::inverse(double* out) { inverse(spec_.data(), out); }
 

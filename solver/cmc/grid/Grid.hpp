@@ -176,6 +176,10 @@ class Fourier {
   // The internal spectrum buffer that forward() fills and inverse() consumes
   // (spectrum_size() modes; a distributed transform works in place in it).
   std::span<Complex> spectrum() { return {spec_.data(), spectrum_size()}; }
+  // The same buffer made at least `modes` long, as scratch for a spectrum of a longer
+  // layout (RowColumnFourier's); it may move, and its contents are not kept. spectrum()
+  // still shows the first spectrum_size(). A transform of one process only.
+  Complex* scratch(std::size_t modes);
   // in (real_size) -> spectrum(); input preserved.
   void forward(const double* in);
   void forward(const Field& in) { forward(in.data()); }

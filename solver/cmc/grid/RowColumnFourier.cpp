@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <cstring>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #include <xmmintrin.h>
@@ -33,6 +32,7 @@ struct RowColumnFourier::Plans {
 RowColumnFourier::RowColumnFourier(int nx, int ny) : nx_(nx), ny_(ny), nq_(nx / 2 + 1) {
   if (nx <= 0 || ny <= 1) throw std::invalid_argument("RowColumnFourier: needs a two-dimensional grid");
   blocks_ = (nq_ + detail::kColumnBlock - 1) / detail::kColumnBlock;
+  ld_ = std::size_t(ny) + std::size_t(detail::kColumnPad);
   plans_ = std::make_unique<Plans>();
   Plans& P = *plans_;
   const int threads = std::max(1, thread_count());
@@ -41,7 +41,7 @@ RowColumnFourier::RowColumnFourier(int nx, int ny) : nx_(nx), ny_(ny), nq_(nx / 
   // (64 bytes) so that every row has the planning row's alignment.
   ldq_ = (std::size_t(nq_) + 3) / 4 * 4;
   P.mode_rows.assign(std::size_t(threads), Spectrum(std::size_t(kWidth) * ldq_));
-  Spectrum scratch(std::size_t(detail::kColumnBlock) * std::size_t(ny));
+  Spectrum scratch(std::size_t(detail::kColumnBlock) * ld_);
   auto* r = P.real_rows[0].data();
   auto* c = reinterpret_cast<fftw_complex*>(P.mode_rows[0].data());
   auto* blk = reinterpret_cast<fftw_complex*>(scratch.data());
@@ -70,21 +70,22 @@ RowColumnFourier::~RowColumnFourier() = default;
 RowColumnFourier::Block RowColumnFourier::block(int b) const {
   const int iqx0 = b * detail::kColumnBlock;
   const int width = std::min(int(detail::kColumnBlock), nq_ - iqx0);
-  const std::size_t begin = std::size_t(iqx0) * std::size_t(ny_);
-  return {begin, begin + std::size_t(width) * std::size_t(ny_), iqx0, width};
+  const std::size_t begin = std::size_t(iqx0) * ld_;
+  return {begin, begin + std::size_t(width) * ld_, ld_, iqx0, width, ny_};
 }
 
 std::size_t RowColumnFourier::index(int iqx, int iqy) const {
   const Block B = block(iqx / detail::kColumnBlock);
-  return B.begin + std::size_t(iqy) * std::size_t(B.width) + std::size_t(iqx - B.iqx0);
+  return B.begin + std::size_t(iqx - B.iqx0) * ld_ + std::size_t(iqy);
 }
 
 void RowColumnFourier::reorder(const double* rows, double* blocks) const {
   for (int b = 0; b < blocks_; ++b) {
     const Block B = block(b);
-    for (int j = 0; j < ny_; ++j)
-      std::copy_n(rows + std::size_t(j) * std::size_t(nq_) + std::size_t(B.iqx0), B.width,
-                  blocks + B.begin + std::size_t(j) * std::size_t(B.width));
+    for (int c = 0; c < B.width; ++c)
+      for (int j = 0; j < ny_; ++j)
+        blocks[B.begin + std::size_t(c) * ld_ + std::size_t(j)] =
+            rows[std::size_t(j) * std::size_t(nq_) + std::size_t(B.iqx0 + c)];
   }
 }
 
@@ -113,8 +114,9 @@ void RowColumnFourier::row_inverse(int thread, int g, double* row) {
 }
 
 // The modes of rows [j, j + count) (count <= kWidth), held in the thread's group of rows,
-// to (from) their blocks: in each block they are count * width contiguous modes, so a
-// group writes (reads) whole runs of memory rather than 256 bytes a row and block.
+// to (from) their blocks: each column of a block takes count contiguous modes of the
+// group, 128 bytes (two cache lines) for a full group, so a group writes (reads) whole
+// lines; the transposition of the group's count x width tile happens in the cache.
 //
 // scatter writes with streaming (non-temporal) stores where it can (SSE2, one mode a
 // store): the spectrum is written whole before the column sweep reads any of it, and at
@@ -122,27 +124,24 @@ void RowColumnFourier::row_inverse(int thread, int g, double* row) {
 // it overwrites (a third more traffic) and then evicts what the sweep is working on. perf
 // on the challenge at 2048² (adhesion, 2 threads) had scatter and gather at 7.2 % and
 // 6.8 % of the solve, their stores copying one double at a time. A copy: the same bits.
-namespace {
-inline void copy_modes(const Complex* src, int width, Complex* dst) {
-#if defined(__SSE2__)
-  if ((reinterpret_cast<std::uintptr_t>(dst) & 15u) == 0) {
-    const double* a = reinterpret_cast<const double*>(src);
-    double* d = reinterpret_cast<double*>(dst);
-    for (int c = 0; c < width; ++c) _mm_stream_pd(d + 2 * c, _mm_loadu_pd(a + 2 * c));
-    return;
-  }
-#endif
-  std::memcpy(static_cast<void*>(dst), src, std::size_t(width) * sizeof(Complex));
-}
-}  // namespace
-
 void RowColumnFourier::scatter(int thread, Complex* s, int j, int count) const {
   const Complex* rows = plans_->mode_rows[std::size_t(thread)].data();
+  const std::size_t ld = ld_;
   for (int b = 0; b < blocks_; ++b) {
     const Block B = block(b);
-    Complex* dst = s + B.begin + std::size_t(j) * std::size_t(B.width);
-    for (int r = 0; r < count; ++r, dst += B.width)
-      copy_modes(rows + std::size_t(r) * ldq_ + std::size_t(B.iqx0), B.width, dst);
+    for (int c = 0; c < B.width; ++c) {
+      const Complex* src = rows + std::size_t(B.iqx0 + c);
+      Complex* dst = s + B.begin + std::size_t(c) * ld + std::size_t(j);
+#if defined(__SSE2__)
+      double* d = reinterpret_cast<double*>(dst);
+      if ((reinterpret_cast<std::uintptr_t>(d) & 15u) == 0) {
+        for (int r = 0; r < count; ++r)
+          _mm_stream_pd(d + 2 * r, _mm_loadu_pd(reinterpret_cast<const double*>(src + std::size_t(r) * ldq_)));
+        continue;
+      }
+#endif
+      for (int r = 0; r < count; ++r) dst[r] = src[std::size_t(r) * ldq_];
+    }
   }
 #if defined(__SSE2__)
   _mm_sfence();  // the streamed stores are seen before the sweep's end hands s on
@@ -150,21 +149,26 @@ void RowColumnFourier::scatter(int thread, Complex* s, int j, int count) const {
 }
 void RowColumnFourier::gather(int thread, const Complex* s, int j, int count) const {
   Complex* rows = plans_->mode_rows[std::size_t(thread)].data();
+  const std::size_t ld = ld_;
   for (int b = 0; b < blocks_; ++b) {
     const Block B = block(b);
-    const Complex* src = s + B.begin + std::size_t(j) * std::size_t(B.width);
+    const Complex* col = s + B.begin + std::size_t(j);
 #if defined(__SSE2__)
-    // The next group's modes of this block (the same number of rows, right after these):
-    // asked for now, so that they arrive while this group's rows are transformed.
+    // The next group's modes of this block (the same number of rows, right after these in
+    // each column): asked for now, so that they arrive while this group's rows are
+    // transformed.
     if (j + 2 * count <= ny_) {
-      const char* next = reinterpret_cast<const char*>(src + std::size_t(count) * std::size_t(B.width));
-      const std::size_t bytes = std::size_t(count) * std::size_t(B.width) * sizeof(Complex);
-      for (std::size_t o = 0; o < bytes; o += 64) _mm_prefetch(next + o, _MM_HINT_T1);
+      const std::size_t bytes = std::size_t(count) * sizeof(Complex);
+      for (int c = 0; c < B.width; ++c) {
+        const char* next = reinterpret_cast<const char*>(col + std::size_t(c) * ld + std::size_t(count));
+        for (std::size_t o = 0; o < bytes; o += 64) _mm_prefetch(next + o, _MM_HINT_T1);
+      }
     }
 #endif
-    for (int r = 0; r < count; ++r, src += B.width) {
-      Complex* dst = rows + std::size_t(r) * ldq_ + std::size_t(B.iqx0);
-      std::memcpy(static_cast<void*>(dst), src, std::size_t(B.width) * sizeof(Complex));
+    for (int c = 0; c < B.width; ++c) {
+      const Complex* src = col + std::size_t(c) * ld;
+      Complex* dst = rows + std::size_t(B.iqx0 + c);
+      for (int r = 0; r < count; ++r) dst[std::size_t(r) * ldq_] = src[r];
     }
   }
 }

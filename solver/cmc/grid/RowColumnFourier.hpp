@@ -15,8 +15,15 @@
 //
 // Layout of a spectrum ("column blocks"): the nq = nx/2 + 1 columns of the r2c spectrum
 // split into blocks of kColumnBlock (the last one narrower); block b holds its columns
-// [b kColumnBlock, b kColumnBlock + width) as ny rows of width modes. spectrum_size() is
-// Fourier's (nq ny): the same buffer holds either layout. index() finds a mode.
+// [b kColumnBlock, b kColumnBlock + width) one after the other, each as ny contiguous
+// modes followed by kColumnPad unused ones (ColumnBlockPlans.hpp says why), so that a
+// column's transform is FFTW's contiguous one. (Until 2026-11-28 a block held ny rows of
+// width modes: FFTW then transformed strided columns through a buffer of its own, and a
+// block's column pair took 75 µs at 2048² against 62 µs contiguous, FFTW 3.3.10,
+// FFTW_MEASURE, this machine.) spectrum_size() is nq (ny + kColumnPad), more than
+// Fourier's nq ny: a buffer for this layout is that long. The unused modes are neither
+// read nor written by the transforms, and passes reach the modes through Block::each().
+// index() finds a mode.
 //
 // Sweeps (each runs on the threads of Grid::parallel_reduce: rows, or blocks, in contiguous
 // ranges per thread, partial results merged in thread order, so a rerun with the same
@@ -47,11 +54,19 @@ class RowColumnFourier {
  public:
   enum : int { kForward = 1, kInverse = 2 };
   static constexpr int kWidth = 8;  // columns per block (ColumnBlockPlans.hpp)
-  // The modes [begin, end) of one block: columns [iqx0, iqx0 + width) of all ny rows, mode
-  // (iqx0 + c, iqy) at begin + iqy * width + c.
+  // One block's memory [begin, end): columns [iqx0, iqx0 + width) of all `rows` rows, mode
+  // (iqx0 + c, iqy) at begin + c * stride + iqy (stride = rows + kColumnPad; the modes in
+  // between are unused). each(f) calls f(k) for the block's modes, column by column.
   struct Block {
-    std::size_t begin = 0, end = 0;
-    int iqx0 = 0, width = 0;
+    std::size_t begin = 0, end = 0, stride = 0;
+    int iqx0 = 0, width = 0, rows = 0;
+    template <class F>
+    void each(F&& f) const {
+      for (int c = 0; c < width; ++c) {
+        const std::size_t k0 = begin + std::size_t(c) * stride, k1 = k0 + std::size_t(rows);
+        for (std::size_t k = k0; k < k1; ++k) f(k);
+      }
+    }
   };
 
   RowColumnFourier(int nx, int ny);
@@ -61,12 +76,14 @@ class RowColumnFourier {
 
   int nx() const { return nx_; }
   int ny() const { return ny_; }
-  std::size_t spectrum_size() const { return std::size_t(nq_) * std::size_t(ny_); }
+  // Complex numbers in a spectrum of this layout (unused modes included).
+  std::size_t spectrum_size() const { return std::size_t(nq_) * ld_; }
   int blocks() const { return blocks_; }
   Block block(int b) const;
   std::size_t index(int iqx, int iqy) const;
   // A multiplier (one real per mode) in Fourier's layout of a serial transform (ny rows of
-  // nq modes), written in this layout.
+  // nq modes), written in this layout (spectrum_size() reals; the unused ones left as
+  // they are).
   void reorder(const double* rows, double* blocks) const;
 
   template <class Acc, class Pass>
@@ -109,6 +126,7 @@ class RowColumnFourier {
 
   int nx_, ny_, nq_, blocks_;
   std::size_t ldq_ = 0;  // modes per row of a thread's group (nq padded)
+  std::size_t ld_ = 0;   // a block's column stride: ny + kColumnPad
   struct Plans;
   std::unique_ptr<Plans> plans_;
   long n_forward_ = 0, n_inverse_ = 0;

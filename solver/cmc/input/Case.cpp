@@ -712,9 +712,15 @@ MemoryEstimate estimate_memory(const Case& c) {
     // a periodic grid), the contact set (bytes), and the spectra of the pressure and the
     // heights (the direction's is the half-space's scratch spectrum, counted above).
     // A periodic grid held by one process runs the fused sweeps (grid/RowColumnFourier.hpp):
-    // the compliance once more, in the transform's layout (its row buffers are a few rows).
+    // the compliance once more, in the transform's layout (its row buffers are a few rows);
+    // that layout leaves kColumnPad = 8 modes unused after each column of my, so its
+    // spectra (the pressure's, the heights', the compliance, and the half-space's scratch,
+    // which keeps its longer buffer for the rest of the run) are 8/my longer.
+    const bool fused = periodic && memory_split().ranks == 1;
+    const double pad = 8.0 / my;
     solve_grid += 1.0 + (periodic && c.solver.precondition ? 1.0 : 0.0) + 1.0 / 8.0;
-    solve_transform += 2.0 * sp / m + (periodic && memory_split().ranks == 1 ? sp / 2.0 / m : 0.0);
+    solve_transform += 2.0 * sp / m + (fused ? sp / 2.0 / m + 2.5 * pad * sp / m : 0.0);
+    if (fused) run_transform += pad * sp / m;
   }
   // Fields a solver makes in its constructor and frees there, before any state or solve
   // field exists: a phase of their own (the larger grids' blocks go back to the system;
