@@ -5,6 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -111,4 +114,40 @@ TEST(GridLayer, NoReductionOutsideTheGridLayer) {
   std::ostringstream msg;
   for (const auto& h : hits) msg << "\n  " << h;
   EXPECT_TRUE(hits.empty()) << "reductions or threads beside the grid layer (use Grid::parallel_reduce):" << msg.str();
+}
+
+// Fields and spectra of 16 MiB and more start on a 2 MiB boundary (whole transparent huge
+// pages, grid/Grid.cpp); smaller ones keep FFTW's SIMD alignment. Both read back what was
+// written, across the size where the allocator changes.
+TEST(GridLayer, LargeArraysStartOnHugePages) {
+  const std::size_t huge = std::size_t(2) << 20;
+  for (std::size_t n : {std::size_t(1000), huge - 1, huge, huge + 3}) {  // doubles: 16 MiB = huge doubles
+    Field f(n);
+    for (std::size_t i = 0; i < n; i += 4097) f[i] = double(i);
+    const auto at = reinterpret_cast<std::uintptr_t>(f.data());
+    EXPECT_EQ(at % 32, 0u) << n;
+    if (n * sizeof(double) >= 16 * (std::size_t(1) << 20)) EXPECT_EQ(at % huge, 0u) << n << " doubles";
+    for (std::size_t i = 0; i < n; i += 4097) ASSERT_EQ(f[i], double(i));
+  }
+}
+
+// Fourier::scratch (the fused Polonsky-Keer sweeps' longer spectrum): the buffer grows,
+// spectrum() keeps its length, and the transforms go on in the moved buffer with the same
+// bits; a smaller request keeps it where it is.
+TEST(GridLayer, FourierScratchGrowsAndTransformsGoOn) {
+  const int n = 64;
+  Fourier f(n, n);
+  Field x(std::size_t(n) * n), y(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sin(0.37 * double(i));
+  f.forward(x);
+  const std::vector<Complex> before(f.spectrum().begin(), f.spectrum().end());
+  const std::size_t size = f.spectrum_size();
+  Complex* s = f.scratch(size + 1000);
+  EXPECT_EQ(f.spectrum().data(), s);
+  EXPECT_EQ(f.spectrum().size(), size);
+  EXPECT_EQ(f.scratch(10), s) << "a smaller request keeps the buffer";
+  f.forward(x);
+  EXPECT_TRUE(std::equal(before.begin(), before.end(), f.spectrum().begin())) << "the same modes, to the bit";
+  f.inverse(y);
+  for (std::size_t i = 0; i < x.size(); ++i) ASSERT_NEAR(y[i] / double(x.size()), x[i], 1e-13);
 }
