@@ -162,6 +162,14 @@ def make_inputs(root, np, h5py):
         benches.append({"name": f"BM_PolonskyKeerIteration/{n}", "run_name": f"BM_PolonskyKeerIteration/{n}",
                         "run_type": "iteration", "real_time": 0.62 * (n / 256) ** 2, "time_unit": "ms",
                         "items_per_second": 1000 / 0.62 / (n / 256) ** 2})
+    # An iteration benchmark with the same-run counters (bench/bench_common.hpp): its loop's
+    # iteration is 30 ms (ms_per_iteration), while its items/s say 40 ms (setup included).
+    for n in (1024, 2048):
+        benches.append({"name": f"BM_PolonskyKeerIteration_plain/{n}", "run_name": f"BM_PolonskyKeerIteration_plain/{n}",
+                        "run_type": "iteration", "real_time": 1200.0, "time_unit": "ms", "items_per_second": 25.0,
+                        "ms_per_iteration": 30.0, "fft_pairs_per_iteration": 1.5, "fft_pair_ms": 20.0,
+                        "iteration_over_fft_pair": 1.5, "time_per_fft_pair": 1.0, "floor_pair_ms": 15.0,
+                        "iteration_over_floor_pair": 2.0, "time_per_floor_pair": 30.0 / 1.5 / 15.0})
     write_json(os.path.join(root, "build", "bench.json"),
                {"context": {"date": "synthetic", "num_cpus": 2, "host_name": "selftest"}, "benchmarks": benches})
     # --- validation: one passing case with a refinement study, one failing check ---------
@@ -389,6 +397,12 @@ def main(argv):
             for f in files:
                 if not os.path.isfile(os.path.join(out, sub, f)):
                     failures.append(f"missing {sub}/{f}")
+        perf = open(os.path.join(out, "performance", "index.md")).read() if os.path.isfile(
+            os.path.join(out, "performance", "index.md")) else ""
+        row = "| BM_PolonskyKeerIteration_plain | 2048 | 20 | 15 | 30 | 1.5 | 1.5 | 1 | 1.33 |"
+        if row not in perf:
+            failures.append("performance/index.md lacks the plain iteration's row against the floor pair, "
+                            f"expected {row!r}:\n" + "\n".join(l for l in perf.splitlines() if "Iteration_plain" in l))
         idx = open(os.path.join(out, "challenge", "index.md")).read() if os.path.isfile(
             os.path.join(out, "challenge", "index.md")) else ""
         if "not computed yet" in idx:
