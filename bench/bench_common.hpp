@@ -8,8 +8,8 @@
 // wisdom; `floor_pair_ms` is the faster of the two, the strictest yardstick this run has,
 // and the `_floor_pair` ratios divide by it. (On the 2-core machine a single timing of
 // FFTW's 2-D pair at 2048² moved between 16.5 and 30.9 ms across runs of one build, which
-// moved the old ratios by as much; the floor moves less, because both pairs rarely run
-// slow in the same minute.)
+// moved the old ratios by as much; the row-column pair stayed within 13.7-15.7 ms in the
+// same runs, 2026-11-28.)
 #pragma once
 
 #include "cmc/contact/Solver.hpp"
@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 namespace cmc::bench {
 
@@ -51,19 +52,21 @@ inline double fft_pair_ms(int n) {
   return ms;
 }
 
-// The same pair as rows and column blocks (RowColumnFourier), nothing fused into it.
+// The same pair as rows and column blocks (RowColumnFourier), nothing fused into it:
+// x -> s -> y (s of f.spectrum_size() modes).
+inline void row_column_pair(RowColumnFourier& f, const Field& x, Spectrum& s, Field& y) {
+  using None = RowColumnFourier::None;
+  f.forward_rows<None>(x.data(), s.data(), [](std::size_t, None&) {});
+  f.columns<None>(s.data(), RowColumnFourier::kForward | RowColumnFourier::kInverse,
+                  [](const RowColumnFourier::Block&, None&) {});
+  f.inverse_rows<None>(s.data(), y.data(), [](std::size_t, None&) {});
+}
 inline double row_column_pair_ms(int n) {
   RowColumnFourier f(n, n);
   Field x(std::size_t(n) * std::size_t(n)), y(x.size());
   Spectrum s(f.spectrum_size());
   for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sin(0.001 * double(i));
-  using None = RowColumnFourier::None;
-  const double ms = best_pair_ms([&] {
-    f.forward_rows<None>(x.data(), s.data(), [](std::size_t, None&) {});
-    f.columns<None>(s.data(), RowColumnFourier::kForward | RowColumnFourier::kInverse,
-                    [](const RowColumnFourier::Block&, None&) {});
-    f.inverse_rows<None>(s.data(), y.data(), [](std::size_t, None&) {});
-  });
+  const double ms = best_pair_ms([&] { row_column_pair(f, x, s, y); });
   benchmark::DoNotOptimize(y.data());
   return ms;
 }
@@ -127,20 +130,19 @@ struct IterationCost {
 // Per iteration: (t_b − t_a)/(b − a), and the same for FFT pairs and transform seconds;
 // setup_ms is what a solve costs beyond its iterations, t_a − a × that.
 struct MarginalCost {
-  SolveResult a, b;
-  bool has_a = false, has_b = false;
-  static void keep(SolveResult& best, bool& has, const SolveResult& r) {
-    if (!has || r.wall_s < best.wall_s) best = r;
-    has = true;
+  std::optional<SolveResult> fastest_a, fastest_b;
+  static void keep(std::optional<SolveResult>& best, const SolveResult& r) {
+    if (!best || r.wall_s < best->wall_s) best = r;
   }
-  void add_a(const SolveResult& r) { keep(a, has_a, r); }
-  void add_b(const SolveResult& r) { keep(b, has_b, r); }
+  void add_a(const SolveResult& r) { keep(fastest_a, r); }
+  void add_b(const SolveResult& r) { keep(fastest_b, r); }
   void report(benchmark::State& state, const PairTimes& pair) const {
-    const int di = b.iterations - a.iterations;
-    if (!has_a || !has_b || di <= 0) {
+    if (!fastest_a || !fastest_b || fastest_b->iterations <= fastest_a->iterations) {
       state.SkipWithError("the longer solve did not run more iterations than the shorter one");
       return;
     }
+    const SolveResult &a = *fastest_a, &b = *fastest_b;
+    const int di = b.iterations - a.iterations;
     const double ms_it = 1e3 * (b.wall_s - a.wall_s) / di;
     report_ratios(state, ms_it, (b.fft_pairs - a.fft_pairs) / di, 1e3 * (b.fft_s - a.fft_s) / di, pair);
     state.counters["setup_ms"] = 1e3 * a.wall_s - a.iterations * ms_it;

@@ -39,12 +39,8 @@ static void BM_RowColumnPair(benchmark::State& state) {
   Field x(std::size_t(n) * n, 1.0), y(x.size());
   Spectrum s(f.spectrum_size());
   for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sin(0.001 * double(i));
-  using None = RowColumnFourier::None;
   for (auto _ : state) {
-    f.forward_rows<None>(x.data(), s.data(), [](std::size_t, None&) {});
-    f.columns<None>(s.data(), RowColumnFourier::kForward | RowColumnFourier::kInverse,
-                    [](const RowColumnFourier::Block&, None&) {});
-    f.inverse_rows<None>(s.data(), y.data(), [](std::size_t, None&) {});
+    row_column_pair(f, x, s, y);
     benchmark::DoNotOptimize(y.data());
   }
   state.SetLabel("rows + column blocks");
@@ -55,7 +51,8 @@ static void BM_RowColumnPair(benchmark::State& state) {
 // PK's cold uniform guess); the counters are the 20 iterations between them, and the
 // shorter solve's time beyond its iterations is setup_ms (MarginalCost, bench_common.hpp).
 // Until 2026-11-28 this was one solve of 20 iterations over its iterations, setup and the
-// final pass included: about 8 of 38 ms an iteration at 2048² (plain) was that setup.
+// final pass included (setup_ms at 2048², plain, in the two runs of README "Performance":
+// 59.6 and 63.2 ms a solve, about 3 ms of each of the 20 iterations).
 static void pk_iteration(benchmark::State& state, bool precondition, bool fused = true) {
   const int n = int(state.range(0));
   SelfAffineSpec spec;
