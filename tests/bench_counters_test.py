@@ -10,8 +10,14 @@ import sys
 
 
 def main(bench):
-    out = subprocess.run([bench, "--benchmark_filter=BM_PolonskyKeerIteration_plain/512/", "--benchmark_format=json"],
-                         capture_output=True, text=True, check=True).stdout
+    try:
+        r = subprocess.run([bench, "--benchmark_filter=BM_PolonskyKeerIteration_plain/512/", "--benchmark_format=json"],
+                           capture_output=True, text=True)
+    except OSError as e:
+        return [f"cannot run {bench!r}: {e} (pass the path of the built cmc_bench)"]
+    if r.returncode != 0:
+        return [f"{bench} exited {r.returncode}: {r.stderr.strip()[-500:]}"]
+    out = r.stdout
     if not out.strip():
         return ["cmc_bench printed nothing: the filter matched no benchmark"]
     runs = [b for b in json.loads(out)["benchmarks"] if b["name"].startswith("BM_PolonskyKeerIteration_plain/512")]
@@ -57,6 +63,9 @@ def main(bench):
 
 
 if __name__ == "__main__":
+    if len(sys.argv) != 2:
+        print("usage: bench_counters_test.py PATH/TO/cmc_bench", file=sys.stderr)
+        sys.exit(2)
     fails = main(sys.argv[1])
     for f in fails:
         print("FAIL:", f)
