@@ -128,7 +128,8 @@ struct IterationCost {
 // b > a iterations from the same start, each kept as the fastest of the benchmark's
 // repetitions (the same iterations and FFT pairs every time: a rerun gives the same bits).
 // Per iteration: (t_b − t_a)/(b − a), and the same for FFT pairs and transform seconds;
-// setup_ms is what a solve costs beyond its iterations, t_a − a × that.
+// setup_ms is what a solve costs beyond its iterations, t_a − a × that. Differences of
+// two timings carry the noise of both: on a loaded machine fft_share can come out above 1.
 struct MarginalCost {
   std::optional<SolveResult> fastest_a, fastest_b;
   static void keep(std::optional<SolveResult>& best, const SolveResult& r) {

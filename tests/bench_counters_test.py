@@ -40,7 +40,10 @@ def main(bench):
 
     # The solves of 10 and 30 iterations: 20 between them.
     close(b["iterations_measured"], 20, "iterations_measured")
-    for k in ("ms_per_iteration", "fft_pair_ms", "row_column_pair_ms"):
+    # (ms_per_iteration and fft_share are differences of two solves' times: on a loaded
+    # machine the first can come out at or below 0 and the second above 1, so neither is
+    # bounded here; measured under a concurrent CI run: fft_share 1.048 once in 8 runs.)
+    for k in ("fft_pair_ms", "row_column_pair_ms"):
         if not b[k] > 0:
             fails.append(f"{k} = {b[k]} is not positive")
     close(b["floor_pair_ms"], min(b["fft_pair_ms"], b["row_column_pair_ms"]), "floor_pair_ms = min of the two pairs")
@@ -57,8 +60,6 @@ def main(bench):
         fails.append(f"clipped_per_iteration = {c} is not a fraction")
     if not 1.0 + 0.5 * c - 1e-12 <= pairs <= 1.5 + 1e-12:
         fails.append(f"fft_pairs_per_iteration = {pairs} outside [1 + clipped/2, 1.5] = [{1 + 0.5 * c}, 1.5]")
-    if not 0.0 < b["fft_share"] <= 1.0 + 1e-9:
-        fails.append(f"fft_share = {b['fft_share']} is not a share")
     return fails
 
 
