@@ -71,13 +71,18 @@ struct PolonskyKeer::Device : pk::Fields {
   Acc direction_and_curvature(const std::uint8_t* mask, F f, double& curvature) {
     return pk::compose::direction_and_curvature<Acc>(*this, mask, f, curvature);
   }
-  template <class Acc, class S, class F>
-  Acc step_and_gap_sums(S step, const std::uint8_t* mask, double level, F f) {
-    return pk::compose::step_and_gap_sums<Acc>(*this, step, mask, level, f);
+  template <class Acc, class F>
+  Acc exact_and_gap_sums(double s, const std::uint8_t* mask, double level, F f) {
+    return pk::compose::exact_and_gap_sums<Acc>(*this, s, mask, level, f);
   }
-  template <class Acc, class S, class F>
-  Acc pressure_and_gap_sums(S step, const std::uint8_t* mask, double level, F f) {
-    return pk::compose::pressure_and_gap_sums<Acc>(*this, step, mask, level, f);
+  template <class Acc, class F>
+  Acc linear_and_gap_sums(double s, double tau, const std::uint8_t* mask, double level, F f) {
+    return pk::compose::linear_and_gap_sums<Acc>(*this, s, tau, mask, level, f);
+  }
+  template <class Acc, class StepAcc, class P, class C, class F>
+  Acc project_and_gap_sums(P pass, C choose, bool, const std::uint8_t* mask, double level, F f, StepAcc& st,
+                           pk::StepChoice& c) {
+    return pk::compose::project_and_gap_sums<Acc>(*this, pass, choose, mask, level, f, st, c);
   }
   template <class Acc, class Fill, class F>
   Acc stiffness_and_sums(Fill fill, const std::uint8_t* mask, F f) {

@@ -77,7 +77,8 @@ struct BlockVisit {
 
 // A solve's work arrays (PolonskyKeer::Options::keep_work keeps them between solves).
 // Fused sweeps (a periodic grid held by one process): the row-column transform and the
-// compliance in its layout; the spectra are then in that layout too.
+// compliance in its layout, and no p̂ or ĥ (empty); otherwise p̂ and ĥ/N for compose::'s
+// steps.
 struct PolonskyKeer::Work {
   Spectrum p_hat, h_hat;
   Field t, z;
@@ -145,9 +146,12 @@ struct HostOf : Fields {
       wk.rc.reset();
       wk.ker = Field();
     }
-    for (Spectrum* s : {&wk.p_hat, &wk.h_hat}) s->resize(held);
-    p_hat = reinterpret_cast<double*>(wk.p_hat.data());
-    h_hat = reinterpret_cast<double*>(wk.h_hat.data());
+    // The fused steps hold no spectrum of p or h (exact_and_gap_sums() below).
+    for (Spectrum* s : {&wk.p_hat, &wk.h_hat})
+      if (rc) *s = Spectrum();
+      else s->resize(held);
+    p_hat = rc ? nullptr : reinterpret_cast<double*>(wk.p_hat.data());
+    h_hat = rc ? nullptr : reinterpret_cast<double*>(wk.h_hat.data());
     out = reinterpret_cast<double*>(spec);
   }
   // The fused sweeps' transforms count as the operator's (fft_pairs(), fft_seconds()).
@@ -185,25 +189,14 @@ struct HostOf : Fields {
 
   using None = RowColumnFourier::None;
   static constexpr auto no_row_pass = [](std::size_t, None&) {};
-  static constexpr auto no_mode_pass = [](const RowColumnFourier::Block&, None&) {};
-  void forward_into(const double* f, Complex* s) {
-    rc->forward_rows<None>(f, s, no_row_pass);
-    rc->columns<None>(s, RowColumnFourier::kForward, no_mode_pass);
-  }
-  void forward_p() {
-    if (!rc) return hs.forward(P, wk.p_hat);
-    forward_into(p, wk.p_hat.data());
-  }
-  // ĥ = scale FFT(h): the scaling inside the column sweep, while a block is in cache.
+  // Unfused only (compose::'s steps; the fused ones hold no p̂).
+  void forward_p() { hs.forward(P, wk.p_hat); }
+  // ĥ = scale FFT(h), for compose::'s steps; the fused steps add h in real space.
   void forward_h(double scale) {
+    if (rc) return;
     Complex* hh = wk.h_hat.data();
-    if (!rc) {
-      hs.forward(H, wk.h_hat);
-      return all(nspec, [=](std::size_t k) { hh[k] *= scale; });
-    }
-    rc->forward_rows<None>(h, hh, no_row_pass);
-    rc->columns<None>(hh, RowColumnFourier::kForward,
-                      [&](const RowColumnFourier::Block& B, None&) { B.each([&](std::size_t k) { hh[k] *= scale; }); });
+    hs.forward(H, wk.h_hat);
+    all(nspec, [=](std::size_t k) { hh[k] *= scale; });
   }
   // Unfused only (the combined operations below use them when rc is null).
   double curvature_t() {
@@ -248,31 +241,93 @@ struct HostOf : Fields {
                   }).v;
     return a;
   }
-  template <class Acc, class S, class F>
-  Acc step_and_gap_sums(S step, const std::uint8_t* mask, double level, F f) {
-    if (!rc) return compose::step_and_gap_sums<Acc>(*this, step, mask, level, f);
-    rc->columns<None>(spec, RowColumnFourier::kInverse, [&](const RowColumnFourier::Block& B, None&) {
-      B.each(step);
-    });
-    return inverse_and_gap_sums<Acc>(mask, level, f);
-  }
-  template <class Acc, class S, class F>
-  Acc pressure_and_gap_sums(S step, const std::uint8_t* mask, double level, F f) {
-    if (!rc) return compose::pressure_and_gap_sums<Acc>(*this, step, mask, level, f);
-    // p's rows, then per block: p̂'s column transforms, the step (p̂ -> out), out's inverse.
-    Complex* ph = wk.p_hat.data();
-    rc->forward_rows<None>(p, ph, no_row_pass);
-    rc->columns<None>(
-        ph, RowColumnFourier::kForward | RowColumnFourier::kInverse,
-        [&](const RowColumnFourier::Block& B, None&) {
-          B.each(step);
-        },
-        spec);
-    return inverse_and_gap_sums<Acc>(mask, level, f);
-  }
+  // w = h + G (s p). Fused: p's rows, then per block its column transforms, the compliance
+  // times s, and the inverse column transforms, all in the scratch spectrum, then row by
+  // row the inverse into a buffer, w = h + that row, and the gap sums. No spectrum of p or
+  // of h is held or streamed: the pass over the modes reads the compliance alone, and the
+  // sweep works in place. (Until 2026-11-28 the sweep transformed p into p̂, wrote s p̂
+  // back, and wrote G s p̂ + ĥ/N into a second spectrum: at 2048², 2 threads, that sweep
+  // alone took 27.3–27.9 ms against 26.2–26.7 ms in place, the bare pair 22.4–22.6 ms;
+  // README "Performance" has the whole iteration.)
   template <class Acc, class F>
-  Acc inverse_and_gap_sums(const std::uint8_t* mask, double level, F f) {
-    return rc->inverse_rows<Acc>(spec, w, in_or_below_row<Acc>(mask, level, f));
+  Acc exact_and_gap_sums(double s, const std::uint8_t* mask, double level, F f) {
+    if (!rc) return compose::exact_and_gap_sums<Acc>(*this, s, mask, level, f);
+    rc->forward_rows<None>(p, spec, no_row_pass);
+    return exact_after_rows<Acc>(s, mask, level, f);
+  }
+  // The rest of exact_and_gap_sums() once p's rows are transformed into the scratch.
+  template <class Acc, class F>
+  Acc exact_after_rows(double s, const std::uint8_t* mask, double level, F f) {
+    const double* k = ker;
+    Complex* o = spec;
+    rc->columns<None>(spec, RowColumnFourier::kForward | RowColumnFourier::kInverse,
+                      [&](const RowColumnFourier::Block& B, None&) {
+                        B.each([&](std::size_t q) { o[q] *= s * k[q]; });
+                      });
+    const double* hh = h;
+    double* ww = w;
+    const std::size_t nxx = nx;
+    auto gap = in_or_below_row<Acc>(mask, level, f);
+    return rc->inverse_rows_through<Acc>(spec, [&](std::size_t j, const double* u, Acc& acc) {
+      const std::size_t i0 = j * nxx;
+      for (std::size_t i = 0; i < nxx; ++i) ww[i0 + i] = hh[i0 + i] + u[i];
+      gap(j, acc);
+    });
+  }
+  // w = h + G p' for p' = s (p − τ t): G t from t's spectrum in `out` (one inverse), then
+  // row by row w = h + s ((w − h) − τ G t), and the gap sums. (Round-off gathers in w
+  // from one linear step to the next, as it did in p̂ before: Options::recompute_every
+  // bounds the run of them.)
+  template <class Acc, class F>
+  Acc linear_and_gap_sums(double s, double tau, const std::uint8_t* mask, double level, F f) {
+    if (!rc) return compose::linear_and_gap_sums<Acc>(*this, s, tau, mask, level, f);
+    const double* k = ker;
+    Complex* o = spec;
+    rc->columns<None>(spec, RowColumnFourier::kInverse, [&](const RowColumnFourier::Block& B, None&) {
+      B.each([&](std::size_t q) { o[q] *= k[q]; });
+    });
+    const double* hh = h;
+    double* ww = w;
+    const std::size_t nxx = nx;
+    auto gap = in_or_below_row<Acc>(mask, level, f);
+    return rc->inverse_rows_through<Acc>(spec, [&](std::size_t j, const double* gt, Acc& acc) {
+      const std::size_t i0 = j * nxx;
+      for (std::size_t i = 0; i < nxx; ++i) ww[i0 + i] = hh[i0 + i] + s * ((ww[i0 + i] - hh[i0 + i]) - tau * gt[i]);
+      gap(j, acc);
+    });
+  }
+  // Run::project(). Fused, the pass runs row by row: inside p's transform where the step
+  // is likely exact (each row's points right before the row's r2c, which then finds them in
+  // cache; the step is then made exact even where choose() would have allowed a linear one,
+  // since the rows overwrote t's spectrum), else on its own; in both cases a thread's sums
+  // run over its rows in order and merge in thread order, as the forward row sweep's do,
+  // so the pass's sums, and the solve, do not depend on which route it took.
+  template <class Acc, class StepAcc, class P, class C, class F>
+  Acc project_and_gap_sums(P pass, C choose, bool likely_exact, const std::uint8_t* mask, double level, F f,
+                           StepAcc& st, StepChoice& c) {
+    if (!rc) return compose::project_and_gap_sums<Acc>(*this, pass, choose, mask, level, f, st, c);
+    const double* wv = w;
+    const std::size_t nxx = nx;
+    const auto row = [&](std::size_t j, StepAcc& acc) {
+      Visit::in_or_below(mask, wv, level, j * nxx, (j + 1) * nxx, [&](std::size_t i) { pass(i, acc); });
+    };
+    if (likely_exact) {
+      st = rc->forward_rows<StepAcc>(p, spec, row);
+      c = choose(st);
+      c.exact = true;
+      return c.ok ? exact_after_rows<Acc>(c.s, mask, level, f) : Acc{};
+    }
+    st = Grid::parallel_reduce<StepAcc>(
+        std::size_t(rc->ny()),
+        [&](std::size_t j0, std::size_t j1, StepAcc& acc) {
+          StepAcc local;
+          for (std::size_t j = j0; j < j1; ++j) row(j, local);
+          acc.merge(local);
+        },
+        std::size_t(rc->nx()) * std::size_t(rc->ny()));
+    c = choose(st);
+    if (!c.ok) return Acc{};
+    return c.exact ? exact_and_gap_sums<Acc>(c.s, mask, level, f) : linear_and_gap_sums<Acc>(c.s, c.tau, mask, level, f);
   }
   // The stiffness is taken from the compliance, (1/N)² / G = E*|q|/(2N), 0 at q = 0, as the
   // GPU backend does (one multiplier less to hold and to stream).

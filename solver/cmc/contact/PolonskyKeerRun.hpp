@@ -11,7 +11,8 @@
 //   p, w, t, z, m, h    pressure (times sigma), w = h + u, direction, preconditioned gap,
 //                       contact mask (m[i] == (p[i] > 0), always), heights
 //   p_hat, h_hat, out, ker
-//                       spectra as interleaved (re, im) doubles: of p, of h/N, and the
+//                       spectra as interleaved (re, im) doubles: of p, of h/N (both only
+//                       where the backend runs the steps as compose:: does), and the
 //                       transform's scratch, which holds t's spectrum from curvature_t()
 //                       until the step overwrites it; ker: the compliance (1/N folded in)
 //   all(k, f)                         f(i) for i in [0, k)
@@ -21,24 +22,34 @@
 //                                     calls f for the other points of a block of eight
 //                                     too, so f must be a no-op there
 //   sum(v)                            Σ v over the whole grid
-//   forward_p(), forward_h(s)         p_hat = FFT(p) (unnormalised), h_hat = s FFT(h)
-//   three combined operations, each a pass, a transform and a pass; a backend may run
+//   forward_h(s)                      h_hat = s FFT(h), where the backend keeps it
+//   four combined operations, each a pass, a transform and a pass; a backend may run
 //   them one after the other (compose:: below) or the passes inside the transforms'
 //   sweeps (the CPU's, PolonskyKeerHost.hpp). The spectra's layout is the backend's: Run
 //   only touches modes through mode passes, which treat every mode alike.
 //   direction_and_curvature<Acc>(m, f, c)
 //                                     f(i, acc) for i in the mask (it writes t), then
 //                                     out = FFT(t) and c = <t, G t>
-//   step_and_gap_sums<Acc>(s, m, level, f)
-//                                     s(k) for every mode k, then w = inverse FFT of out,
-//                                     then f(i, acc) as reduce_in_or_below(m, w, level)
-//   pressure_and_gap_sums<Acc>(s, m, level, f)
-//                                     p_hat = FFT(p), then as step_and_gap_sums
+//   exact_and_gap_sums<Acc>(s, m, level, f)
+//                                     w = h + G (s p), then f(i, acc) as
+//                                     reduce_in_or_below(m, w, level)
+//   linear_and_gap_sums<Acc>(s, tau, m, level, f)
+//                                     w = h + G p' for p' = s (p − τ t), from t's spectrum
+//                                     in out (one inverse transform), then f as above
+//   project_and_gap_sums<Acc>(pass, choose, likely_exact, m, level, f, st, c)
+//                                     st = the sums of pass(i, st) for i in the mask or
+//                                     with w < level (it writes p, m and t), c =
+//                                     choose(st) (a StepChoice), then where c.ok the step
+//                                     c names, as exact_ or linear_and_gap_sums; a backend
+//                                     may run the pass inside p's transform where
+//                                     likely_exact, and then makes the step exact (c.exact
+//                                     says which step it made)
 //   stiffness_and_sums<Acc>(fill, m, f)
 //                                     fill(i) for every i (it writes z), z = K z (one FFT
 //                                     pair), then f(i, acc) for i in the mask
-//   and, for compose::, curvature_t() (out = FFT(t); returns <t, G t>), inverse_w()
-//   (w = inverse FFT of out) and stiffness_z() (z = K z).
+//   and, for compose::, forward_p() (p_hat = FFT(p), unnormalised), curvature_t()
+//   (out = FFT(t); returns <t, G t>), inverse_w() (w = inverse FFT of out) and
+//   stiffness_z() (z = K z).
 #pragma once
 
 #include "cmc/contact/PolonskyKeer.hpp"
@@ -75,6 +86,14 @@ struct StepSums {
   double psum = 0.0;
   bool changed = false;
   CMC_HD void merge(const StepSums& o) { psum += o.psum, changed = changed || o.changed; }
+};
+
+// What Run::project() makes of its pass's sums: whether the pressure survived (ok), the
+// load scaling s, and whether the step that makes w transforms the new p (exact) or
+// updates from the direction's spectrum, p' = s (p − τ t).
+struct StepChoice {
+  bool ok = true, exact = true;
+  double s = 1.0, tau = 0.0;
 };
 
 // The pass of step (a) that gap_sums() runs: the sums of GapSums for the points in the
@@ -116,6 +135,48 @@ template <class Acc, class B, class S, class F>
 Acc pressure_and_gap_sums(B& b, S step, const std::uint8_t* m, double level, F f) {
   b.forward_p();
   return step_and_gap_sums<Acc>(b, step, m, level, f);
+}
+// The two steps of Run (set_pressure(), step()) over a spectral state: p̂ = s FFT(p), or
+// p̂ ← s (p̂ − τ t̂) with t̂ in `out`, and then out = G p̂ + ĥ/N, whose inverse is w = h + G p
+// (ĥ/N from forward_h(1/N), kept for the whole solve). On the real and imaginary parts as
+// doubles (what std::complex computes, component by component, for a complex times a
+// real). t̂ is read before it is overwritten: one spectrum less to hold and to stream than
+// a t̂ of its own (issues 11, 16).
+template <class Acc, class B, class F>
+Acc exact_and_gap_sums(B& b, double s, const std::uint8_t* m, double level, F f) {
+  double *out = b.out, *ph = b.p_hat;
+  const double *off = b.h_hat, *ker = b.ker;
+  return pressure_and_gap_sums<Acc>(
+      b,
+      [=] CMC_HD(std::size_t k) {
+        const double re = s * ph[2 * k], im = s * ph[2 * k + 1];
+        ph[2 * k] = re, ph[2 * k + 1] = im;
+        out[2 * k] = re * ker[k] + off[2 * k], out[2 * k + 1] = im * ker[k] + off[2 * k + 1];
+      },
+      m, level, f);
+}
+template <class Acc, class B, class F>
+Acc linear_and_gap_sums(B& b, double s, double tau, const std::uint8_t* m, double level, F f) {
+  double *out = b.out, *ph = b.p_hat;
+  const double *off = b.h_hat, *ker = b.ker;
+  return step_and_gap_sums<Acc>(
+      b,
+      [=] CMC_HD(std::size_t k) {
+        const double re = s * (ph[2 * k] - tau * out[2 * k]), im = s * (ph[2 * k + 1] - tau * out[2 * k + 1]);
+        ph[2 * k] = re, ph[2 * k + 1] = im;
+        out[2 * k] = re * ker[k] + off[2 * k], out[2 * k + 1] = im * ker[k] + off[2 * k + 1];
+      },
+      m, level, f);
+}
+// Run::project(): pass(i, st) for i in the mask or with w < level, then c = choose(st),
+// then (where c.ok) the step it chose, with the gap sums f.
+template <class Acc, class B, class StepAcc, class P, class C, class F>
+Acc project_and_gap_sums(B& b, P pass, C choose, const std::uint8_t* m, double level, F f, StepAcc& st,
+                         StepChoice& c) {
+  st = b.template reduce_in_or_below<StepAcc>(m, b.w, level, b.n, pass);
+  c = choose(st);
+  if (!c.ok) return Acc{};
+  return c.exact ? exact_and_gap_sums<Acc>(b, c.s, m, level, f) : linear_and_gap_sums<Acc>(b, c.s, c.tau, m, level, f);
 }
 template <class Acc, class B, class Fill, class F>
 Acc stiffness_and_sums(B& b, Fill fill, const std::uint8_t* m, F f) {
@@ -197,44 +258,22 @@ class Run {
   double sigma() const { return sigma_; }
   std::string failure;
 
-  // ---- the spectral state that makes an iteration cost one FFT pair
-  // ĥ/N: the operator then returns w = h + G p without a pass that reads h.
+  // ---- the transforms of a step: each makes w for a new pressure, and with it the next
+  // step (a)'s sums (gap_sums() takes them from there)
+  // ĥ/N where the backend keeps w = h + G p̂ in the spectrum (compose:: below).
   void heights_spectrum() { b_.forward_h(1.0 / b_.transform_points); }
-  // p̂ = s FFT(p) (one forward) and w = h + G p̂ (one inverse).
-  void set_pressure(double s) { step(s, 0.0, true); }
-  // p̂ ← s (p̂ − τ t̂) and w = h + G p̂ (one inverse); from_p: p̂ taken from p first (one
-  // forward, τ = 0). The caller applies the same step to the real-space p. On the real and
-  // imaginary parts as doubles (what std::complex computes, component by component, for a
-  // complex times a real). t̂ is in `out` (the direction's transform left it there), read
-  // before it is overwritten: one spectrum less to hold and to stream through the caches
-  // than a t̂ of its own (issues 11, 16). The next step (a)'s sums come with the inverse
-  // (gap_sums() takes them from there).
-  void step(double s, double tau, bool from_p = false) {
-    double *out = b_.out, *ph = b_.p_hat;
-    const double *off = b_.h_hat, *ker = b_.ker;
-    if (tau != 0.0) {
-      step_with(
-          [=] CMC_HD(std::size_t k) {
-            const double re = s * (ph[2 * k] - tau * out[2 * k]), im = s * (ph[2 * k + 1] - tau * out[2 * k + 1]);
-            ph[2 * k] = re, ph[2 * k + 1] = im;
-            out[2 * k] = re * ker[k] + off[2 * k], out[2 * k + 1] = im * ker[k] + off[2 * k + 1];
-          },
-          from_p);
-    } else {
-      step_with(
-          [=] CMC_HD(std::size_t k) {
-            const double re = s * ph[2 * k], im = s * ph[2 * k + 1];
-            ph[2 * k] = re, ph[2 * k + 1] = im;
-            out[2 * k] = re * ker[k] + off[2 * k], out[2 * k + 1] = im * ker[k] + off[2 * k + 1];
-          },
-          from_p);
-    }
+  // w = h + G (s p): one forward transform and one inverse.
+  void set_pressure(double s) {
+    keep_pending(b_.template exact_and_gap_sums<GapSums>(s, b_.m, delta_, GapBody{b_.w, b_.t, b_.m, delta_}));
   }
-  template <class S>
-  void step_with(S modes, bool from_p) {
-    const GapBody gap{b_.w, b_.t, b_.m, delta_};
-    pending_ = from_p ? b_.template pressure_and_gap_sums<GapSums>(modes, b_.m, delta_, gap)
-                      : b_.template step_and_gap_sums<GapSums>(modes, b_.m, delta_, gap);
+  // w = h + G p' for p' = s (p − τ t), from t's spectrum, which the direction's transform
+  // left in `out`: one inverse transform. The caller applies the same step to the
+  // real-space p.
+  void step(double s, double tau) {
+    keep_pending(b_.template linear_and_gap_sums<GapSums>(s, tau, b_.m, delta_, GapBody{b_.w, b_.t, b_.m, delta_}));
+  }
+  void keep_pending(const GapSums& sums) {
+    pending_ = sums;
     pending_level_ = delta_;
     has_pending_ = true;
   }
@@ -367,7 +406,7 @@ class Run {
     std::uint8_t* m = b_.m;
     const double sg = sigma_, d = delta_;
     // Off Ic and without overlap (w ≥ d) p stays 0 and adds nothing.
-    const StepSums st = b_.template reduce_in_or_below<StepSums>(m, w, d, b_.n, [=] CMC_HD(std::size_t i, StepSums& s) {
+    const auto pass = [=] CMC_HD(std::size_t i, StepSums& s) {
       double pn = sg * p[i];
       if (pn > 0.0) {
         pn -= tau * t[i];
@@ -381,25 +420,39 @@ class Run {
       s.psum += pn;
       m[i] = pn > 0.0;
       if (!m[i]) t[i] = 0.0;  // keeps the direction zero off Ic
-    });
-    double scale = 1.0;
-    if (force_) {
-      const double mean_p = st.psum / b_.points;
-      if (!(mean_p > 0.0)) {
-        failure = "Polonsky-Keer: pressure vanished during the iteration";
-        return false;
+    };
+    // After the pass: the load scaling, and the step that makes w. A linear step is one
+    // inverse transform; a projected one needs the transform of the new p (one forward
+    // more), and so does every recompute_every-th linear one.
+    const auto choose = [&](const StepSums& st) {
+      StepChoice c;
+      c.tau = tau;
+      if (force_) {
+        const double mean_p = st.psum / b_.points;
+        if (!(mean_p > 0.0)) {
+          c.ok = false;
+          return c;
+        }
+        c.s = target_ / mean_p;
       }
-      scale = target_ / mean_p;
+      c.exact = st.changed || since_exact_ + 1 >= opt_.recompute_every;
+      return c;
+    };
+    // The step after one that changed the contact set usually changes it too: a backend
+    // may then run the pass inside the new p's transform (and make that step exact).
+    const bool likely_exact = !conjugate_ || since_exact_ + 1 >= opt_.recompute_every;
+    StepSums st;
+    StepChoice c;
+    const GapSums sums = b_.template project_and_gap_sums<GapSums>(pass, choose, likely_exact, m, d,
+                                                                   GapBody{b_.w, b_.t, b_.m, d}, st, c);
+    if (!c.ok) {
+      failure = "Polonsky-Keer: pressure vanished during the iteration";
+      return false;
     }
-    // A linear step is one inverse transform; a projected one needs the transform of the
-    // new p (one forward more).
-    if (st.changed || ++since_exact_ >= opt_.recompute_every) {
-      set_pressure(scale);
-      since_exact_ = 0;
-    } else {
-      step(scale, tau);
-    }
-    sigma_ = scale;
+    keep_pending(sums);
+    remeasured_ = false;
+    since_exact_ = c.exact ? 0 : since_exact_ + 1;
+    sigma_ = c.s;
     conjugate_ = !st.changed;
     return true;
   }
@@ -422,6 +475,7 @@ class Run {
   GapSums pending_;          // step (a)'s sums, made with the last step's inverse transform
   double pending_level_ = 0.0;
   bool has_pending_ = false;
+  bool remeasured_ = false;  // the round-off floor's sums taken again at the current δ
 };
 
 template <class B>
@@ -491,7 +545,19 @@ void Run<B>::run(SolveResult& res) {
       conjugate_ = false;
     } else {
       // No descent left and no overlap: round-off floor. Confirm on an exact u, then stop.
-      if (since_exact_ == 0) return;
+      if (since_exact_ == 0) {
+        // The sums were taken relative to the δ before this one: where δ moved, G = s2 −
+        // nc shift² cancels, and its round-off (ε s2) can hold the residual above the
+        // tolerance (a Hertz contact of 5 points at 16², its last step exact: 2.7e-11 against
+        // 1e-12). Measure them once more at the new δ (a pass, no transform).
+        if (!remeasured_ && c != delta_) {
+          remeasured_ = true;
+          has_pending_ = false;
+          --it;  // not an iteration: nothing moved
+          continue;
+        }
+        return;
+      }
       exact();
       ++res.diagnostics.exact_recomputes;
       conjugate_ = false;

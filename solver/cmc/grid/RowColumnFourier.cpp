@@ -89,6 +89,8 @@ void RowColumnFourier::reorder(const double* rows, double* blocks) const {
   }
 }
 
+double* RowColumnFourier::row_buffer(int thread) { return plans_->real_rows[std::size_t(thread)].data(); }
+
 int RowColumnFourier::thread_id() { return omp_get_thread_num(); }
 
 // A row that does not share the planning arrays' alignment (nx not a multiple of the SIMD

@@ -35,6 +35,8 @@
 //                              of s, or of s2 if given (a pass that maps one spectrum onto
 //                              another between the two transforms)
 //   inverse_rows(s, f, pass):  for each row j: f's row j = c2r of s's row j, then pass(j, acc)
+//   inverse_rows_through(s, pass): for each row j: pass(j, row, acc) with row = c2r of s's
+//                              row j in a buffer of the thread's
 // A forward transform is forward_rows then columns(kForward); an inverse one columns(kInverse)
 // then inverse_rows. Both unnormalised, as Fourier's. s is left as it is by inverse_rows.
 // Plans: the built-in wisdom's (solver/tools/make_wisdom.cpp plans these transforms too),
@@ -92,6 +94,10 @@ class RowColumnFourier {
   Acc columns(Complex* s, int what, Pass&& pass, Complex* inverse_of = nullptr);
   template <class Acc, class Pass>
   Acc inverse_rows(const Complex* s, double* f, Pass&& pass);
+  // The same without a destination: row j's c2r goes into a row buffer of the thread's,
+  // handed to pass(j, row, acc), which makes what it needs of it (e.g. f = h + row).
+  template <class Acc, class Pass>
+  Acc inverse_rows_through(const Complex* s, Pass&& pass);
 
   // Transforms done (a forward one counts with its column sweep, an inverse one too), and
   // the seconds of all sweeps, passes inside them included.
@@ -114,6 +120,7 @@ class RowColumnFourier {
   void row_forward(int thread, const double* row, int g);
   void row_inverse(int thread, int g, double* row);
   void column_transforms(Complex* s, int b, bool forward);
+  double* row_buffer(int thread);  // nx aligned reals of the thread's
   void scatter(int thread, Complex* s, int j, int count) const;
   void gather(int thread, const Complex* s, int j, int count) const;
   std::size_t work() const { return std::size_t(nx_) * std::size_t(ny_); }
@@ -189,6 +196,18 @@ Acc RowColumnFourier::inverse_rows(const Complex* s, double* f, Pass&& pass) {
     for (std::size_t i = j; i < g1; ++i) {
       row_inverse(t, int(i - j), f + i * nx);
       pass(i, local);
+    }
+  });
+}
+
+template <class Acc, class Pass>
+Acc RowColumnFourier::inverse_rows_through(const Complex* s, Pass&& pass) {
+  return row_groups<Acc>([&](int t, std::size_t j, std::size_t g1, Acc& local) {
+    gather(t, s, int(j), int(g1 - j));
+    double* row = row_buffer(t);
+    for (std::size_t i = j; i < g1; ++i) {
+      row_inverse(t, int(i - j), row);
+      pass(i, static_cast<const double*>(row), local);
     }
   });
 }
