@@ -29,6 +29,33 @@ auto rough_surface(int n, unsigned seed) {
   spec.seed = seed;
   return generate_self_affine(spec, n);
 }
+// The largest pressure difference between two solutions, and the points in the contact
+// set of one and not of the other.
+struct PressureDifference {
+  double max = 0.0;
+  std::size_t set_differs = 0;
+};
+PressureDifference pressure_difference(const ContactState& a, const ContactState& b) {
+  PressureDifference d;
+  for (std::size_t i = 0; i < a.pressure.size(); ++i) {
+    d.max = std::max(d.max, std::abs(a.pressure[i] - b.pressure[i]));
+    d.set_differs += (a.pressure[i] > 0.0) != (b.pressure[i] > 0.0);
+  }
+  return d;
+}
+// Solves `target` with the fused sweeps off (index 0) and on (1).
+void solve_unfused_and_fused(HalfSpace& hs, const Field& heights, const Target& target, double tolerance,
+                             bool precondition, ContactState st[2], SolveResult r[2]) {
+  for (int fused : {0, 1}) {
+    PolonskyKeer::Options o;
+    o.tolerance = tolerance;
+    o.precondition = precondition;
+    o.fused_sweeps = fused == 1;
+    PolonskyKeer pk(hs, heights, o);
+    r[fused] = pk.solve(target, st[fused]);
+    EXPECT_TRUE(r[fused].converged) << (fused ? "fused: " : "unfused: ") << r[fused].message;
+  }
+}
 }  // namespace
 
 // Hertz on a free boundary, a/dx = 16: δ(F) within 1e-3 of Hertz (the bound of
@@ -334,28 +361,16 @@ TEST(PolonskyKeer, FusedSweepsGiveTheSameSolution) {
                    (target.control == Control::MeanPressure ? "force" : "displacement"));
       ContactState st[2];
       SolveResult r[2];
-      for (int fused : {0, 1}) {
-        PolonskyKeer::Options o;
-        o.tolerance = 1e-10;
-        o.precondition = precondition;
-        o.fused_sweeps = fused == 1;
-        PolonskyKeer pk(hs, surf.map.heights, o);
-        r[fused] = pk.solve(target, st[fused]);
-        ASSERT_TRUE(r[fused].converged) << r[fused].message;
-      }
+      solve_unfused_and_fused(hs, surf.map.heights, target, 1e-10, precondition, st, r);
+      ASSERT_TRUE(r[0].converged && r[1].converged);
       // Round-off can decide whether a point at the edge of the contact set is clipped in a
       // step (seen in the sanitizer build, -O1: one projected step more, 0.5 FFT pairs), so
       // the paths may differ by a restart or two; not by a tenth of the iterations.
       EXPECT_LE(std::abs(r[0].iterations - r[1].iterations), std::max(2, r[0].iterations / 10));
       const double peak = Grid::max(st[0].pressure);
-      double dp = 0.0;
-      std::size_t set_differs = 0;
-      for (std::size_t i = 0; i < st[0].pressure.size(); ++i) {
-        dp = std::max(dp, std::abs(st[0].pressure[i] - st[1].pressure[i]));
-        set_differs += (st[0].pressure[i] > 0.0) != (st[1].pressure[i] > 0.0);
-      }
-      EXPECT_EQ(set_differs, 0u);
-      EXPECT_LT(dp, 1e-9 * peak) << dp / peak;
+      const PressureDifference d = pressure_difference(st[0], st[1]);
+      EXPECT_EQ(d.set_differs, 0u);
+      EXPECT_LT(d.max, 1e-9 * peak) << d.max / peak;
       const double g0 = Grid::mean(st[0].gap), g1 = Grid::mean(st[1].gap);
       EXPECT_LT(std::abs(g0 - g1), 2.0 * 1e-10 * h_rms) << (g0 - g1) / h_rms;
     }
@@ -399,23 +414,11 @@ TEST(PolonskyKeer, FusedLinearStepsGiveTheSameSolution) {
   PeriodicHalfSpace hs(g, 1.0);
   ContactState st[2];
   SolveResult r[2];
-  for (int fused : {0, 1}) {
-    PolonskyKeer::Options o;
-    o.tolerance = 1e-12;
-    o.precondition = false;
-    o.fused_sweeps = fused == 1;
-    PolonskyKeer pk(hs, topo.heights, o);
-    r[fused] = pk.solve({Control::MeanPressure, 4.0 * 0.2 * 0.2 * 0.2 / 3.0}, st[fused]);
-    ASSERT_TRUE(r[fused].converged) << r[fused].message;
-  }
+  solve_unfused_and_fused(hs, topo.heights, {Control::MeanPressure, 4.0 * 0.2 * 0.2 * 0.2 / 3.0}, 1e-12, false, st, r);
+  ASSERT_TRUE(r[0].converged && r[1].converged);
   EXPECT_LT(r[1].fft_pairs, 1.4 * r[1].iterations);
   const double peak = Grid::max(st[0].pressure);
-  double dp = 0.0;
-  std::size_t set_differs = 0;
-  for (std::size_t i = 0; i < st[0].pressure.size(); ++i) {
-    dp = std::max(dp, std::abs(st[0].pressure[i] - st[1].pressure[i]));
-    set_differs += (st[0].pressure[i] > 0.0) != (st[1].pressure[i] > 0.0);
-  }
-  EXPECT_EQ(set_differs, 0u);
-  EXPECT_LT(dp, 1e-9 * peak) << dp / peak;
+  const PressureDifference d = pressure_difference(st[0], st[1]);
+  EXPECT_EQ(d.set_differs, 0u);
+  EXPECT_LT(d.max, 1e-9 * peak) << d.max / peak;
 }

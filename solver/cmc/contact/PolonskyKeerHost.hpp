@@ -258,21 +258,10 @@ struct HostOf : Fields {
   // The rest of exact_and_gap_sums() once p's rows are transformed into the scratch.
   template <class Acc, class F>
   Acc exact_after_rows(double s, const std::uint8_t* mask, double level, F f) {
-    const double* k = ker;
-    Complex* o = spec;
-    rc->columns<None>(spec, RowColumnFourier::kForward | RowColumnFourier::kInverse,
-                      [&](const RowColumnFourier::Block& B, None&) {
-                        B.each([&](std::size_t q) { o[q] *= s * k[q]; });
-                      });
-    const double* hh = h;
-    double* ww = w;
-    const std::size_t nxx = nx;
-    auto gap = in_or_below_row<Acc>(mask, level, f);
-    return rc->inverse_rows_through<Acc>(spec, [&](std::size_t j, const double* u, Acc& acc) {
-      const std::size_t i0 = j * nxx;
-      for (std::size_t i = 0; i < nxx; ++i) ww[i0 + i] = hh[i0 + i] + u[i];
-      gap(j, acc);
-    });
+    return compliance_and_rows<Acc>(RowColumnFourier::kForward | RowColumnFourier::kInverse, s, mask, level, f,
+                                    [](double* w_row, const double* h_row, const double* u, std::size_t k) {
+                                      for (std::size_t i = 0; i < k; ++i) w_row[i] = h_row[i] + u[i];
+                                    });
   }
   // w = h + G p' for p' = s (p − τ t): G t from t's spectrum in `out` (one inverse), then
   // row by row w = h + s ((w − h) − τ G t), and the gap sums. (Round-off gathers in w
@@ -281,18 +270,28 @@ struct HostOf : Fields {
   template <class Acc, class F>
   Acc linear_and_gap_sums(double s, double tau, const std::uint8_t* mask, double level, F f) {
     if (!rc) return compose::linear_and_gap_sums<Acc>(*this, s, tau, mask, level, f);
+    return compliance_and_rows<Acc>(RowColumnFourier::kInverse, 1.0, mask, level, f,
+                                    [s, tau](double* w_row, const double* h_row, const double* gt, std::size_t k) {
+                                      for (std::size_t i = 0; i < k; ++i)
+                                        w_row[i] = h_row[i] + s * ((w_row[i] - h_row[i]) - tau * gt[i]);
+                                    });
+  }
+  // The column sweep `what` over the scratch with the compliance times `scale` on every
+  // mode, then row by row the inverse into a buffer, make_w(w's row, h's row, that row,
+  // nx), and the gap sums f on the row.
+  template <class Acc, class F, class MakeW>
+  Acc compliance_and_rows(int what, double scale, const std::uint8_t* mask, double level, F f, MakeW make_w) {
     const double* k = ker;
     Complex* o = spec;
-    rc->columns<None>(spec, RowColumnFourier::kInverse, [&](const RowColumnFourier::Block& B, None&) {
-      B.each([&](std::size_t q) { o[q] *= k[q]; });
+    rc->columns<None>(spec, what, [&](const RowColumnFourier::Block& B, None&) {
+      B.each([&](std::size_t q) { o[q] *= scale * k[q]; });
     });
     const double* hh = h;
     double* ww = w;
     const std::size_t nxx = nx;
     auto gap = in_or_below_row<Acc>(mask, level, f);
-    return rc->inverse_rows_through<Acc>(spec, [&](std::size_t j, const double* gt, Acc& acc) {
-      const std::size_t i0 = j * nxx;
-      for (std::size_t i = 0; i < nxx; ++i) ww[i0 + i] = hh[i0 + i] + s * ((ww[i0 + i] - hh[i0 + i]) - tau * gt[i]);
+    return rc->inverse_rows_through<Acc>(spec, [&](std::size_t j, const double* row, Acc& acc) {
+      make_w(ww + j * nxx, hh + j * nxx, row, nxx);
       gap(j, acc);
     });
   }
