@@ -77,11 +77,9 @@ struct BlockVisit {
 
 // A solve's work arrays (PolonskyKeer::Options::keep_work keeps them between solves).
 // Fused sweeps (a periodic grid held by one process): the row-column transform and the
-// compliance in its layout, and no p̂ or ĥ (empty); otherwise p̂ and ĥ/N for compose::'s
-// steps.
+// compliance in its layout. Unfused: G t for a linear step (made at the first one).
 struct PolonskyKeer::Work {
-  Spectrum p_hat, h_hat;
-  Field t, z;
+  Field t, z, gt;
   std::vector<std::uint8_t> ic;
   std::unique_ptr<RowColumnFourier> rc;
   Field ker;
@@ -128,7 +126,6 @@ struct HostOf : Fields {
     p = P.data(), w = W.data(), t = wk.t.data(), z = wk.z.data(), m = wk.ic.data(), h = H.data();
     spec = hs.spectrum().data();
     ker = hs.compliance().data();
-    std::size_t held = nspec;  // modes of a spectrum in the layout the solve works in
     const Grid& g = half_space.grid();
     if (fuse && half_space.periodic() && !g.split() && g.ny > 1) {
       if (!wk.rc || wk.rc->nx() != g.nx || wk.rc->ny() != g.ny) {
@@ -139,19 +136,14 @@ struct HostOf : Fields {
       }
       rc = wk.rc.get();
       ker = wk.ker.data();
-      held = rc->spectrum_size();
-      spec = hs.scratch_spectrum(held);  // its layout is longer than the half-space's
+      spec = hs.scratch_spectrum(rc->spectrum_size());  // its layout is longer than the half-space's
       f0 = rc->forward_count(), i0 = rc->inverse_count(), s0 = rc->seconds();
     } else {
       wk.rc.reset();
       wk.ker = Field();
     }
-    // The fused steps hold no spectrum of p or h (exact_and_gap_sums() below).
-    for (Spectrum* s : {&wk.p_hat, &wk.h_hat})
-      if (rc) *s = Spectrum();
-      else s->resize(held);
-    p_hat = rc ? nullptr : reinterpret_cast<double*>(wk.p_hat.data());
-    h_hat = rc ? nullptr : reinterpret_cast<double*>(wk.h_hat.data());
+    // The steps hold no spectrum of p or h (exact_and_gap_sums() below): p_hat and h_hat
+    // stay null.
     out = reinterpret_cast<double*>(spec);
   }
   // The fused sweeps' transforms count as the operator's (fft_pairs(), fft_seconds()).
@@ -189,15 +181,8 @@ struct HostOf : Fields {
 
   using None = RowColumnFourier::None;
   static constexpr auto no_row_pass = [](std::size_t, None&) {};
-  // Unfused only (compose::'s steps; the fused ones hold no p̂).
-  void forward_p() { hs.forward(P, wk.p_hat); }
-  // ĥ = scale FFT(h), for compose::'s steps; the fused steps add h in real space.
-  void forward_h(double scale) {
-    if (rc) return;
-    Complex* hh = wk.h_hat.data();
-    hs.forward(H, wk.h_hat);
-    all(nspec, [=](std::size_t k) { hh[k] *= scale; });
-  }
+  // The steps add h in real space (exact_and_gap_sums()): no ĥ to make.
+  void forward_h(double) {}
   // Unfused only (the combined operations below use them when rc is null).
   double curvature_t() {
     hs.forward(wk.t);
@@ -251,7 +236,7 @@ struct HostOf : Fields {
   // README "Performance" has the whole iteration.)
   template <class Acc, class F>
   Acc exact_and_gap_sums(double s, const std::uint8_t* mask, double level, F f) {
-    if (!rc) return compose::exact_and_gap_sums<Acc>(*this, s, mask, level, f);
+    if (!rc) return exact_unfused<Acc>(s, mask, level, f);
     rc->forward_rows<None>(p, spec, no_row_pass);
     return exact_after_rows<Acc>(s, mask, level, f);
   }
@@ -269,12 +254,40 @@ struct HostOf : Fields {
   // bounds the run of them.)
   template <class Acc, class F>
   Acc linear_and_gap_sums(double s, double tau, const std::uint8_t* mask, double level, F f) {
-    if (!rc) return compose::linear_and_gap_sums<Acc>(*this, s, tau, mask, level, f);
+    if (!rc) return linear_unfused<Acc>(s, tau, mask, level, f);
     return compliance_and_rows<Acc>(RowColumnFourier::kInverse, 1.0, mask, level, f,
                                     [s, tau](double* w_row, const double* h_row, const double* gt, std::size_t k) {
                                       for (std::size_t i = 0; i < k; ++i)
                                         w_row[i] = h_row[i] + s * ((w_row[i] - h_row[i]) - tau * gt[i]);
                                     });
+  }
+  // The same steps unfused (a free boundary, a distributed grid): the half-space's
+  // transforms and the passes one after the other. The spectrum (the half-space's, which
+  // holds t's after curvature_t()) is multiplied by the compliance times `scale`.
+  void compliance_times(double scale) {
+    Complex* o = spec;
+    const double* k = ker;
+    all(nspec, [=](std::size_t q) { o[q] *= scale * k[q]; });
+  }
+  template <class Acc, class F>
+  Acc exact_unfused(double s, const std::uint8_t* mask, double level, F f) {
+    hs.forward(P);
+    compliance_times(s);
+    hs.inverse(W);
+    double* ww = w;
+    const double* hh = h;
+    all(n, [=](std::size_t i) { ww[i] = hh[i] + ww[i]; });
+    return reduce_in_or_below<Acc>(mask, w, level, n, f);
+  }
+  template <class Acc, class F>
+  Acc linear_unfused(double s, double tau, const std::uint8_t* mask, double level, F f) {
+    compliance_times(1.0);
+    wk.gt.resize(n);
+    hs.inverse(wk.gt);
+    double* ww = w;
+    const double *hh = h, *gt = wk.gt.data();
+    all(n, [=](std::size_t i) { ww[i] = hh[i] + s * ((ww[i] - hh[i]) - tau * gt[i]); });
+    return reduce_in_or_below<Acc>(mask, w, level, n, f);
   }
   // The column sweep `what` over the scratch with the compliance times `scale` on every
   // mode, then row by row the inverse into a buffer, make_w(w's row, h's row, that row,
@@ -304,7 +317,12 @@ struct HostOf : Fields {
   template <class Acc, class StepAcc, class P, class C, class F>
   Acc project_and_gap_sums(P pass, C choose, bool likely_exact, const std::uint8_t* mask, double level, F f,
                            StepAcc& st, StepChoice& c) {
-    if (!rc) return compose::project_and_gap_sums<Acc>(*this, pass, choose, mask, level, f, st, c);
+    if (!rc) {
+      st = reduce_in_or_below<StepAcc>(mask, w, level, n, pass);
+      c = choose(st);
+      if (!c.ok) return Acc{};
+      return c.exact ? exact_unfused<Acc>(c.s, mask, level, f) : linear_unfused<Acc>(c.s, c.tau, mask, level, f);
+    }
     const double* wv = w;
     const std::size_t nxx = nx;
     const auto row = [&](std::size_t j, StepAcc& acc) {

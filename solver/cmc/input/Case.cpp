@@ -709,18 +709,18 @@ MemoryEstimate estimate_memory(const Case& c) {
     run_transform -= 2.0;
   } else {
     // Polonsky-Keer, within a solve: the search direction (and the preconditioned gap, on
-    // a periodic grid), the contact set (bytes), and the spectra of the pressure and the
-    // heights (the direction's is the half-space's scratch spectrum, counted above).
-    // A periodic grid held by one process runs the fused sweeps (grid/RowColumnFourier.hpp),
-    // which hold no spectrum of the pressure or the heights (contact/PolonskyKeerHost.hpp,
-    // since 2026-11-28) but the compliance once more, in the transform's layout (its row
-    // buffers are a few rows); that layout leaves kColumnPad = 8 modes unused after each
-    // column of my, so its spectra (the compliance, and the half-space's scratch, which
-    // keeps its longer buffer for the rest of the run) are 8/my longer.
+    // a periodic grid), the contact set (bytes); no spectrum of the pressure or the heights
+    // (contact/PolonskyKeerHost.hpp, since 2026-11-28; the direction's is the half-space's
+    // spectrum, counted above). A periodic grid held by one process runs the fused sweeps
+    // (grid/RowColumnFourier.hpp): the compliance once more, in the transform's layout (its
+    // row buffers are a few rows); that layout leaves kColumnPad = 8 modes unused after
+    // each column of my, so its spectra (the compliance, and the half-space's scratch,
+    // which keeps its longer buffer for the rest of the run) are 8/my longer. Otherwise
+    // (a free boundary, a distributed grid) G t for the linear steps, a field of the grid.
     const bool fused = periodic && memory_split().ranks == 1;
     const double pad = 8.0 / my;
-    solve_grid += 1.0 + (periodic && c.solver.precondition ? 1.0 : 0.0) + 1.0 / 8.0;
-    solve_transform += fused ? sp / 2.0 / m + 0.5 * pad * sp / m : 2.0 * sp / m;
+    solve_grid += 1.0 + (periodic && c.solver.precondition ? 1.0 : 0.0) + 1.0 / 8.0 + (fused ? 0.0 : 1.0);
+    solve_transform += fused ? sp / 2.0 / m + 0.5 * pad * sp / m : 0.0;
     if (fused) run_transform += pad * sp / m;
   }
   // Fields a solver makes in its constructor and frees there, before any state or solve
