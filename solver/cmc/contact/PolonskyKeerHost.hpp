@@ -226,6 +226,19 @@ struct HostOf : Fields {
                   }).v;
     return a;
   }
+  // How a step makes w from the inverse transform's output u (a row, or a thread's range
+  // of points; u may be w itself): w = h + u after an exact step, w = h + s ((w − h) − τ u)
+  // with u = G t after a linear one. (Round-off gathers in w from one linear step to the
+  // next, as it did in p̂ before: Options::recompute_every bounds the run of them.)
+  static void add_heights(double* w_, const double* h_, const double* u, std::size_t k) {
+    for (std::size_t i = 0; i < k; ++i) w_[i] = h_[i] + u[i];
+  }
+  struct LinearUpdate {
+    double s, tau;
+    void operator()(double* w_, const double* h_, const double* gt, std::size_t k) const {
+      for (std::size_t i = 0; i < k; ++i) w_[i] = h_[i] + s * ((w_[i] - h_[i]) - tau * gt[i]);
+    }
+  };
   // w = h + G (s p). Fused: p's rows, then per block its column transforms, the compliance
   // times s, and the inverse column transforms, all in the scratch spectrum, then row by
   // row the inverse into a buffer, w = h + that row, and the gap sums. No spectrum of p or
@@ -236,7 +249,10 @@ struct HostOf : Fields {
   // README "Performance" has the whole iteration.)
   template <class Acc, class F>
   Acc exact_and_gap_sums(double s, const std::uint8_t* mask, double level, F f) {
-    if (!rc) return exact_unfused<Acc>(s, mask, level, f);
+    if (!rc) {
+      hs.forward(P);
+      return unfused_step<Acc>(s, W, mask, level, f, add_heights);
+    }
     rc->forward_rows<None>(p, spec, no_row_pass);
     return exact_after_rows<Acc>(s, mask, level, f);
   }
@@ -244,54 +260,36 @@ struct HostOf : Fields {
   template <class Acc, class F>
   Acc exact_after_rows(double s, const std::uint8_t* mask, double level, F f) {
     return compliance_and_rows<Acc>(RowColumnFourier::kForward | RowColumnFourier::kInverse, s, mask, level, f,
-                                    [](double* w_row, const double* h_row, const double* u, std::size_t k) {
-                                      for (std::size_t i = 0; i < k; ++i) w_row[i] = h_row[i] + u[i];
-                                    });
+                                    add_heights);
   }
   // w = h + G p' for p' = s (p − τ t): G t from t's spectrum in `out` (one inverse), then
-  // row by row w = h + s ((w − h) − τ G t), and the gap sums. (Round-off gathers in w
-  // from one linear step to the next, as it did in p̂ before: Options::recompute_every
-  // bounds the run of them.)
+  // w = h + s ((w − h) − τ G t), and the gap sums.
   template <class Acc, class F>
   Acc linear_and_gap_sums(double s, double tau, const std::uint8_t* mask, double level, F f) {
-    if (!rc) return linear_unfused<Acc>(s, tau, mask, level, f);
-    return compliance_and_rows<Acc>(RowColumnFourier::kInverse, 1.0, mask, level, f,
-                                    [s, tau](double* w_row, const double* h_row, const double* gt, std::size_t k) {
-                                      for (std::size_t i = 0; i < k; ++i)
-                                        w_row[i] = h_row[i] + s * ((w_row[i] - h_row[i]) - tau * gt[i]);
-                                    });
+    if (!rc) {
+      wk.gt.resize(n);
+      return unfused_step<Acc>(1.0, wk.gt, mask, level, f, LinearUpdate{s, tau});
+    }
+    return compliance_and_rows<Acc>(RowColumnFourier::kInverse, 1.0, mask, level, f, LinearUpdate{s, tau});
   }
-  // The same steps unfused (a free boundary, a distributed grid): the half-space's
-  // transforms and the passes one after the other. The spectrum (the half-space's, which
-  // holds t's after curvature_t()) is multiplied by the compliance times `scale`.
-  void compliance_times(double scale) {
+  // Unfused (a free boundary, a distributed grid): the half-space's spectrum (p's after
+  // hs.forward(P), t's after curvature_t()) times the compliance times `scale`, its inverse
+  // into u, make_w over the points, then the gap sums: the transforms and the passes one
+  // after the other.
+  template <class Acc, class F, class MakeW>
+  Acc unfused_step(double scale, Field& u, const std::uint8_t* mask, double level, F f, MakeW make_w) {
     Complex* o = spec;
     const double* k = ker;
     all(nspec, [=](std::size_t q) { o[q] *= scale * k[q]; });
-  }
-  template <class Acc, class F>
-  Acc exact_unfused(double s, const std::uint8_t* mask, double level, F f) {
-    hs.forward(P);
-    compliance_times(s);
-    hs.inverse(W);
+    hs.inverse(u);
     double* ww = w;
-    const double* hh = h;
-    all(n, [=](std::size_t i) { ww[i] = hh[i] + ww[i]; });
+    const double *hh = h, *uu = u.data();
+    Grid::parallel_for(n, [&](std::size_t b, std::size_t e) { make_w(ww + b, hh + b, uu + b, e - b); });
     return reduce_in_or_below<Acc>(mask, w, level, n, f);
   }
-  template <class Acc, class F>
-  Acc linear_unfused(double s, double tau, const std::uint8_t* mask, double level, F f) {
-    compliance_times(1.0);
-    wk.gt.resize(n);
-    hs.inverse(wk.gt);
-    double* ww = w;
-    const double *hh = h, *gt = wk.gt.data();
-    all(n, [=](std::size_t i) { ww[i] = hh[i] + s * ((ww[i] - hh[i]) - tau * gt[i]); });
-    return reduce_in_or_below<Acc>(mask, w, level, n, f);
-  }
-  // The column sweep `what` over the scratch with the compliance times `scale` on every
-  // mode, then row by row the inverse into a buffer, make_w(w's row, h's row, that row,
-  // nx), and the gap sums f on the row.
+  // Fused: the column sweep `what` over the scratch with the compliance times `scale` on
+  // every mode, then row by row the inverse into a buffer, make_w(w's row, h's row, that
+  // row, nx), and the gap sums f on the row.
   template <class Acc, class F, class MakeW>
   Acc compliance_and_rows(int what, double scale, const std::uint8_t* mask, double level, F f, MakeW make_w) {
     const double* k = ker;
@@ -317,31 +315,28 @@ struct HostOf : Fields {
   template <class Acc, class StepAcc, class P, class C, class F>
   Acc project_and_gap_sums(P pass, C choose, bool likely_exact, const std::uint8_t* mask, double level, F f,
                            StepAcc& st, StepChoice& c) {
-    if (!rc) {
-      st = reduce_in_or_below<StepAcc>(mask, w, level, n, pass);
-      c = choose(st);
-      if (!c.ok) return Acc{};
-      return c.exact ? exact_unfused<Acc>(c.s, mask, level, f) : linear_unfused<Acc>(c.s, c.tau, mask, level, f);
-    }
     const double* wv = w;
     const std::size_t nxx = nx;
     const auto row = [&](std::size_t j, StepAcc& acc) {
       Visit::in_or_below(mask, wv, level, j * nxx, (j + 1) * nxx, [&](std::size_t i) { pass(i, acc); });
     };
-    if (likely_exact) {
+    if (rc && likely_exact) {
       st = rc->forward_rows<StepAcc>(p, spec, row);
       c = choose(st);
       c.exact = true;
       return c.ok ? exact_after_rows<Acc>(c.s, mask, level, f) : Acc{};
     }
-    st = Grid::parallel_reduce<StepAcc>(
-        std::size_t(rc->ny()),
-        [&](std::size_t j0, std::size_t j1, StepAcc& acc) {
-          StepAcc local;
-          for (std::size_t j = j0; j < j1; ++j) row(j, local);
-          acc.merge(local);
-        },
-        std::size_t(rc->nx()) * std::size_t(rc->ny()));
+    if (rc)
+      st = Grid::parallel_reduce<StepAcc>(
+          std::size_t(rc->ny()),
+          [&](std::size_t j0, std::size_t j1, StepAcc& acc) {
+            StepAcc local;
+            for (std::size_t j = j0; j < j1; ++j) row(j, local);
+            acc.merge(local);
+          },
+          std::size_t(rc->nx()) * std::size_t(rc->ny()));
+    else
+      st = reduce_in_or_below<StepAcc>(mask, w, level, n, pass);
     c = choose(st);
     if (!c.ok) return Acc{};
     return c.exact ? exact_and_gap_sums<Acc>(c.s, mask, level, f) : linear_and_gap_sums<Acc>(c.s, c.tau, mask, level, f);

@@ -424,6 +424,7 @@ class Run {
     // After the pass: the load scaling, and the step that makes w. A linear step is one
     // inverse transform; a projected one needs the transform of the new p (one forward
     // more), and so does every recompute_every-th linear one.
+    const bool recompute_due = since_exact_ + 1 >= opt_.recompute_every;
     const auto choose = [&](const StepSums& st) {
       StepChoice c;
       c.tau = tau;
@@ -435,12 +436,12 @@ class Run {
         }
         c.s = target_ / mean_p;
       }
-      c.exact = st.changed || since_exact_ + 1 >= opt_.recompute_every;
+      c.exact = st.changed || recompute_due;
       return c;
     };
     // The step after one that changed the contact set usually changes it too: a backend
     // may then run the pass inside the new p's transform (and make that step exact).
-    const bool likely_exact = !conjugate_ || since_exact_ + 1 >= opt_.recompute_every;
+    const bool likely_exact = !conjugate_ || recompute_due;
     StepSums st;
     StepChoice c;
     const GapSums sums = b_.template project_and_gap_sums<GapSums>(pass, choose, likely_exact, m, d,
