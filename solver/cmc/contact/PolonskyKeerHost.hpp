@@ -8,6 +8,7 @@
 #include "cmc/grid/Grid.hpp"
 #include "cmc/grid/RowColumnFourier.hpp"
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <memory>
@@ -27,6 +28,16 @@ namespace pk {
 // same order, so the result is the dense loop's to the last bit. (Measured on the peer's
 // problem at 2048², one thread: the real-space passes of an iteration took 6.1 of its
 // 9.9 s outside the transforms before.)
+//
+// The fused sweeps go one step further (HostOf::sparse_row): the fields they transform
+// (the direction t, the pressure p, the preconditioned gap z) are zero off the contact
+// set, so each row is made in a buffer from the set's points alone, and the rest of the
+// field is not read; the projection finds the points below the level from each block's
+// least w, kept as w is made, instead of reading w. Of the four grid-sized streams a
+// plain iteration read besides the transforms' own, three are gone: at 2048², 2 threads,
+// 46.3-47.4 -> 38.6-44.5 ms an iteration (plain) and 74.7-79.0 -> 60.1-60.5 ms
+// (preconditioned, whose z is now neither written whole nor read whole), the same bits.
+// (cmc_bench BM_PolonskyKeerIteration, 2026-11-28; README "Performance".)
 inline constexpr std::size_t kBlock = 8;
 inline bool any_set(const std::uint8_t* m) {
   std::uint64_t word;
@@ -60,8 +71,32 @@ void for_each_in_or_below(const std::uint8_t* m, const double* w, double level, 
   for (; i < e; ++i) f(i);
 }
 
+// The same over one row [b, e) whose blocks of eight (from b) have their least w in
+// wmin (wmin[k] for the points b + 8k ... b + 8k + 7; row_minima() makes them): w itself
+// is read only in the blocks that are visited. The least of eight below the level is one
+// of them below it, so the same blocks are visited as by for_each_in_or_below. A row
+// whose length is not a multiple of eight visits its last points always, as that does.
+inline void row_minima(const double* w, std::size_t k, double* wmin) {
+  for (std::size_t i = 0; i + kBlock <= k; i += kBlock) {
+    double lo = HUGE_VAL;  // NaN never counts as below, as in any_below()
+    for (std::size_t q = i; q < i + kBlock; ++q) lo = w[q] < lo ? w[q] : lo;
+    wmin[i / kBlock] = lo;
+  }
+}
+template <class F>
+void for_each_in_or_below_row(const std::uint8_t* m, const double* wmin, double level, std::size_t b, std::size_t e,
+                              F&& f) {
+  std::size_t i = b;
+  for (; i + kBlock <= e; i += kBlock)
+    if (any_set(m + i) || wmin[(i - b) / kBlock] < level)
+      for (std::size_t k = i; k < i + kBlock; ++k) f(k);
+  for (; i < e; ++i) f(i);
+}
+
 // How the CPU backend visits the points of a pass: the block scans above. (A test visits
-// them point by point instead: tests/test_polonsky_keer.cpp.)
+// them point by point instead: tests/test_polonsky_keer.cpp.) in_or_below_row() is
+// in_or_below() over a row with its blocks' minima of w at hand (a visit may use them
+// instead of w).
 struct BlockVisit {
   template <class F>
   static void in(const std::uint8_t* m, std::size_t b, std::size_t e, F&& f) {
@@ -70,6 +105,11 @@ struct BlockVisit {
   template <class F>
   static void in_or_below(const std::uint8_t* m, const double* w, double level, std::size_t b, std::size_t e, F&& f) {
     for_each_in_or_below(m, w, level, b, e, f);
+  }
+  template <class F>
+  static void in_or_below_row(const std::uint8_t* m, const double*, const double* wmin, double level, std::size_t b,
+                              std::size_t e, F&& f) {
+    for_each_in_or_below_row(m, wmin, level, b, e, f);
   }
 };
 
@@ -80,6 +120,7 @@ struct BlockVisit {
 // compliance in its layout. Unfused: G t for a linear step (made at the first one).
 struct PolonskyKeer::Work {
   Field t, z, gt;
+  Field wmin;  // fused: the least w of each block of eight of a row (pk::row_minima)
   std::vector<std::uint8_t> ic;
   std::unique_ptr<RowColumnFourier> rc;
   Field ker;
@@ -105,6 +146,8 @@ struct HostOf : Fields {
   PolonskyKeer::Work& wk;
   RowColumnFourier* rc = nullptr;  // fused sweeps: the transform; else nullptr
   std::size_t nx = 0;
+  std::size_t nb = 0;              // fused: blocks of eight a row (row_minima())
+  double* wmin = nullptr;          // fused: their least w, ny × nb, made wherever w is
   Complex* spec = nullptr;         // the scratch spectrum (`out`)
   long f0 = 0, i0 = 0;             // rc's counts and seconds when the solve began
   double s0 = 0.0;
@@ -136,11 +179,15 @@ struct HostOf : Fields {
       }
       rc = wk.rc.get();
       ker = wk.ker.data();
+      nb = nx / kBlock;
+      wk.wmin.resize(std::size_t(g.ny) * nb);
+      wmin = wk.wmin.data();
       spec = hs.scratch_spectrum(rc->spectrum_size());  // its layout is longer than the half-space's
       f0 = rc->forward_count(), i0 = rc->inverse_count(), s0 = rc->seconds();
     } else {
       wk.rc.reset();
       wk.ker = Field();
+      wk.wmin = Field();
     }
     // The steps hold no spectrum of p or h (exact_and_gap_sums() below): p_hat and h_hat
     // stay null.
@@ -192,23 +239,33 @@ struct HostOf : Fields {
   void stiffness_z() { hs.apply(z, z, hs.stiffness()); }
 
   // ---- the combined operations (PolonskyKeerRun.hpp)
-  // A pass over row j's points of the mask (or below the level), as a row pass of a sweep.
+  // A row pass of forward_rows_from() for a field v that is zero off the mask (t, p and
+  // z are: Run keeps them so): the row starts as zeros, and for each point i the visit
+  // selects, f(i, acc) (which may write v[i]), then the row takes v[i]. So v is read only
+  // where the visit goes, a few per cent of the grid at the challenge's loads, instead of
+  // whole rows from memory. visit(j, b, e, g) calls g for row j's points [b, e) that the
+  // pass visits: Visit::in over the mask, or the projection's Visit::in_or_below_row.
   template <class Acc, class F>
-  auto in_row(const std::uint8_t* mask, F& f) const {
-    return [mask, &f, nxx = nx](std::size_t j, Acc& acc) {
-      Visit::in(mask, j * nxx, (j + 1) * nxx, [&](std::size_t i) { f(i, acc); });
-    };
+  auto sparse_row(const std::uint8_t* mask, const double* v, F f) const {
+    return sparse_row_by<Acc>(v, f, [mask](std::size_t, std::size_t b, std::size_t e, auto&& g) {
+      Visit::in(mask, b, e, g);
+    });
   }
-  template <class Acc, class F>
-  auto in_or_below_row(const std::uint8_t* mask, double level, F& f) const {
-    return [mask, level, &f, wv = w, nxx = nx](std::size_t j, Acc& acc) {
-      Visit::in_or_below(mask, wv, level, j * nxx, (j + 1) * nxx, [&](std::size_t i) { f(i, acc); });
+  template <class Acc, class F, class V>
+  auto sparse_row_by(const double* v, F f, V visit) const {
+    return [v, f, visit, nxx = nx](std::size_t j, double* row, Acc& acc) {
+      const std::size_t b = j * nxx;
+      std::memset(row, 0, nxx * sizeof(double));
+      visit(j, b, b + nxx, [&](std::size_t i) {
+        f(i, acc);
+        row[i - b] = v[i];
+      });
     };
   }
   template <class Acc, class F>
   Acc direction_and_curvature(const std::uint8_t* mask, F f, double& curvature) {
     if (!rc) return compose::direction_and_curvature<Acc>(*this, mask, f, curvature);
-    const Acc a = rc->forward_rows<Acc>(t, spec, in_row<Acc>(mask, f));
+    const Acc a = rc->forward_rows_from<Acc>(spec, sparse_row<Acc>(mask, t, f));
     // <t, G t> = Σ_q weight(q) G(q) |t̂_q|² (HalfSpace::quadratic_form), block by block.
     const double* k = ker;
     const Complex* s = spec;
@@ -253,7 +310,7 @@ struct HostOf : Fields {
       hs.forward(P);
       return unfused_step<Acc>(s, W, mask, level, f, add_heights);
     }
-    rc->forward_rows<None>(p, spec, no_row_pass);
+    rc->forward_rows_from<None>(spec, sparse_row<None>(mask, p, no_row_pass));
     return exact_after_rows<Acc>(s, mask, level, f);
   }
   // The rest of exact_and_gap_sums() once p's rows are transformed into the scratch.
@@ -300,10 +357,10 @@ struct HostOf : Fields {
     const double* hh = h;
     double* ww = w;
     const std::size_t nxx = nx;
-    auto gap = in_or_below_row<Acc>(mask, level, f);
     return rc->inverse_rows_through<Acc>(spec, [&](std::size_t j, const double* row, Acc& acc) {
       make_w(ww + j * nxx, hh + j * nxx, row, nxx);
-      gap(j, acc);
+      row_minima(ww + j * nxx, nxx, wmin + j * nb);
+      Visit::in_or_below_row(mask, ww, wmin + j * nb, level, j * nxx, (j + 1) * nxx, [&](std::size_t i) { f(i, acc); });
     });
   }
   // Run::project(). Fused, the pass runs row by row: inside p's transform where the step
@@ -316,12 +373,18 @@ struct HostOf : Fields {
   Acc project_and_gap_sums(P pass, C choose, bool likely_exact, const std::uint8_t* mask, double level, F f,
                            StepAcc& st, StepChoice& c) {
     const double* wv = w;
-    const std::size_t nxx = nx;
+    const double* lo = wmin;
+    const std::size_t nxx = nx, nbb = nb;
+    // The points of row j in the mask or below the level, found from the blocks' minima.
+    const auto visit = [=](std::size_t j, std::size_t b, std::size_t e, auto&& g) {
+      Visit::in_or_below_row(mask, wv, lo + j * nbb, level, b, e, g);
+    };
     const auto row = [&](std::size_t j, StepAcc& acc) {
-      Visit::in_or_below(mask, wv, level, j * nxx, (j + 1) * nxx, [&](std::size_t i) { pass(i, acc); });
+      visit(j, j * nxx, (j + 1) * nxx, [&](std::size_t i) { pass(i, acc); });
     };
     if (rc && likely_exact) {
-      st = rc->forward_rows<StepAcc>(p, spec, row);
+      // The pass writes p at the points it visits, and p is zero elsewhere.
+      st = rc->forward_rows_from<StepAcc>(spec, sparse_row_by<StepAcc>(p, pass, visit));
       c = choose(st);
       c.exact = true;
       return c.ok ? exact_after_rows<Acc>(c.s, mask, level, f) : Acc{};
@@ -346,10 +409,9 @@ struct HostOf : Fields {
   template <class Acc, class Fill, class F>
   Acc stiffness_and_sums(Fill fill, const std::uint8_t* mask, F f) {
     if (!rc) return compose::stiffness_and_sums<Acc>(*this, fill, mask, f);
-    const std::size_t nxx = nx;
-    rc->forward_rows<None>(z, spec, [&](std::size_t j, None&) {
-      for (std::size_t i = j * nxx; i < (j + 1) * nxx; ++i) fill(i);
-    });
+    // fill gives z = 0 off the mask: the rows are made from the mask's points alone, and z
+    // is written (and afterwards read) there only.
+    rc->forward_rows_from<None>(spec, sparse_row<None>(mask, z, [fill](std::size_t i, None&) { fill(i); }));
     const double* k = ker;
     Complex* s = spec;
     const double nn = 1.0 / (transform_points * transform_points);
@@ -357,7 +419,15 @@ struct HostOf : Fields {
                       [&](const RowColumnFourier::Block& B, None&) {
                         B.each([&](std::size_t q) { s[q] *= k[q] > 0.0 ? nn / k[q] : 0.0; });
                       });
-    return rc->inverse_rows<Acc>(spec, z, in_row<Acc>(mask, f));
+    double* zz = z;
+    const std::size_t nxx = nx;
+    return rc->inverse_rows_through<Acc>(spec, [&](std::size_t j, const double* row, Acc& acc) {
+      const std::size_t b = j * nxx;
+      Visit::in(mask, b, b + nxx, [&](std::size_t i) {
+        zz[i] = row[i - b];
+        f(i, acc);
+      });
+    });
   }
 };
 using Host = HostOf<BlockVisit>;

@@ -9,7 +9,9 @@
 //   points, transform_points
 //                       points of the whole grid, and of its transform grid (padded when free)
 //   p, w, t, z, m, h    pressure (times sigma), w = h + u, direction, preconditioned gap,
-//                       contact mask (m[i] == (p[i] > 0), always), heights
+//                       contact mask (m[i] == (p[i] > 0), always), heights; p and t are
+//                       zero off the mask whenever a combined operation starts (Run keeps
+//                       them so, and a backend may take them as zero there unread)
 //   p_hat, h_hat, out, ker
 //                       spectra as interleaved (re, im) doubles: of p, of h/N (both only
 //                       where the backend runs the steps as compose:: does), and the
@@ -45,8 +47,11 @@
 //                                     likely_exact, and then makes the step exact (c.exact
 //                                     says which step it made)
 //   stiffness_and_sums<Acc>(fill, m, f)
-//                                     fill(i) for every i (it writes z), z = K z (one FFT
-//                                     pair), then f(i, acc) for i in the mask
+//                                     fill(i) for every i (it writes z, and 0 off the
+//                                     mask), z = K z (one FFT pair), then f(i, acc) for i
+//                                     in the mask; afterwards z is defined on the mask
+//                                     only (the CPU calls fill on the mask alone, takes z
+//                                     as 0 elsewhere, and writes K z on the mask)
 //   and, for compose::, forward_p() (p_hat = FFT(p), unnormalised), curvature_t()
 //   (out = FFT(t); returns <t, G t>), inverse_w() (w = inverse FFT of out) and
 //   stiffness_z() (z = K z).
@@ -290,9 +295,10 @@ class Run {
     const double d = delta_, k = overlap_k_;
     b_.all(b_.n, [=] CMC_HD(std::size_t i) { p[i] = (d - h[i] > 0.0 ? d - h[i] : 0.0) * k; });
   }
-  // Ic from p, after p was set wholesale (scaled by s first, where s != 1); the direction
-  // is zero, so that t holds no value from before (the backends do not clear it): a
-  // steepest-descent step follows, which reads t only as 0 t.
+  // Ic from p, after p was set wholesale (scaled by s first, where s != 1), and p = 0 off
+  // it (a warm start's negative or NaN values: the backends take p as zero off Ic); the
+  // direction is zero, so that t holds no value from before (the backends do not clear
+  // it): a steepest-descent step follows, which reads t only as 0 t.
   void set_contact_set(double s = 1.0) {
     double* p = b_.p;
     std::uint8_t* m = b_.m;
@@ -300,6 +306,7 @@ class Run {
     b_.all(b_.n, [=] CMC_HD(std::size_t i) {
       if (s != 1.0) p[i] *= s;
       m[i] = p[i] > 0.0;
+      if (!m[i]) p[i] = 0.0;
       t[i] = 0.0;
     });
   }

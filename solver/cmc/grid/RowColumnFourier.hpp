@@ -30,6 +30,8 @@
 // thread count gives the same bits; the transforms of a row or a block do not depend on
 // the thread count at all):
 //   forward_rows(f, s, pass):  for each row j: pass(j, acc), then s's row j = r2c of f's
+//   forward_rows_from(s, pass): for each row j: pass(j, row, acc) writes row j's values
+//                              into a buffer of the thread's, then s's row j = r2c of it
 //   columns(s, what, pass, s2): for each block: forward column transforms (what & kForward),
 //                              pass(block, acc), inverse column transforms (what & kInverse)
 //                              of s, or of s2 if given (a pass that maps one spectrum onto
@@ -90,6 +92,11 @@ class RowColumnFourier {
 
   template <class Acc, class Pass>
   Acc forward_rows(const double* f, Complex* s, Pass&& pass);
+  // The same with the row made by the pass: pass(j, row, acc) writes row j's nx values
+  // into `row`, a buffer of the thread's (e.g. a field that is zero off a sparse set,
+  // whose zeros then need not be read from memory).
+  template <class Acc, class Pass>
+  Acc forward_rows_from(Complex* s, Pass&& pass);
   template <class Acc, class Pass>
   Acc columns(Complex* s, int what, Pass&& pass, Complex* inverse_of = nullptr);
   template <class Acc, class Pass>
@@ -162,6 +169,18 @@ Acc RowColumnFourier::forward_rows(const double* f, Complex* s, Pass&& pass) {
     for (std::size_t i = j; i < g1; ++i) {
       pass(i, local);
       row_forward(t, f + i * nx, int(i - j));
+    }
+    scatter(t, s, int(j), int(g1 - j));
+  });
+}
+
+template <class Acc, class Pass>
+Acc RowColumnFourier::forward_rows_from(Complex* s, Pass&& pass) {
+  return row_groups<Acc>([&](int t, std::size_t j, std::size_t g1, Acc& local) {
+    double* row = row_buffer(t);
+    for (std::size_t i = j; i < g1; ++i) {
+      pass(i, row, local);
+      row_forward(t, row, int(i - j));
     }
     scatter(t, s, int(j), int(g1 - j));
   });

@@ -715,11 +715,12 @@ MemoryEstimate estimate_memory(const Case& c) {
     // (grid/RowColumnFourier.hpp): the compliance once more, in the transform's layout (its
     // row buffers are a few rows); that layout leaves kColumnPad = 8 modes unused after
     // each column of my, so its spectra (the compliance, and the half-space's scratch,
-    // which keeps its longer buffer for the rest of the run) are 8/my longer. Otherwise
-    // (a free boundary, a distributed grid) G t for the linear steps, a field of the grid.
+    // which keeps its longer buffer for the rest of the run) are 8/my longer, and the
+    // least w of each block of eight points, an eighth of a field. Otherwise (a free
+    // boundary, a distributed grid) G t for the linear steps, a field of the grid.
     const bool fused = periodic && memory_split().ranks == 1;
     const double pad = 8.0 / my;
-    solve_grid += 1.0 + (periodic && c.solver.precondition ? 1.0 : 0.0) + 1.0 / 8.0 + (fused ? 0.0 : 1.0);
+    solve_grid += 1.0 + (periodic && c.solver.precondition ? 1.0 : 0.0) + 1.0 / 8.0 + (fused ? 1.0 / 8.0 : 1.0);
     solve_transform += fused ? sp / 2.0 / m + 0.5 * pad * sp / m : 0.0;
     if (fused) run_transform += pad * sp / m;
   }
