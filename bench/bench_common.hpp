@@ -52,21 +52,13 @@ inline double fft_pair_ms(int n) {
   return ms;
 }
 
-// The same pair as rows and column blocks (RowColumnFourier), nothing fused into it:
-// x -> s -> y (s of f.spectrum_size() modes).
-inline void row_column_pair(RowColumnFourier& f, const Field& x, Spectrum& s, Field& y) {
-  using None = RowColumnFourier::None;
-  f.forward_rows<None>(x.data(), s.data(), [](std::size_t, None&) {});
-  f.columns<None>(s.data(), RowColumnFourier::kForward | RowColumnFourier::kInverse,
-                  [](const RowColumnFourier::Block&, None&) {});
-  f.inverse_rows<None>(s.data(), y.data(), [](std::size_t, None&) {});
-}
+// The same pair as rows and column blocks (RowColumnFourier::pair), nothing fused into it.
 inline double row_column_pair_ms(int n) {
   RowColumnFourier f(n, n);
   Field x(std::size_t(n) * std::size_t(n)), y(x.size());
   Spectrum s(f.spectrum_size());
   for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sin(0.001 * double(i));
-  const double ms = best_pair_ms([&] { row_column_pair(f, x, s, y); });
+  const double ms = best_pair_ms([&] { f.pair(x.data(), s.data(), y.data()); });
   benchmark::DoNotOptimize(y.data());
   return ms;
 }

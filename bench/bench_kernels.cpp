@@ -40,7 +40,7 @@ static void BM_RowColumnPair(benchmark::State& state) {
   Spectrum s(f.spectrum_size());
   for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sin(0.001 * double(i));
   for (auto _ : state) {
-    row_column_pair(f, x, s, y);
+    f.pair(x.data(), s.data(), y.data());
     benchmark::DoNotOptimize(y.data());
   }
   state.SetLabel("rows + column blocks");

@@ -4,8 +4,10 @@
 # CG, 'adhesive-cg', kept runnable for this comparison) and without (Polonsky-Keer), on
 # several grids. Prints, per run,
 # what cmc measured in that run: iterations, FFT pairs, wall time of the solves, the time
-# of one FFT pair of the run's operator (timed at its start), the solve time per FFT pair
-# and per iteration in units of that pair time (target: 1.3 per iteration), the share of
+# of one FFT pair of the run's operator (timed at its start; FFTW's 2-D pair, and the
+# row-column pair of Polonsky-Keer's fused sweeps where they run), the solve time per FFT
+# pair (against FFTW's pair, and against the faster of the two: the floor) and per
+# iteration in units of FFTW's pair (target: 1.3 per FFT pair), the share of
 # the solve time spent inside the transforms (the rest is the solver's passes), and the
 # answer: contact fraction a_r, repulsive a_r and mean gap.
 #
@@ -66,8 +68,8 @@ def get(d, *keys):
     return d
 def fmt(v, f):
     return "—" if v is None else format(v, f)
-print(f"| case ({label}) | solver | grid | iterations | FFT pairs | solve s | FFT pair ms | time / pair | time / iteration | in FFTs | a_r | repulsive a_r | mean gap µm | status |")
-print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+print(f"| case ({label}) | solver | grid | iterations | FFT pairs | solve s | FFT pair ms | row-column pair ms | time / pair | time / floor pair | time / iteration | in FFTs | a_r | repulsive a_r | mean gap µm | status |")
+print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 for r in runs:
     kind, n = r.split(":")
     s = json.load(open(os.path.join(top, f"{kind}-{n}", "summary.json")))
@@ -77,7 +79,8 @@ for r in runs:
     solve = sum(st.get("wall_s", 0.0) for st in s["steps"])
     gap = last.get("mean_gap")
     print(f"| {kind} | {get(s, 'case', 'solver', 'kind')} | {n}² | {t.get('iterations', last.get('iterations'))} | {fmt(t.get('fft_pairs'), '.0f')} | {solve:.1f} | "
-          f"{fmt(None if pair is None else pair * 1e3, '.2f')} | {fmt(t.get('time_per_fft_pair'), '.2f')} | "
+          f"{fmt(None if pair is None else pair * 1e3, '.2f')} | {fmt(1e3 * t['row_column_pair_s'] if t.get('row_column_pair_s') else None, '.2f')} | "
+          f"{fmt(t.get('time_per_fft_pair'), '.2f')} | {fmt(t.get('time_per_floor_pair'), '.2f')} | "
           f"{fmt(t.get('time_per_iteration'), '.2f')} | {fmt(t.get('fft_share'), '.2f')} | {fmt(last.get('contact_fraction'), '.5f')} | "
           f"{fmt(get(last, 'observables', 'repulsive_fraction'), '.5f')} | {fmt(None if gap is None else gap * 1e6, '.5f')} | {s['status']} |")
 

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -113,6 +114,11 @@ TEST(Scene, RunReportsCostInFftPairs) {
   EXPECT_GE(run.fft_pairs, double(iterations));
   EXPECT_DOUBLE_EQ(run.time_per_fft_pair, solve_s / (run.fft_pairs * run.fft_pair_s));
   EXPECT_DOUBLE_EQ(run.time_per_iteration, solve_s / (iterations * run.fft_pair_s));
+  // A periodic grid held by one process, Polonsky-Keer: the fused sweeps' row-column pair
+  // is timed too, and the floor is the faster of the two.
+  EXPECT_GT(run.row_column_pair_s, 0.0);
+  EXPECT_EQ(run.floor_pair_s, std::min(run.fft_pair_s, run.row_column_pair_s));
+  EXPECT_DOUBLE_EQ(run.time_per_floor_pair, solve_s / (run.fft_pairs * run.floor_pair_s));
   // The time inside the transforms is part of each step's time, and the share is their ratio.
   double fft_s = 0.0;
   for (const StepRecord& r : run.steps) {

@@ -125,7 +125,8 @@ for stage in "$@"; do
       run_case adhesive 2048 cuda; mv "$out/runs/cuda-adhesive-2048" "$out/runs/rerun-b"
       /usr/bin/python3 - "$out/runs/rerun-a/summary.json" "$out/runs/rerun-b/summary.json" <<'PY'
 import json, sys
-skip = {"wall_s", "fft_s", "fft_share", "fft_pair_s", "time_per_fft_pair", "time_per_iteration"}
+skip = {"wall_s", "fft_s", "fft_share", "fft_pair_s", "time_per_fft_pair", "time_per_iteration",
+        "row_column_pair_s", "floor_pair_s", "time_per_floor_pair"}
 def strip(x):
     if isinstance(x, dict): return {k: strip(v) for k, v in x.items() if k not in skip}
     if isinstance(x, list): return [strip(v) for v in x]

@@ -1,6 +1,7 @@
 #include "cmc/elastic/HalfSpace.hpp"
 
 #include "cmc/grid/Ranks.hpp"
+#include "cmc/grid/RowColumnFourier.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -208,25 +209,46 @@ double HalfSpace::transform_entry(const Field& f, int row, int col) const {
   return Grid::sum(std::span<const double>(&mine, 1));
 }
 
-double HalfSpace::time_fft_pair(double min_seconds, int min_repeats) {
-  Field in(transform_size(), 0.0), out(transform_size());
-  auto pair = [&] {
+namespace {
+// Seconds of the fastest of at least min_repeats calls of pair() taking min_seconds, after
+// one untimed call (first touch of the buffers and threads). A distributed pair is
+// collective: every rank times as many as the rank that needs the most (a rank deciding
+// alone from its own clock would leave the others waiting), and the result is the slowest
+// rank's fastest pair (the same number on every rank).
+template <class Pair>
+double fastest_pair_seconds(Pair&& pair, double min_seconds, int min_repeats) {
+  const auto timed = [&] {
     const auto t0 = std::chrono::steady_clock::now();
-    fourier_.forward(in.data());
-    fourier_.inverse(out.data());
+    pair();
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
-  pair();  // first touch of the buffers and threads, not timed
+  timed();
   std::vector<double> t;
   double total = 0.0;
-  // A distributed pair is collective: every rank times as many as the rank that needs
-  // the most (a rank deciding alone from its own clock would leave the others waiting).
-  while (any_rank(int(t.size()) < min_repeats || total < min_seconds)) total += t.emplace_back(pair());
+  while (any_rank(int(t.size()) < min_repeats || total < min_seconds)) total += t.emplace_back(timed());
   // The fastest pair: the floor this machine reaches now. Single pairs at 2048² varied
   // from 23 to 40 ms here (other processes); the median of a few was still as noisy.
-  // Distributed: the slowest rank's fastest pair (the same number on every rank).
   const double fastest = *std::min_element(t.begin(), t.end());
   return Grid::max(std::span<const double>(&fastest, 1));
+}
+}  // namespace
+
+double HalfSpace::time_fft_pair(double min_seconds, int min_repeats) {
+  Field in(transform_size(), 0.0), out(transform_size());
+  return fastest_pair_seconds(
+      [&] {
+        fourier_.forward(in.data());
+        fourier_.inverse(out.data());
+      },
+      min_seconds, min_repeats);
+}
+
+double HalfSpace::time_row_column_pair(double min_seconds, int min_repeats) {
+  if (!periodic() || grid_.split() || grid_.ny < 2) return 0.0;
+  RowColumnFourier f(grid_.nx, grid_.ny);
+  Complex* s = scratch_spectrum(f.spectrum_size());
+  Field in(grid_.size(), 0.0), out(grid_.size());
+  return fastest_pair_seconds([&] { f.pair(in.data(), s, out.data()); }, min_seconds, min_repeats);
 }
 
 // ---------------------------------------------------------------- contact grid

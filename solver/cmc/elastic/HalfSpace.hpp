@@ -126,6 +126,11 @@ class HalfSpace {
   // pair. The unit a run's cost is reported in, measured in the same run. Counts in
   // fft_pairs().
   double time_fft_pair(double min_seconds = 0.25, int min_repeats = 5);
+  // The same for the row-column pair (grid/RowColumnFourier.hpp: rows, then column blocks,
+  // and back), the transforms Polonsky-Keer's fused sweeps run on a periodic grid held by
+  // one process, in the scratch spectrum those sweeps use; 0 where they do not run (a free
+  // boundary, a distributed grid, one row). Not counted in fft_pairs().
+  double time_row_column_pair(double min_seconds = 0.25, int min_repeats = 5);
   // Where the operator's FFT plans came from (Fourier::plan_source: "built-in wisdom", ...).
   const char* plan_source() const { return fourier_.plan_source(); }
   // Transforms a solver makes of its own for this grid, and where their plans came from

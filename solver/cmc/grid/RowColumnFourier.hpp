@@ -106,6 +106,14 @@ class RowColumnFourier {
   template <class Acc, class Pass>
   Acc inverse_rows_through(const Complex* s, Pass&& pass);
 
+  // A forward and an inverse transform with nothing fused in: y = inverse(forward(x)), s
+  // the spectrum between them (the unit the fused sweeps' cost is measured in).
+  void pair(const double* x, Complex* s, double* y) {
+    forward_rows<None>(x, s, [](std::size_t, None&) {});
+    columns<None>(s, kForward | kInverse, [](const Block&, None&) {});
+    inverse_rows<None>(s, y, [](std::size_t, None&) {});
+  }
+
   // Transforms done (a forward one counts with its column sweep, an inverse one too), and
   // the seconds of all sweeps, passes inside them included.
   long forward_count() const { return n_forward_; }

@@ -706,6 +706,9 @@ void Writer::finish(const RunSummary& run, const toml::table& extra) {
                                  {"fft_pair_s", run.fft_pair_s},
                                  {"time_per_fft_pair", run.time_per_fft_pair},
                                  {"time_per_iteration", run.time_per_iteration},
+                                 {"row_column_pair_s", run.row_column_pair_s},
+                                 {"floor_pair_s", run.floor_pair_s},
+                                 {"time_per_floor_pair", run.time_per_floor_pair},
                                  {"fft_share", run.fft_share}});
   toml::array steps;
   for (const auto& r : run.steps) steps.push_back(step_json(r));
