@@ -43,15 +43,19 @@ PressureDifference pressure_difference(const ContactState& a, const ContactState
   }
   return d;
 }
+// Options of a solve to `tolerance`, preconditioned or plain, fused sweeps on or off.
+PolonskyKeer::Options options(double tolerance, bool precondition, bool fused = true) {
+  PolonskyKeer::Options o;
+  o.tolerance = tolerance;
+  o.precondition = precondition;
+  o.fused_sweeps = fused;
+  return o;
+}
 // Solves `target` with the fused sweeps off (index 0) and on (1).
 void solve_unfused_and_fused(HalfSpace& hs, const Field& heights, const Target& target, double tolerance,
                              bool precondition, ContactState st[2], SolveResult r[2]) {
   for (int fused : {0, 1}) {
-    PolonskyKeer::Options o;
-    o.tolerance = tolerance;
-    o.precondition = precondition;
-    o.fused_sweeps = fused == 1;
-    PolonskyKeer pk(hs, heights, o);
+    PolonskyKeer pk(hs, heights, options(tolerance, precondition, fused == 1));
     r[fused] = pk.solve(target, st[fused]);
     EXPECT_TRUE(r[fused].converged) << (fused ? "fused: " : "unfused: ") << r[fused].message;
   }
@@ -334,10 +338,7 @@ TEST(PolonskyKeer, JustTouchingIndenterIsNoContact) {
   PeriodicHalfSpace hs(surf.map.grid, 1.0);
   for (bool precondition : {true, false}) {
     SCOPED_TRACE(precondition ? "preconditioned" : "plain");
-    PolonskyKeer::Options o;
-    o.tolerance = 1e-10;
-    o.precondition = precondition;
-    PolonskyKeer pk(hs, surf.map.heights, o);
+    PolonskyKeer pk(hs, surf.map.heights, options(1e-10, precondition));
     ContactState st;
     const SolveResult r = pk.solve({Control::Penetration, 0.0}, st);
     EXPECT_TRUE(r.converged) << r.message;
@@ -443,10 +444,7 @@ TEST(PolonskyKeer, NegativeWarmPressuresCountAsZero) {
   const double delta = 0.5 * Grid::mean(surf.map.heights);
   for (bool fused : {true, false}) {
     SCOPED_TRACE(fused ? "fused" : "unfused");
-    PolonskyKeer::Options o;
-    o.tolerance = 1e-10;
-    o.fused_sweeps = fused;
-    PolonskyKeer pk(hs, surf.map.heights, o);
+    PolonskyKeer pk(hs, surf.map.heights, options(1e-10, true, fused));
     ContactState start;
     ASSERT_TRUE(pk.solve({Control::Penetration, 0.9 * delta}, start).converged);
     ContactState negative = start, zeroed = start;
