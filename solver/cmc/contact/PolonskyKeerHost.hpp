@@ -170,7 +170,7 @@ struct HostOf : Fields {
     spec = hs.spectrum().data();
     ker = hs.compliance().data();
     const Grid& g = half_space.grid();
-    if (fuse && half_space.periodic() && !g.split() && g.ny > 1) {
+    if (fuse && half_space.row_column()) {
       if (!wk.rc || wk.rc->nx() != g.nx || wk.rc->ny() != g.ny) {
         wk.rc = std::make_unique<RowColumnFourier>(g.nx, g.ny);
         half_space.note_solver_plans("row-column (fused sweeps): " + wk.rc->plan_source());

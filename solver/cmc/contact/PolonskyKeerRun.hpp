@@ -269,14 +269,16 @@ class Run {
   void heights_spectrum() { b_.forward_h(1.0 / b_.transform_points); }
   // w = h + G (s p): one forward transform and one inverse.
   void set_pressure(double s) {
-    keep_pending(b_.template exact_and_gap_sums<GapSums>(s, b_.m, delta_, GapBody{b_.w, b_.t, b_.m, delta_}));
+    keep_pending(b_.template exact_and_gap_sums<GapSums>(s, b_.m, delta_, gap_body()));
   }
   // w = h + G p' for p' = s (p − τ t), from t's spectrum, which the direction's transform
   // left in `out`: one inverse transform. The caller applies the same step to the
   // real-space p.
   void step(double s, double tau) {
-    keep_pending(b_.template linear_and_gap_sums<GapSums>(s, tau, b_.m, delta_, GapBody{b_.w, b_.t, b_.m, delta_}));
+    keep_pending(b_.template linear_and_gap_sums<GapSums>(s, tau, b_.m, delta_, gap_body()));
   }
+  // Step (a)'s sums relative to the current δ (GapBody).
+  GapBody gap_body() const { return {b_.w, b_.t, b_.m, delta_}; }
   void keep_pending(const GapSums& sums) {
     pending_ = sums;
     pending_level_ = delta_;
@@ -343,7 +345,7 @@ class Run {
       return pending_;
     }
     has_pending_ = false;
-    return b_.template reduce_in_or_below<GapSums>(b_.m, b_.w, delta_, b_.n, GapBody{b_.w, b_.t, b_.m, delta_});
+    return b_.template reduce_in_or_below<GapSums>(b_.m, b_.w, delta_, b_.n, gap_body());
   }
   // The iteration lost its contact set: start again from the geometric overlap. Under
   // displacement control an indenter that overlaps the heights nowhere has p = 0 for its
@@ -452,7 +454,7 @@ class Run {
     StepSums st;
     StepChoice c;
     const GapSums sums = b_.template project_and_gap_sums<GapSums>(pass, choose, likely_exact, m, d,
-                                                                   GapBody{b_.w, b_.t, b_.m, d}, st, c);
+                                                                   gap_body(), st, c);
     if (!c.ok) {
       failure = "Polonsky-Keer: pressure vanished during the iteration";
       return false;

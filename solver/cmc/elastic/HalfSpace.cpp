@@ -244,7 +244,7 @@ double HalfSpace::time_fft_pair(double min_seconds, int min_repeats) {
 }
 
 double HalfSpace::time_row_column_pair(double min_seconds, int min_repeats) {
-  if (!periodic() || grid_.split() || grid_.ny < 2) return 0.0;
+  if (!row_column()) return 0.0;
   RowColumnFourier f(grid_.nx, grid_.ny);
   Complex* s = scratch_spectrum(f.spectrum_size());
   Field in(grid_.size(), 0.0), out(grid_.size());

@@ -48,6 +48,9 @@ class HalfSpace {
   const Grid& grid() const { return grid_; }
   double contact_modulus() const { return estar_; }
   bool periodic() const { return boundary_ == Boundary::Periodic; }
+  // Whether the row-column transform (grid/RowColumnFourier.hpp) can run this operator: a
+  // periodic grid held by one process, of more than one row (Polonsky-Keer's fused sweeps).
+  bool row_column() const { return periodic() && !grid_.split() && grid_.ny > 1; }
 
   // ---- contact grid
   // u = G p. One FFT pair. `u` may not alias `p`.
