@@ -1441,7 +1441,7 @@ def _realizations(reference_dir, case_dir):
         if not lines:
             lines = ["## The strategies on other realizations of the surface", "",
                      "The family's member (the same λ_s, w and μ_T) on surfaces that differ only in their random "
-                     "phases and amplitudes (`surface.seed`; `/usr/bin/python3 scripts/scaled_family.py --s 32 "
+                     "phases and amplitudes (`surface.seed`; `/usr/bin/python3 scripts/scaled_family.py --s S --coarse 2 4 6 12 24 "
                      "--start-resolved --no-hardwall --seed N --store reference/challenge-scaled/seeds/seedN`), each "
                      "with its own resolved reference (dx ≤ 0.8 ρ) and refinement error. Each cell: the run's a_r and "
                      "mean gap relative to that realization's reference, and for a strategy whether issue 13's target "
