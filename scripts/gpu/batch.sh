@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The GPU checks of one lease of a device machine, lent for minutes (issue 16; README, "GPU"):
-#   scripts/gpu/lease.sh [--deadline SECONDS] [--pack DIR] [--work DIR] [--tar FILE] STAGE[@CAP][,KEY=VALUE...] ...
+# Run scripts/gpu/check.sh's stages on a GPU machine lent for minutes, within one deadline (docs: GPU):
+#   scripts/gpu/batch.sh [--deadline SECONDS] [--pack DIR] [--work DIR] [--tar FILE] STAGE[@CAP][,KEY=VALUE...] ...
 # Runs scripts/gpu/check.sh's stages (tests, rerun, adhesive:N, ...) one after another: each
 # stopped after CAP seconds (default 300; a stopped run prints its last progress lines; a
 # quasi-static run stops its own solve before that, check.sh's solver.max_seconds), none
@@ -10,7 +10,7 @@
 # the GPU memory samples; no fields) are packed into FILE (default $OUT/gpu-check.tgz where
 # $OUT is set, else gpu-check.tgz), so a command stopped at its limit still returns every
 # finished stage. Example, on the device machine:
-#   DEADLINE=540 scripts/gpu/lease.sh tests rerun adhesive:8192@120 adhesive:16384@240,solver.tolerance=1e-8
+#   DEADLINE=540 scripts/gpu/batch.sh tests rerun adhesive:8192@120 adhesive:16384@240,solver.tolerance=1e-8
 # then, here: tar xzf gpu-check.tgz; scripts/gpu/store.py --device ... --date ... gpu-check
 set -uo pipefail
 cd "$(dirname "$0")/../.."
@@ -21,17 +21,17 @@ while [ $# -gt 0 ]; do
     --pack) pack=$2; shift 2 ;;
     --tar) tar=$2; shift 2 ;;
     --work) work=$2; shift 2 ;;
-    --*) echo "scripts/gpu/lease.sh: unknown option $1" >&2; exit 2 ;;
+    --*) echo "scripts/gpu/batch.sh: unknown option $1" >&2; exit 2 ;;
     *) break ;;
   esac
 done
-[ $# -gt 0 ] || { echo "scripts/gpu/lease.sh: no stage given (e.g. tests rerun adhesive:8192@120)" >&2; exit 2; }
+[ $# -gt 0 ] || { echo "scripts/gpu/batch.sh: no stage given (e.g. tests rerun adhesive:8192@120)" >&2; exit 2; }
 # Every stage's cap is read before any stage runs: a typo stops the lease at once, not after
 # the stages before it.
 for spec in "$@"; do
   first=${spec%%,*} cap=300
   [ "$first" != "${first%@*}" ] && cap=${first##*@}
-  case "$cap" in '' | *[!0-9]*) echo "scripts/gpu/lease.sh: $spec: expected STAGE@SECONDS" >&2; exit 2 ;; esac
+  case "$cap" in '' | *[!0-9]*) echo "scripts/gpu/batch.sh: $spec: expected STAGE@SECONDS" >&2; exit 2 ;; esac
 done
 t0=$(date +%s)
 left() { echo $((deadline - ($(date +%s) - t0))); }
