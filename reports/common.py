@@ -17,7 +17,15 @@ try:
 except ImportError:  # pragma: no cover - depends on the machine
     HAVE_H5PY = False
 
-import matplotlib
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "python"))
+from cmc.analysis.family import (FAMILY_QUANTITIES, FAMILY_STORE, condition_members, family_members,  # noqa: E402,F401
+                                 measured_members, seed_members, strategy_errors, strategy_run_near)
+from cmc.analysis.refinement import (MIN_ORDER, REFINEMENT_BISTABILITY, own_refinement,  # noqa: E402,F401
+                                     own_refinement_words)
+
+import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -215,55 +223,6 @@ def roundoff_note(path=ROUNDOFF_STORE, rel=None):
 # ---------------------------------------------------------------- the scaled challenge family
 # Its store (scripts/scaled_family.py --store) and the coarse-grid strategy's measured error,
 # shared by scripts/scaled_family.py, scripts/challenge_reference.py and the challenge report.
-FAMILY_STORE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "reference", "challenge-scaled",
-                            "scaled_family.json")
-# (summary key, short name, unit) of the quantities the family records.
-FAMILY_QUANTITIES = (("contact_fraction", "a_r", "1"), ("repulsive_fraction", "a_rep", "1"),
-                     ("mean_gap", "mean_gap", "m"))
-
-
-def family_members(path=FAMILY_STORE):
-    """The members of the family's store, or [] when there is none."""
-    d = load_json(path)
-    return d.get("members", []) if isinstance(d, dict) else []
-
-
-def strategy_run_near(r, strategy, dx_over_rho):
-    """Whether run r is a family run (dx = k rho) of the strategy within a factor 1.3 of dx_over_rho.
-    The family's resolved and refinement runs are plain runs too (at about 0.8 and 1.6 rho); a plain
-    run finer than the resolved one takes the resolved run's (the converged reference's refinement
-    error: resolving rho better is not expected to do worse)."""
-    plain_grid = strategy == "plain" and r["role"] in ("resolved", "refinement")
-    if strategy == "plain" and r["role"] == "resolved" and dx_over_rho <= r["dx_over_rho"]:
-        return True
-    return ((plain_grid or (r["role"].startswith(strategy + "_") and r["role"].endswith("rho")))
-            and abs(math.log(r["dx_over_rho"] / dx_over_rho)) < math.log(1.3))
-
-
-def strategy_errors(members, strategy, dx_over_rho):
-    """The strategy's measured relative error per quantity at this dx/rho: the largest, over the
-    members with a converged reference (of every realization given), of |strategy run / reference
-    - 1| plus the reference's own relative refinement error, from the run whose dx/rho is within a
-    factor 1.3 of the given one. None where no member has such a run."""
-    err, used, seeds = {}, [], {}
-    for m in members:
-        ref = m.get("reference", {})
-        if not ref.get("a_r"):
-            continue
-        for r in m["runs"]:
-            if strategy_run_near(r, strategy, dx_over_rho):
-                if "seed" in m:  # another realization: counted per s below
-                    seeds.setdefault(m["s"], []).append(m["seed"])
-                else:
-                    used.append(f"s = {m['s']} at {r['n']}² (dx = {r['dx_over_rho']:.2f} rho)")
-                for _, short, _ in FAMILY_QUANTITIES:
-                    q = ref[short]
-                    e = abs(r[short] / q["value"] - 1) + q["refinement_error"] / abs(q["value"])
-                    err[short] = max(err.get(short, 0.0), e)
-    for s_, ids in sorted(seeds.items(), reverse=True):
-        used.append(f"s = {s_} on {len(ids)} other realization{'s' if len(ids) > 1 else ''} (seed{'s' if len(ids) > 1 else ''} "
-                    f"{', '.join(str(i) for i in sorted(ids))})")
-    return (err, used) if used else (None, [])
 
 
 # The coarse-grainings of the exponential law (cases/README.md, [interaction] coarse_graining),
@@ -472,32 +431,6 @@ def transfer_caveat(members=None, strategy="range"):
 STRATEGY_TARGETS = {2: (0.03, 0.005), 4: (0.06, 0.01)}
 
 
-def seed_members(store_dir):
-    """The members with a converged reference of every other realization stored beside a family store
-    (STORE/seeds/*/scaled_family.json, scripts/scaled_family.py --seed N), each with its "seed"."""
-    out = []
-    for path in sorted(glob.glob(os.path.join(store_dir, "seeds", "*", "scaled_family.json"))):
-        out += [m for m in family_members(path) if m.get("reference", {}).get("a_r")]
-    return out
-
-
-def measured_members():
-    """The members a strategy's error is measured on: the family's store and its other realizations."""
-    return family_members() + seed_members(os.path.dirname(FAMILY_STORE))
-
-
-def condition_members(store_dir=None):
-    """The members with a reference of the family run at other conditions than the challenge's
-    (STORE/conditions/*/scaled_family.json, scripts/scaled_family.py --tabor MU / --pressure PA),
-    each with its "tabor" and/or "pressure_Pa". They measure whether the bands, measured at
-    mu_T = 3 and 250 kPa, hold at the sweeps' other points; measured_members() leaves them out."""
-    store_dir = store_dir or os.path.dirname(FAMILY_STORE)
-    out = []
-    for path in sorted(glob.glob(os.path.join(store_dir, "conditions", "*", "scaled_family.json"))):
-        out += [m for m in family_members(path) if m.get("reference", {}).get("a_r")]
-    return sorted(out, key=lambda m: (m.get("tabor", 3.0), m.get("pressure_Pa", 250e3), m["s"]))
-
-
 def _same(a, b):
     return (a is None and b is None) or (a is not None and b is not None and abs(a / b - 1) < 0.01)
 
@@ -534,93 +467,6 @@ def run_band(summary, short):
         at = None if err is None else err[short]
     both = [x for x in (rel, at) if x is not None]
     return k, (max(both) if both else None), rel, at, used
-
-
-# A grid resolves the adhesion for a refinement pair when it resolves the cohesive zone as well as
-# the family's refinement grids do (the family's converged references are runs at dx <= 0.8 rho,
-# their refinement error the change from the grid with half the points, about 1.6 rho). The measure
-# is the bistability number b = w dx / (E* rho^2) (surface_facts.bistability_number): the
-# exponential law's cohesive zone, where the gap opens through the law, is about E* rho^2 / w long
-# (solver/cmc/contact/Interaction.hpp, after Turon et al., Eng. Fract. Mech. 74, 1665 (2007)), so b
-# is the spacing in units of that zone. dx/rho compares a lateral spacing with a gap and is not a
-# resolution on its own: at mu_T = 3 the two are proportional (b = 0.99-1.04 dx/rho on the family),
-# but where rho is long (low mu_T, fixed w) the zone grows as rho^2, and a grid of several rho has
-# many points across it (the challenge at mu_T = 0.316: 2048² is 2.48 rho but b = 0.25, and the three grids
-# show order 1.18 in a_r, as the finer points do; README "Converged adhesion"). The family's refinement
-# grids at mu_T = 3 have b = 1.66, 1.56 and 1.49 (s = 32, 16, 8; reference/challenge-scaled/
-# scaled_family.json): the bound is the smallest.
-REFINEMENT_BISTABILITY = 1.49
-# The least order of convergence the finest three grids of an own refinement must show to be
-# extrapolated (own_refinement): half the first order that the counted contact area has in the
-# asymptotic range (a band of pixels along the contact lines). Where it was applied first (the
-# Tabor sweep at mu_T <= 0.562) the orders were 1.07 to 1.28 in a_r and 3.2 to 3.9 in the mean gap.
-MIN_ORDER = 0.5
-
-
-def own_refinement(grids):
-    """The challenge's own refinement of one sweep point (the same case, mu_T and load on grids
-    of n, 2n, 4n... points a side; scripts/tabor_sweep.sh --grid N): the error of the coarsest
-    grid's value, measured on the challenge itself instead of transferred from the scaled family.
-
-    grids: [{"nx", "dx_over_rho", "bistability", "value", "corrected"}] coarsest first (bistability:
-    surface_facts.bistability_number; corrected: the perimeter-corrected contact fraction for a_r,
-    else None), every grid converged, plain.
-
-    The converged value is estimated by Richardson extrapolation of order 1 (the counted contact
-    area errs by a band of pixels along the contact lines, proportional to dx; Richardson, Phil.
-    Trans. R. Soc. A 210, 307 (1911)) from each pair of successive grids whose coarser grid
-    resolves the adhesion (bistability number <= REFINEMENT_BISTABILITY): v_inf = 2 v_fine - v_coarse. Order 1 is what
-    the hard wall shows on the challenge (a_r +14 % at 2048², +7.2 % at 4096² against the
-    perimeter-corrected 4096² value; README "Refinement study") and on the family's s = 32 (+28.5 %,
-    +14.3 %); a higher order makes the estimate pessimistic. Independent estimates of the same
-    value: the other pairs' extrapolations, with three grids or more Richardson's with the order
-    observed on the finest three, p = log2(|v0 - v1| / |v1 - v2|) (where the changes have one sign),
-    and, for a_r, the finest grid's perimeter-corrected count (Yastrebov et al., Tribol. Int. 107,
-    2017). The band of the coarsest grid's value (relative to it) is |v_coarsest - v_inf| (v_inf from
-    the finest pair) plus the largest distance of the other estimates from v_inf.
-
-    Extrapolation assumes the grids are in the asymptotic range, where each halving of dx shrinks
-    the change by about 2^order. With three grids or more, where the finest change is not at least
-    MIN_ORDER below the one before (|v1 - v2| > 2^-MIN_ORDER |v0 - v1|, either sign) the grids are
-    not there, and no band is made (the caller falls back to the family's): the challenge at mu_T =
-    1, a_r 0.033316, 0.032033, 0.030771 on 2048², 4096², 8192² (changes 1.28e-3 and 1.26e-3, order
-    0.02; measured 2026-11-27) would otherwise extrapolate with order 0.02 to -0.045 and a band of
-    +-235 %.
-
-    Returns {"band", "v_inf", "spread", "estimates", "order", "grids"} or None where no pair resolves the
-    adhesion, the grids do not double, or they are not in the asymptotic range."""
-    if len(grids) < 2 or any(g["nx"] != 2 * f["nx"] for f, g in zip(grids, grids[1:])):
-        return None
-    pairs = [(a, b) for a, b in zip(grids, grids[1:]) if a["bistability"] <= REFINEMENT_BISTABILITY]
-    if not pairs:
-        return None
-    vals = [g["value"] for g in grids]
-    if not all(finite(v) for v in vals) or vals[0] == 0:
-        return None
-    if len(vals) >= 3 and abs(vals[-2] - vals[-1]) > 2 ** -MIN_ORDER * abs(vals[-3] - vals[-2]):
-        return None
-    ests = [(f"Richardson {a['nx']}²/{b['nx']}²", 2 * b["value"] - a["value"]) for a, b in pairs]
-    v_inf = ests[-1][1]
-    order = None
-    if len(vals) >= 3 and vals[-2] != vals[-1] and vals[-3] != vals[-2]:
-        c1, c2 = vals[-3] - vals[-2], vals[-2] - vals[-1]
-        order = math.log2(abs(c1) / abs(c2))
-        if c1 * c2 > 0 and order > 0:  # monotone: Richardson with the observed order is one more estimate
-            ests.append((f"Richardson of order {order:.2g}", vals[-1] - c2 / (2 ** order - 1)))
-    if finite(grids[-1].get("corrected")):
-        ests.append((f"perimeter-corrected {grids[-1]['nx']}²", grids[-1]["corrected"]))
-    spread = max(abs(v - v_inf) for _, v in ests)
-    return {"band": (abs(vals[0] - v_inf) + spread) / abs(vals[0]), "v_inf": v_inf, "spread": spread, "estimates": ests,
-            "order": order, "grids": [g["nx"] for g in grids]}
-
-
-def own_refinement_words(got, name, unit=""):
-    """One sentence on own_refinement's result for quantity `name` (values in `unit`, e.g. " m")."""
-    grids = "², ".join(str(n) for n in got["grids"]) + "²"
-    est = "; ".join(f"{w}: {v:.5g}{unit}" for w, v in got["estimates"])
-    order = "" if got["order"] is None else f", observed order {got['order']:.2g}"
-    return (f"{name} on {grids}{order}; converged value estimated at {got['v_inf']:.5g}{unit} ({est}): "
-            f"+-{100 * got['band']:.3g} %")
 
 
 def load_bands(summary, short, pressures):
@@ -806,11 +652,11 @@ def realization_rows(members, spacings=(2, 4)):
 
 
 def gpu_runs(reference_dir, notes=None):
-    """The CUDA backend's stored runs (reference/gpu/runs.json, scripts/gpu/store.py), sorted by
-    case and grid; [] when the store is missing."""
-    d = load_json(os.path.join(reference_dir, "gpu", "runs.json"), notes)
+    """The CUDA backend's runs in the run store (reference/challenge/runs.json, scripts/gpu/store.py),
+    sorted by case and grid; [] when the store is missing."""
+    d = load_json(os.path.join(reference_dir, "challenge", "runs.json"), notes)
     recs = d.get("records", []) if isinstance(d, dict) else []
-    return sorted(recs, key=lambda r: (r["kind"], r["n"]))
+    return sorted((r for r in recs if r.get("backend") == "cuda"), key=lambda r: (r["kind"], r["n"]))
 
 
 def gpu_section(reference_dir, title, notes=None):
@@ -819,7 +665,7 @@ def gpu_section(reference_dir, title, notes=None):
     recs = gpu_runs(reference_dir, notes)
     lines = [f"## {title}", ""]
     if not recs:
-        lines += [f"No GPU runs stored in `{reference_dir}/gpu/runs.json` yet (scripts/gpu/check.sh on a GPU "
+        lines += [f"No GPU runs stored in `{reference_dir}/challenge/runs.json` yet (scripts/gpu/check.sh on a GPU "
                   "machine, then scripts/gpu/store.py; README, \"GPU\").", ""]
     return recs, lines
 

@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # The challenge's Tabor sweep (quantities 6 and 7): the reference load with every
-# parameter fixed but the adhesion range, mu_T = 0.0562 .. 3 on a log grid (8 values, 10^(1/4) apart; 3 is the challenge's), one run each.
+# parameter fixed but the adhesion range, mu_T = 0.001 .. 3 on a log grid (15 values, 10^(1/4)
+# apart, listed in cases/challenge/tabor-values; 3 is the challenge's), one run each.
 #   scripts/tabor_sweep.sh [--grid N] [--tabor "MU MU ..."] [--set key=value ...]   (the rest goes to cmc run)
-#   --tabor: these mu_T only (each one of the eight); CMC=path: another cmc binary (e.g. a build
+#   --tabor: these mu_T only (any positive numbers, e.g. points between the sweep's near the
+#   mean gap's minimum); CMC=path: another cmc binary (e.g. a build
 #   with -DCMC_WISDOM_MAX_N=8192 for --grid 8192, whose FFTs the default build plans by estimate).
 # Results: results/challenge-tabor-sweep/mu_T_<value>/ on the case's 2048² grid, or
 # results/challenge-tabor-sweep-n<N>/mu_T_<value>/ with --grid N (the refinement of the
@@ -15,7 +17,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 root=results/challenge-tabor-sweep
 extra=()
-all="0.0562 0.1 0.178 0.316 0.562 1.0 1.78 3.0"
+all=$(grep -v '^#' cases/challenge/tabor-values)
 mus="$all"
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -28,7 +30,8 @@ while [ $# -gt 0 ]; do
       shift 2 ;;
     --tabor)
       for mu in ${2:-}; do
-        case " $all " in *" $mu "*) ;; *) echo "tabor_sweep: --tabor: $mu is not one of the sweep's mu_T ($all)" >&2; exit 2 ;; esac
+        [[ "$mu" =~ ^[0-9]*\.?[0-9]+([eE][-+]?[0-9]+)?$ ]] && [[ ! "$mu" =~ ^[0.]+$ ]] ||
+          { echo "tabor_sweep: --tabor: '$mu' is not a positive number (the sweep's: $all)" >&2; exit 2; }
       done
       [ -n "${2:-}" ] || { echo "tabor_sweep: --tabor needs a list of mu_T, e.g. --tabor \"0.0562 0.1\"" >&2; exit 2; }
       mus="$2"

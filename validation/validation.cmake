@@ -19,14 +19,20 @@ add_test(NAME validate.can_fail
          COMMAND sh -c "$<TARGET_FILE:cmc> validate ${CMAKE_SOURCE_DIR}/cases/validation/hertz-free.toml --quiet --set grid.n=32; test $? -eq 5")
 set_tests_properties(validate.can_fail PROPERTIES LABELS validation)
 
-# scripts/tabor_sweep.sh's options (issue 13): a --grid that is not a number, a --tabor value
-# that is not one of the sweep's and an empty --tabor are refused with exit 2 and a message
-# naming the option, before anything is built or run.
+# scripts/tabor_sweep.sh's options: a --grid that is not a number, a --tabor value that is not
+# a positive number and an empty --tabor are refused with exit 2 and a message naming the
+# option, before anything is built or run.
 add_test(NAME tabor_sweep.refusals COMMAND sh -c "S=${CMAKE_SOURCE_DIR}/scripts/tabor_sweep.sh; \
   $S --grid abc 2>&1 >/dev/null | grep -q -- '--grid needs a number' && { $S --grid abc >/dev/null 2>&1; test $? -eq 2; } && \
-  $S --tabor 0.5 2>&1 >/dev/null | grep -q -- '--tabor: 0.5 is not one of' && { $S --tabor 0.5 >/dev/null 2>&1; test $? -eq 2; } && \
+  $S --tabor abc 2>&1 >/dev/null | grep -q -- \"--tabor: 'abc' is not a positive number\" && { $S --tabor abc >/dev/null 2>&1; test $? -eq 2; } && \
+  $S --tabor 0.0 2>&1 >/dev/null | grep -q -- \"--tabor: '0.0' is not a positive number\" && \
   $S --tabor '' 2>&1 >/dev/null | grep -q -- '--tabor needs a list' && { $S --tabor '' >/dev/null 2>&1; test $? -eq 2; }")
 set_tests_properties(tabor_sweep.refusals PROPERTIES LABELS quick)
+
+# The analysis package (python/cmc/analysis: refinement, family errors, best estimates, the
+# extremum), each formula against a hand-computed case.
+add_test(NAME analysis.unit COMMAND /usr/bin/python3 -m pytest -q -p no:cacheprovider ${CMAKE_SOURCE_DIR}/tests/analysis)
+set_tests_properties(analysis.unit PROPERTIES LABELS "quick;python")
 
 # The report scripts on synthetic inputs (Debian's python3 with matplotlib/h5py).
 add_test(NAME reports.selftest COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/reports/selftest.py)

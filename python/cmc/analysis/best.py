@@ -1,0 +1,140 @@
+"""Best estimates: for each point of the challenge (a load and mu_T, with or without adhesion),
+the finest trustworthy result among the stored runs, with its error, decided from data.
+
+Candidates. The runs at a point are grouped into refinement sequences (one case and strategy on
+grids of n, 2n, 4n ...). Each sequence's candidate is its finest converged run; the coarser
+grids below it make its refinement error (refinement.sequence_error). An adhesive run that does
+not resolve rho (dx > rho, or a bistability number above the family's refinement grids') also
+carries the error its strategy has at its dx/rho on the scaled family (family.transferred_error;
+at another mu_T than 3 the larger of that and the error measured at that mu_T). A candidate
+whose strategy error is not measured at its spacing has no error and is not chosen. No error is
+smaller than the round-off spread between builds and thread counts (roundoff_spread.json).
+
+Choice. The candidate with the smallest total relative error in a_r (the quantity that
+converges slowest) is the point's best estimate; every quantity of the point comes from it.
+"""
+import math
+
+from . import family
+from .refinement import REFINEMENT_BISTABILITY, sequence_error
+
+QUANTITIES = (("a_r", "a_r"), ("a_rep", "a_rep"), ("mean_gap", "mean_gap_m"))  # (family short, record key)
+SAME_POINT = 0.01  # two runs are at one point when their load and mu_T agree within 1 %
+
+
+def _same(a, b, tol=SAME_POINT):
+    if a is None or b is None:
+        return a is None and b is None
+    return abs(a / b - 1) <= tol
+
+
+def at_point(records, problem, pressure, tabor=None):
+    """The records of one problem ("adhesive" or "hardwall") at this load and mu_T."""
+    return [r for r in records if r.get("problem") == problem and _same(r.get("pressure_Pa"), pressure)
+            and (problem == "hardwall" or _same(r.get("tabor"), tabor))]
+
+
+def sequences(records):
+    """The records grouped into refinement sequences: one case, strategy and mu_T (exactly), grids
+    doubling, one record per grid (the one solved to the tightest tolerance, then the latest).
+    Returns {key: [records coarsest first]}."""
+    groups = {}
+    for r in records:
+        key = (r.get("case_name"), r.get("strategy"), r.get("tabor"))
+        groups.setdefault(key, {}).setdefault(r["n"], []).append(r)
+    out = {}
+    for key, by_n in groups.items():
+        out[key] = [sorted(rs, key=lambda r: (r.get("tolerance") or 1.0, _neg_date(r)))[0]
+                    for _, rs in sorted(by_n.items())]
+    return out
+
+
+def _neg_date(r):
+    d = r.get("date") or ""
+    return tuple(-ord(c) for c in d)
+
+
+def _chain(seq, top):
+    """The doubling chain of grids in seq that ends at record `top`, coarsest first."""
+    chain = [top]
+    by_n = {r["n"]: r for r in seq}
+    while chain[0]["n"] % 2 == 0 and chain[0]["n"] // 2 in by_n:
+        chain.insert(0, by_n[chain[0]["n"] // 2])
+    return chain
+
+
+def resolved(r):
+    """Whether an adhesive run resolves rho: dx <= rho and a bistability number no larger than the
+    family's refinement grids' (then its refinement sequence measures its whole grid error)."""
+    k, b = r.get("dx_over_rho"), r.get("bistability_number")
+    return k is not None and b is not None and k <= 1.0 and b <= REFINEMENT_BISTABILITY
+
+
+def _strategy_error(r, short, members, conditions):
+    """The transferred strategy error of an unresolved adhesive run for `short`, or None."""
+    got = family.transferred_error(members, r["strategy"], r["dx_over_rho"], short)
+    if got is None:
+        return None
+    err, rule = got["error"], got["rule"]
+    if r.get("tabor") is not None and not _same(r["tabor"], 3.0):
+        at = [family.member_error_at(m, r["strategy"], r["dx_over_rho"], short)
+              for m in conditions if _same(m.get("tabor"), r["tabor"]) and "pressure_Pa" not in m]
+        at = [a[0] for a in at if a is not None]
+        if at and max(at) > err:
+            err, rule = max(at), rule + f"; larger at mu_T = {r['tabor']:g} itself (conditions store), which is taken"
+    return {"error": err, "rule": rule}
+
+
+def candidate(seq, top, members, conditions, roundoff=None):
+    """The estimate that run `top` gives with the grids of its sequence below it: per quantity the
+    value, the refinement error, the strategy error (adhesive runs that do not resolve rho) and
+    their sum, absolute and relative. "usable" is False where an error could not be made."""
+    chain = _chain(seq, top)
+    out = {"run": top["tag"], "n": top["n"], "strategy": top.get("strategy"), "device": top.get("device"),
+           "backend": top.get("backend"), "dx_over_rho": top.get("dx_over_rho"),
+           "grids": [{"n": r["n"], "tag": r["tag"], "status": r["status"]} for r in chain],
+           "quantities": {}, "usable": True}
+    for short, key in QUANTITIES:
+        v = top.get(key)
+        if v is None or not math.isfinite(v):
+            continue
+        ref = sequence_error([r.get(key) for r in chain])
+        q = {"value": v, "refinement": None if ref is None else dict(ref, relative=ref["error"] / abs(v))}
+        rel = q["refinement"]["relative"] if ref else None
+        if top.get("problem") == "adhesive" and not resolved(top):
+            q["strategy_error"] = _strategy_error(top, short, members, conditions)
+            rel = None if (rel is None or q["strategy_error"] is None) else rel + q["strategy_error"]["error"]
+        floor = (roundoff or {}).get(short)
+        if rel is not None and floor is not None and rel < floor:
+            rel, q["roundoff_floor"] = floor, True
+        q["relative_error"] = rel
+        q["error"] = None if rel is None else rel * abs(v)
+        out["quantities"][short] = q
+    ar = out["quantities"].get("a_r", {})
+    out["usable"] = ar.get("relative_error") is not None
+    return out
+
+
+def best_at(records, problem, pressure, tabor, members, conditions, roundoff=None):
+    """The best estimate at one point: the usable candidate with the smallest relative error in
+    a_r, with every other candidate it was chosen over. None where no run at the point converged."""
+    cands = []
+    for seq in sequences(at_point(records, problem, pressure, tabor)).values():
+        done = [r for r in seq if r.get("status") == "converged"]
+        if done:
+            cands.append(candidate(seq, done[-1], members, conditions, roundoff))
+    usable = [c for c in cands if c["usable"]]
+    if not usable:
+        return None
+    best = min(usable, key=lambda c: c["quantities"]["a_r"]["relative_error"])
+    others = [{"run": c["run"], "n": c["n"], "strategy": c["strategy"],
+               "a_r_relative_error": c["quantities"].get("a_r", {}).get("relative_error")}
+              for c in cands if c is not best]
+    return dict(best, problem=problem, pressure_Pa=pressure, tabor=tabor, passed_over=others)
+
+
+def ratio(a, b):
+    """a/b of two estimates' quantity entries, relative errors added."""
+    v = a["value"] / b["value"]
+    rel = a["relative_error"] + b["relative_error"]
+    return {"value": v, "relative_error": rel, "error": rel * abs(v)}

@@ -1,0 +1,102 @@
+"""The challenge's best estimates, assembled from the run store and the scaled family: the
+reference load with and without adhesion (a_r, repulsive a_r, mean gap, kappa and the ratio
+of the two a_r), a_r and the mean gap against mu_T, and where the mean gap has its extremum
+in mu_T. The result is what reference/challenge/best_estimates.json holds.
+"""
+import json
+import os
+
+from . import best, extremum, family
+
+P0 = 250e3        # Pa, the reference load
+ESTAR = 25e6      # Pa, E*
+RMS_SLOPE = 1.0   # the surface's rms gradient: p~ = p / (E* rms slope)
+TABOR_CASE = "challenge-tabor-sweep"
+ROUNDOFF_STORE = os.path.join(family.REPO, "reference", "challenge", "roundoff_spread.json")
+_ROUNDOFF_KEYS = {"contact_fraction": "a_r", "repulsive_fraction": "a_rep", "mean_gap": "mean_gap"}
+
+
+def roundoff(path=ROUNDOFF_STORE):
+    """The largest relative round-off spread per quantity (between builds and thread counts,
+    scripts/roundoff_spread.py), {} where it was not measured."""
+    try:
+        with open(path) as f:
+            big = json.load(f).get("largest") or {}
+    except (OSError, ValueError):
+        return {}
+    return {_ROUNDOFF_KEYS[k]: v["relative"] for k, v in big.items() if k in _ROUNDOFF_KEYS and "relative" in v}
+
+
+def reference_load(records, members, conditions, spread=None):
+    """The best estimates at 250 kPa with adhesion (mu_T = 3) and without, kappa = a_r / p~ of
+    each, and the ratio of the two a_r."""
+    adh = best.best_at(records, "adhesive", P0, 3.0, members, conditions, spread)
+    hw = best.best_at(records, "hardwall", P0, None, members, conditions, spread)
+    out = {"adhesive": adh, "hardwall": hw, "p_tilde": P0 / (ESTAR * RMS_SLOPE)}
+    for name, est in (("adhesive", adh), ("hardwall", hw)):
+        if est and "a_r" in est["quantities"]:
+            q = est["quantities"]["a_r"]
+            out[f"kappa_{name}"] = {"value": q["value"] / out["p_tilde"], "relative_error": q["relative_error"],
+                                    "error": q["error"] / out["p_tilde"]}
+    if adh and hw:
+        out["ratio"] = best.ratio(adh["quantities"]["a_r"], hw["quantities"]["a_r"])
+    return out
+
+
+def tabor_values(records):
+    """The distinct mu_T of the adhesive runs at the reference load (within best.SAME_POINT), ascending."""
+    out = []
+    for mu in sorted(r["tabor"] for r in records if r.get("problem") == "adhesive" and r.get("tabor")
+                     and best._same(r.get("pressure_Pa"), P0)):
+        if not out or not best._same(mu, out[-1]):
+            out.append(mu)
+    return out
+
+
+def tabor_curve(records, members, conditions, spread=None):
+    """The best estimate at every mu_T the store holds (at the reference load), ascending."""
+    pts = [best.best_at(records, "adhesive", P0, mu, members, conditions, spread) for mu in tabor_values(records)]
+    return [p for p in pts if p]
+
+
+def grid_sweeps(records):
+    """{n: (mu list, mean gap list)} of the Tabor sweep's case run plain and converged on each grid."""
+    out = {}
+    for r in records:
+        if r.get("case_name") == TABOR_CASE and r.get("strategy") == "plain" and r.get("status") == "converged" \
+                and best._same(r.get("pressure_Pa"), P0):
+            mus, gaps = out.setdefault(r["n"], ([], []))
+            mus.append(r["tabor"])
+            gaps.append(r["mean_gap_m"])
+    return out
+
+
+def mean_gap_extremum(curve, records):
+    """Where the mean gap has its local minimum in mu_T, located on the best-estimate curve, with
+    the error of locating it there, the change between the two finest complete grid sweeps, and
+    the curve's own band at the samples around it; None where the curve does not bracket it."""
+    pts = [(p["tabor"], p["quantities"]["mean_gap"]) for p in curve if "mean_gap" in p["quantities"]]
+    got = extremum.locate([m for m, _ in pts], [q["value"] for _, q in pts], "min")
+    if got is None:
+        return None
+    grids = sorted(grid_sweeps(records).items())
+    on_grids = [(n, extremum.locate(mus, gaps, "min")) for n, (mus, gaps) in grids]
+    out = extremum.combine(got, on_grids)
+    near = [q["error"] or 0.0 for m, q in pts if out["bracket"][0] <= m <= out["bracket"][1]]
+    out["y_sample_error"] = max(near) if near else None
+    out["y_total_error"] += out["y_sample_error"] or 0.0
+    mu_s, slope = extremum.log_slope([p["tabor"] for p in curve], [p["quantities"]["a_r"]["value"] for p in curve])
+    out["a_r_log_slope"] = [{"tabor": float(m), "slope": float(s)} for m, s in zip(mu_s, slope)]
+    return out
+
+
+def build(records, members=None, conditions=None, spread=None):
+    """Everything best_estimates.json holds, from the run store's records, the family's stores and
+    the round-off spread."""
+    members = family.measured_members() if members is None else members
+    conditions = family.condition_members() if conditions is None else conditions
+    spread = roundoff() if spread is None else spread
+    curve = tabor_curve(records, members, conditions, spread)
+    return {"reference_load": reference_load(records, members, conditions, spread), "roundoff": spread,
+            "tabor": curve,
+            "mean_gap_extremum": mean_gap_extremum(curve, records)}

@@ -1,0 +1,155 @@
+"""The scaled challenge family (reference/challenge-scaled/, scripts/scaled_family.py): its
+stored members and the error a resolution strategy has on them at a given grid spacing.
+
+A member is the challenge with lambda_s and w multiplied by s (mu_T = 3 kept), so that a
+machine can resolve its range rho; its "reference" is that converged answer, and its runs
+on coarse grids (roles plain_Krho, range_Krho, shape_Krho) measure what each strategy errs
+by at dx = K rho. s = 1 is the challenge itself, which has no converged reference.
+"""
+import glob
+import json
+import math
+import os
+
+REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", "..", ".."))
+FAMILY_STORE = os.path.join(REPO, "reference", "challenge-scaled", "scaled_family.json")
+
+# (summary key, short name, unit) of the quantities the family records.
+FAMILY_QUANTITIES = (("contact_fraction", "a_r", "1"), ("repulsive_fraction", "a_rep", "1"),
+                     ("mean_gap", "mean_gap", "m"))
+STRATEGIES = ("range", "shape")
+# A family run stands for a spacing within this factor of it.
+NEAR_FACTOR = 1.3
+
+
+def _load(path):
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except (OSError, ValueError):
+        return None
+
+
+def family_members(path=FAMILY_STORE):
+    """The members of a family store, or [] when there is none."""
+    d = _load(path)
+    return d.get("members", []) if isinstance(d, dict) else []
+
+
+def seed_members(store_dir):
+    """The members with a converged reference of every other realization stored beside a family
+    store (STORE/seeds/*/scaled_family.json), each with its "seed"."""
+    out = []
+    for path in sorted(glob.glob(os.path.join(store_dir, "seeds", "*", "scaled_family.json"))):
+        out += [m for m in family_members(path) if m.get("reference", {}).get("a_r")]
+    return out
+
+
+def measured_members(store=FAMILY_STORE):
+    """The members a strategy's error is measured on: the store's and its other realizations'."""
+    return family_members(store) + seed_members(os.path.dirname(store))
+
+
+def condition_members(store_dir=None):
+    """The members with a reference run at other conditions than the challenge's (mu_T = 3, 250 kPa;
+    STORE/conditions/*/scaled_family.json), each with its "tabor" and/or "pressure_Pa"."""
+    store_dir = store_dir or os.path.dirname(FAMILY_STORE)
+    out = []
+    for path in sorted(glob.glob(os.path.join(store_dir, "conditions", "*", "scaled_family.json"))):
+        out += [m for m in family_members(path) if m.get("reference", {}).get("a_r")]
+    return sorted(out, key=lambda m: (m.get("tabor", 3.0), m.get("pressure_Pa", 250e3), m["s"]))
+
+
+def strategy_run_near(r, strategy, dx_over_rho):
+    """Whether family run r stands for the strategy within NEAR_FACTOR of dx_over_rho. The
+    resolved and refinement runs are plain runs too (about 0.8 and 1.6 rho); a plain run finer
+    than the resolved one takes the resolved run's (resolving rho better is not expected to do
+    worse)."""
+    plain_grid = strategy == "plain" and r["role"] in ("resolved", "refinement")
+    if strategy == "plain" and r["role"] == "resolved" and dx_over_rho <= r["dx_over_rho"]:
+        return True
+    return ((plain_grid or (r["role"].startswith(strategy + "_") and r["role"].endswith("rho")))
+            and abs(math.log(r["dx_over_rho"] / dx_over_rho)) < math.log(NEAR_FACTOR))
+
+
+def run_error(r, ref, short):
+    """A family run's relative error for `short`: |run / reference - 1| plus the reference's own
+    relative refinement error."""
+    q = ref[short]
+    return abs(r[short] / q["value"] - 1) + q["refinement_error"] / abs(q["value"])
+
+
+def strategy_errors(members, strategy, dx_over_rho):
+    """The strategy's measured relative error per quantity at this dx/rho: the largest, over the
+    members with a converged reference (of every realization given), of run_error for the run
+    within NEAR_FACTOR of the spacing. Returns (errors, [what they rest on]) or (None, [])."""
+    err, used, seeds = {}, [], {}
+    for m in members:
+        ref = m.get("reference", {})
+        if not ref.get("a_r"):
+            continue
+        for r in m["runs"]:
+            if strategy_run_near(r, strategy, dx_over_rho):
+                if "seed" in m:  # another realization: counted per s below
+                    seeds.setdefault(m["s"], []).append(m["seed"])
+                else:
+                    used.append(f"s = {m['s']} at {r['n']}² (dx = {r['dx_over_rho']:.2f} rho)")
+                for _, short, _ in FAMILY_QUANTITIES:
+                    err[short] = max(err.get(short, 0.0), run_error(r, ref, short))
+    for s_, ids in sorted(seeds.items(), reverse=True):
+        used.append(f"s = {s_} on {len(ids)} other realization{'s' if len(ids) > 1 else ''} (seed{'s' if len(ids) > 1 else ''} "
+                    f"{', '.join(str(i) for i in sorted(ids))})")
+    return (err, used) if used else (None, [])
+
+
+def member_error_at(member, strategy, dx_over_rho, short):
+    """One member's relative error for `short` with the strategy at this spacing: that of its run
+    within NEAR_FACTOR of it, else interpolated linearly in log(dx/rho) between the runs at the
+    nearest measured spacings on either side (the error varies smoothly with the spacing, and
+    the family measures it at 2, 4, 6 ... rho). Returns (error, [dx/rho of the runs used]) or None
+    where the member has no reference or the spacing is outside its runs' range."""
+    ref = member.get("reference", {})
+    if not ref.get(short):
+        return None
+    runs = [r for r in member["runs"] if r["role"].startswith(strategy + "_") and r["role"].endswith("rho")]
+    near = [r for r in runs if abs(math.log(r["dx_over_rho"] / dx_over_rho)) < math.log(NEAR_FACTOR)]
+    if near:
+        r = min(near, key=lambda r: abs(math.log(r["dx_over_rho"] / dx_over_rho)))
+        return run_error(r, ref, short), [r["dx_over_rho"]]
+    below = [r for r in runs if r["dx_over_rho"] < dx_over_rho]
+    above = [r for r in runs if r["dx_over_rho"] > dx_over_rho]
+    if not below or not above:
+        return None
+    a = max(below, key=lambda r: r["dx_over_rho"])
+    b = min(above, key=lambda r: r["dx_over_rho"])
+    t = math.log(dx_over_rho / a["dx_over_rho"]) / math.log(b["dx_over_rho"] / a["dx_over_rho"])
+    return (1 - t) * run_error(a, ref, short) + t * run_error(b, ref, short), [a["dx_over_rho"], b["dx_over_rho"]]
+
+
+def nearest_members(members, count=2):
+    """The members with a reference whose s is among the `count` smallest above 1, with every
+    realization of each: the members whose coarse grids behave most like the challenge's (the
+    transfer check: the ratio of a strategy's a_r to plain's at one dx/rho approaches the
+    challenge's as s falls toward 1)."""
+    with_ref = [m for m in members if m.get("reference", {}).get("a_r") and m["s"] > 1]
+    keep = sorted({m["s"] for m in with_ref})[:count]
+    return [m for m in with_ref if m["s"] in keep]
+
+
+def transferred_error(members, strategy, dx_over_rho, short):
+    """The error a strategy has at this spacing, transferred from the family to the challenge:
+    the largest member_error_at over the realizations of the members nearest s = 1
+    (nearest_members). Returns {"error", "members": [(s, seed, error, spacings)], "rule"} or
+    None where none of them measured the spacing."""
+    rows = []
+    for m in nearest_members(members):
+        got = member_error_at(m, strategy, dx_over_rho, short)
+        if got is not None:
+            rows.append((m["s"], m.get("seed"), got[0], got[1]))
+    if not rows:
+        return None
+    s_used = sorted({r[0] for r in rows})
+    return {"error": max(r[2] for r in rows), "members": rows,
+            "rule": (f"largest over the family's members nearest s = 1 (s = {', '.join(str(s) for s in s_used)}; "
+                     f"{len(rows)} realizations) at dx = {dx_over_rho:.3g} rho, interpolated in log(dx/rho) between "
+                     "their measured spacings, plus their references' refinement errors")}

@@ -1,0 +1,135 @@
+"""The store of challenge runs (reference/challenge/runs.json): one record per run, made from
+its summary.json, with where it ran and what built it. The best estimates, the challenge
+references and the reports read runs from here, whichever machine made them.
+"""
+import json
+import math
+import os
+
+REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", "..", ".."))
+RUN_STORE = os.path.join(REPO, "reference", "challenge", "runs.json")
+STORE_WHAT = ("runs of the Contact Mechanics Challenge behind the best estimates and the performance tables: "
+              "one record per run, made from its summary.json by scripts/store_runs.py or scripts/gpu/store.py")
+
+
+def _get(d, *keys):
+    for k in keys:
+        if not isinstance(d, dict) or k not in d:
+            return None
+        d = d[k]
+    return d
+
+
+def _finite(x):
+    return isinstance(x, (int, float)) and math.isfinite(x)
+
+
+def tabor_of(summary):
+    """The run's Tabor parameter as the problem defines it, R_c^(1/3) (w/E*)^(2/3) / rho with the
+    specified range rho (a coarse-grained law's own range is longer): the case's interaction.tabor
+    where it gives one, else from surface_facts; None without exponential adhesion."""
+    inter = _get(summary, "case", "interaction") or {}
+    if inter.get("kind") != "exponential":
+        return None
+    if _finite(inter.get("tabor")):
+        return inter["tabor"]
+    facts = summary.get("surface_facts") or {}
+    rho = facts.get("specified_range") or facts.get("interaction_range")
+    R, w = facts.get("curvature_radius"), inter.get("work_of_adhesion")
+    E = _get(summary, "case", "material", "contact_modulus")
+    if not all(_finite(x) and x > 0 for x in (rho, R, w, E)):
+        return None
+    return R ** (1 / 3) * (w / E) ** (2 / 3) / rho
+
+
+def strategy_of(summary):
+    """The run's resolution strategy: its interaction.coarse_graining ("range", "shape"), or "plain"."""
+    cg = _get(summary, "case", "interaction", "coarse_graining")
+    return cg if cg in ("range", "shape") else "plain"
+
+
+def dx_over_rho(summary):
+    """The grid spacing over the problem's range rho (the specified one, not a coarse-grained law's)."""
+    f = summary.get("surface_facts") or {}
+    rho = f.get("specified_range") or f.get("interaction_range")
+    dx = _get(summary, "grid", "dx")
+    return dx / rho if _finite(rho) and rho > 0 and _finite(dx) else None
+
+
+def kind_of(summary):
+    """The run's kind, as scripts/gpu/check.sh names its stages: hardwall, adhesive (the reference
+    load, plain), shape / range (the same coarse-grained), tabor_mu<MU> (one point of the Tabor
+    sweep's case)."""
+    if _get(summary, "case", "interaction", "kind") != "exponential":
+        return "hardwall"
+    if strategy_of(summary) != "plain":
+        return strategy_of(summary)
+    if "tabor" in (_get(summary, "case", "case", "name") or ""):
+        return f"tabor_mu{tabor_of(summary):g}"
+    return "adhesive"
+
+
+def record(summary, *, tag, command, device, date, commit=None, origin=None, gpu_peak_mib=None):
+    """One store record from a run's summary.json (parsed): what the run is (case, problem,
+    strategy, grid, spacing, mu_T, load), how it ended, what it cost, its answer at the last
+    step, and its provenance (command, device, date, the commit that built the program, the
+    batch of runs it came in)."""
+    steps, t = summary.get("steps") or [{}], summary.get("timing") or {}
+    last = steps[-1]
+    obs = last.get("observables", {})
+    backend = _get(summary, "grid", "backend") or "cpu"
+    return {
+        "tag": tag, "kind": kind_of(summary), "n": _get(summary, "grid", "nx"), "backend": backend,
+        "case_name": _get(summary, "case", "case", "name"), "case_file": summary.get("case_file"),
+        "problem": "hardwall" if _get(summary, "case", "interaction", "kind") != "exponential" else "adhesive",
+        "strategy": strategy_of(summary), "tabor": tabor_of(summary),
+        "pressure_Pa": last.get("mean_pressure"),
+        "tolerance": _get(summary, "case", "solver", "tolerance"),
+        "device": device, "host_threads": _get(summary, "grid", "threads"),
+        "command": command, "date": date, "commit": commit, "origin": origin,
+        "status": summary.get("status"), "message": summary.get("message") or None,
+        "iterations": t.get("iterations"), "fft_pairs": t.get("fft_pairs"),
+        "solve_s": sum(x.get("wall_s", 0.0) for x in steps), "run_s": t.get("wall_s"),
+        "fft_pair_s": t.get("fft_pair_s"), "time_per_iteration": t.get("time_per_iteration"),
+        "time_per_fft_pair": t.get("time_per_fft_pair"), "fft_share": t.get("fft_share"),
+        "outer_steps": _get(last, "diagnostics", "outer_iterations"),
+        "dx_over_rho": dx_over_rho(summary),
+        "bistability_number": _get(summary, "surface_facts", "bistability_number"),
+        "a_r": last.get("contact_fraction"), "a_r_corrected": obs.get("contact_fraction_corrected"),
+        "a_rep": obs.get("repulsive_fraction"), "mean_gap_m": last.get("mean_gap"),
+        "gpu_peak_mib": gpu_peak_mib,
+    }
+
+
+def load_store(path=RUN_STORE):
+    """The store's records ([] when there is no store yet)."""
+    try:
+        with open(path) as f:
+            return json.load(f).get("records", [])
+    except FileNotFoundError:
+        return []
+
+
+def save_store(records, path=RUN_STORE):
+    """Write the records (sorted, one per tag) to the store, atomically."""
+    data = {"what": STORE_WHAT, "records": sorted(records, key=lambda r: (r["kind"], r["backend"], r["n"], r["tag"]))}
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    tmp = f"{path}.tmp{os.getpid()}"
+    with open(tmp, "w") as f:
+        json.dump(data, f, indent=1, sort_keys=True)
+        f.write("\n")
+    os.replace(tmp, path)
+
+
+def merge(records, new):
+    """The records with `new` added, a new record replacing an old one of the same tag."""
+    by_tag = {r["tag"]: r for r in records}
+    for r in new:
+        by_tag[r["tag"]] = r
+    return list(by_tag.values())
+
+
+def read_summary(path):
+    """A run's summary.json, parsed."""
+    with open(path) as f:
+        return json.load(f)
