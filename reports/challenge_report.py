@@ -842,7 +842,7 @@ def _own_refinement_lines(refined, runs, band_of, out_dir):
         f"whose coarser grid has w dx/(E\\* ρ²) ≤ {REFINEMENT_BISTABILITY:g}, as on the family's refinement grids, plus "
         "the largest distance of the other estimates from it). w dx/(E\\* ρ²) is the spacing in units of the "
         "adhesion's cohesive zone (`surface_facts.bistability_number`). Grids marked (GPU) ran with `grid.backend = "
-        "\"cuda\"` (`scripts/gpu/check.sh tabor:N:MU`; `reference/gpu/runs.json` holds each one's command, device and "
+        "\"cuda\"` (`scripts/gpu/check.sh tabor:N:MU`; `reference/challenge/runs.json` holds each one's command, device and "
         "date), the others on the CPU: the same case, tolerance and extraction.", "",
         md_table(["μ_T", "grid", "dx/ρ", "w dx/(E\\* ρ²)", "a_r", "band (own)", "band (family)", "mean gap (nm)",
                   "band (own)", "band (family)"], rows), "",
@@ -1274,12 +1274,12 @@ _FAMILY_LABEL = {"a_r": "a_r", "a_rep": "repulsive a_r", "mean_gap": "mean gap (
 
 
 def _gpu_grids(reference_dir):
-    """Issues 13 and 16: the challenge on grids run on a GPU (reference/gpu/runs.json), with where
+    """Issues 13 and 16: the challenge on grids run on a GPU (reference/challenge/runs.json), with where
     each ran; the shape run set beside the scaled-family store's CPU run of the same case."""
     recs, lines = gpu_section(reference_dir, "The challenge on finer grids, run on a GPU")
     if not recs:
         return lines
-    lines += ["Runs of the CUDA backend (`reference/gpu/runs.json`: command, device, date of each). The "
+    lines += ["Runs of the CUDA backend (`reference/challenge/runs.json`: command, device, date of each). The "
               "adhesion rows are `cases/challenge/reference-load.toml` (ρ = 2.071 nm as the problem states), "
               "plain, on the loading branch; the shape row is the scaled family's s = 1 case (μ_T = 3, so ρ "
               "follows from the surface), stopped at 170 outer steps like its CPU run in the table above. "

@@ -178,7 +178,7 @@ def _bench_plot(fam, same, out_dir):
 
 
 def _gpu(reference_dir, notes):
-    """The CUDA backend's stored runs (reference/gpu/runs.json): cost against the cuFFT pair."""
+    """The CUDA backend's stored runs (reference/challenge/runs.json): cost against the cuFFT pair."""
     recs, lines = gpu_section(reference_dir, "The CUDA backend (one GPU)", notes)
     if not recs:
         return lines

@@ -14,7 +14,7 @@
 #   adhesive:N    the adhesive challenge at 250 kPa (quasi-static solver), on the GPU
 #   shape:N       the same with the shape coarse-graining (issue 13), at most 170 outer steps
 #   tabor:N:MU    the challenge's Tabor sweep at mu_T = MU (cases/challenge/tabor-sweep.toml, one of
-#                 scripts/tabor_sweep.sh's eight values) on an N² grid, on the GPU: the sweep's
+#                 the values in cases/challenge/tabor-values) on an N² grid, on the GPU: the sweep's
 #                 refinement beyond the grids the CPU runs (run tag cuda-tabor_muMU-N)
 #   cpu-hardwall:N, cpu-adhesive:N, cpu-tabor:N:MU   the same on the CPU backend of the same build
 # Each run prints one line: iterations, FFT pairs, solve time, the FFT pair time measured in
@@ -31,7 +31,7 @@
 set -uo pipefail
 cd "$(dirname "$0")/../.."
 pack=.gpucarry out=gpu-check cap=300 sets=()
-tabor_values="0.0562 0.1 0.178 0.316 0.562 1.0 1.78 3.0"  # scripts/tabor_sweep.sh's eight mu_T
+tabor_values=$(grep -v '^#' cases/challenge/tabor-values)  # the Tabor sweep's mu_T
 while [ $# -gt 0 ]; do
   case "$1" in
     --pack) pack=$2; shift 2 ;;
@@ -44,6 +44,7 @@ done
 [ -f "$pack/env.sh" ] || { echo "scripts/gpu/check.sh: no $pack/env.sh: run scripts/gpu/pack.sh on the build machine" >&2; exit 1; }
 . "$pack/env.sh"
 mkdir -p "$out"
+[ -f "$pack/build.txt" ] && cp "$pack/build.txt" "$out/build.txt"  # the commit, for scripts/gpu/store.py
 # The tests read the case files through the source path compiled into them.
 export CMC_THREADS=${CMC_THREADS:-$(nproc)}
 export CMC_SOURCE_DIR=$PWD  # where the tests find the case files

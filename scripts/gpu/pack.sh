@@ -7,7 +7,8 @@
 #   scripts/gpu/pack.sh [BUILD] [PACK]      (defaults: build-cuda, .gpucarry)
 #
 # PACK/bin: cmc, cmc_gpu_tests (and cmc_tests where built); PACK/lib: the libraries;
-# PACK/env.sh: LD_LIBRARY_PATH for PACK/lib and the machine's CUDA libraries. On the GPU
+# PACK/env.sh: LD_LIBRARY_PATH for PACK/lib and the machine's CUDA libraries; PACK/build.txt:
+# the commit the programs were built from. On the GPU
 # machine: `. PACK/env.sh; PACK/bin/cmc_gpu_tests`, or scripts/gpu/check.sh.
 # The build: cmake -S . -B build-cuda -DCMC_CUDA=ON -DCMAKE_CUDA_COMPILER=/usr/local/cuda/bin/nvcc
 set -euo pipefail
@@ -43,4 +44,7 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 cuda_lib=$(dirname "$(ls /usr/local/cuda/lib64/libcufft.so.* /usr/local/cuda*/targets/x86_64-linux/lib/libcufft.so.* /usr/lib/x86_64-linux-gnu/libcufft.so.* 2>/dev/null | head -1)" 2>/dev/null || true)
 export LD_LIBRARY_PATH="$here/lib${cuda_lib:+:$cuda_lib}${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
 ENV
+# What built the pack, for the run store (scripts/gpu/store.py reads it from check.sh's output).
+{ echo "commit $(git rev-parse --short=12 HEAD 2>/dev/null || echo unknown)$(git status --porcelain --untracked-files=no 2>/dev/null | grep -q . && echo -dirty)"
+  echo "build $build"; } >"$pack/build.txt"
 du -sh "$pack" | awk '{print "scripts/gpu/pack.sh: " $1 " in " $2}' >&2

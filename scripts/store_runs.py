@@ -1,0 +1,85 @@
+#!/usr/bin/python3
+"""Store finished runs from `cmc run` output folders in the run store (reference/challenge/runs.json),
+where the best estimates (scripts/best_estimates.py) find them.
+
+    /usr/bin/python3 scripts/store_runs.py [--device TEXT] [--commit HASH] [--origin NAME] [--store FILE] RUN_DIR ...
+
+Each RUN_DIR holds a summary.json (e.g. results/challenge-tabor-sweep-n4096/mu_T_0.01). Its record
+(python/cmc/analysis/runs.py) is tagged <backend>-<kind>-<n> (kind as scripts/gpu/check.sh names
+it: hardwall, adhesive, shape, tabor_mu<MU>); the date is the summary's modification day (UTC);
+the command is rebuilt from the case file and the overrides the summary records. --device
+defaults to this machine's CPU model and core count, --commit to this checkout's HEAD (with
+"-dirty" when it has changes: the program may have been built from another state; pass the
+right one when you know it).
+"""
+import argparse
+import datetime
+import os
+import subprocess
+import sys
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
+sys.path.insert(0, os.path.join(ROOT, "python"))
+from cmc.analysis import runs  # noqa: E402
+
+
+def this_cpu():
+    model = "CPU"
+    try:
+        with open("/proc/cpuinfo") as f:
+            model = next(line.split(":", 1)[1].strip() for line in f if line.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    return f"{model}, {os.cpu_count()} cores"
+
+
+def this_commit():
+    def git(*args):
+        return subprocess.run(["git", "-C", ROOT, *args], capture_output=True, text=True).stdout.strip()
+    head = git("rev-parse", "--short=12", "HEAD")
+    return (head + ("-dirty" if git("status", "--porcelain", "--untracked-files=no") else "")) or None
+
+
+def command_of(run_dir, summary):
+    """`cmc run CASE --set ... --out RUN_DIR` as far as the summary tells: its case file and the
+    grid it ran on (other overrides show in the record's case fields)."""
+    n = runs._get(summary, "grid", "nx")
+    parts = ["cmc run", summary.get("case_file") or "?", f"--set grid.n={n}"]
+    tabor = runs._get(summary, "case", "interaction", "tabor")
+    if tabor is not None and "tabor" in (runs._get(summary, "case", "case", "name") or ""):
+        parts.append(f"--set interaction.tabor={tabor:g}")
+    tol = runs._get(summary, "case", "solver", "tolerance")
+    if tol is not None:
+        parts.append(f"--set solver.tolerance={tol:g}")
+    return " ".join(parts + ["--out", run_dir])
+
+
+def main(argv):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("dirs", nargs="+", help="cmc run output folders (each with a summary.json)")
+    ap.add_argument("--device", default=None, help="what ran them (default: this machine's CPU)")
+    ap.add_argument("--commit", default=None, help="the commit the program was built from (default: this checkout's)")
+    ap.add_argument("--origin", default="cpu runs", help="the batch the runs belong to")
+    ap.add_argument("--store", default=runs.RUN_STORE)
+    a = ap.parse_args(argv)
+    new = []
+    for d in a.dirs:
+        path = os.path.join(d, "summary.json")
+        if not os.path.isfile(path):
+            print(f"store_runs: {d}: no summary.json (expected a finished `cmc run` output folder)", file=sys.stderr)
+            return 2
+        s = runs.read_summary(path)
+        backend = runs._get(s, "grid", "backend") or "cpu"
+        tag = f"{backend}-{runs.kind_of(s)}-{runs._get(s, 'grid', 'nx')}"
+        date = datetime.datetime.fromtimestamp(os.path.getmtime(path), datetime.timezone.utc).strftime("%Y-%m-%d")
+        new.append(runs.record(s, tag=tag, command=command_of(os.path.relpath(d, ROOT), s),
+                               device=a.device or this_cpu(), date=date, commit=a.commit or this_commit(),
+                               origin=a.origin))
+    records = runs.merge(runs.load_store(a.store), new)
+    runs.save_store(records, a.store)
+    print(f"store_runs: {len(new)} runs stored; {len(records)} records in {a.store}", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
