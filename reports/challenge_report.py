@@ -25,6 +25,8 @@ from common import (CHALLENGE, FAMILY_QUANTITIES, REFINEMENT_BISTABILITY, own_re
                     md_table, plt, read_reference_csv, rel, roundoff_note, run_band, run_strategy, STRATEGIES, s_extrapolation,
                     s_extrapolation_verdict, savefig, step_groups, transfer_caveat, write_csv)
 
+from best_report import draw_point, draw_tabor, headline, load_best  # noqa: E402
+
 P0 = CHALLENGE["p0"]
 
 
@@ -377,130 +379,6 @@ def hardwall_sweep_band(pair, r, steps, key, finer=None):
                   f"({100 * ch[0]:.2g} %) at every load (assumed), at least " + floor_words)
 
 
-def _stored_grid_change(reference_dir, adhesive, key, nx):
-    """The change of a headline quantity (step key) at the reference load between the grid nx and
-    the next finer one, as the stored references recorded it when they were made (the key
-    reference_load_grid_change of contact_area_vs_pressure.csv, scripts/challenge_reference.py),
-    with where it comes from; None where they hold none for this grid."""
-    ref = _stored(reference_dir, "contact_area_vs_pressure", adhesive)
-    text = ref["meta"].get("reference_load_grid_change", "") if ref else ""
-    m = re.search(r"\((\d+)\^2 to (\d+)\^2", text)
-    got = dict(kv.split("=", 1) for kv in text.split(" (")[0].split() if "=" in kv)
-    if not m or int(m.group(1)) != nx or key not in got:
-        return None
-    return float(got[key]), f"{m.group(1)}² → {m.group(2)}², recorded in `{ref['path']}`"
-
-
-def _family_grid_change(run, short):
-    """For an adhesive run on a grid where the family store holds the challenge's own (s = 1) runs
-    of the same strategy: the relative change of `short` (a_r, a_rep, mean_gap) from that grid to
-    the next finer one there, with where it comes from; else None."""
-    strategy = run_strategy(run.s)
-    for m in family_members():
-        if m.get("s") != 1:
-            continue
-        rs = sorted((r for r in m.get("runs", []) if r["role"].startswith(strategy + "_n")), key=lambda r: r["n"])
-        for a, b in zip(rs, rs[1:]):
-            if a["n"] == run.nx and b[short]:
-                return abs(a[short] - b[short]) / abs(b[short]), f"{a['n']}² → {b['n']}², family store (s = 1)"
-    return None
-
-
-# (step key, family short name, row label, scale, digits) of the headline numbers.
-HEADLINE = (("ar", "a_r", "relative contact area a_r", 1.0, 4),
-            ("ar_corr", None, "a_r, perimeter-corrected", 1.0, 4),
-            ("rep", "a_rep", "repulsive contact area (p > 0)", 1.0, 4),
-            ("gap", "mean_gap", "mean gap ū (µm)", 1e6, 5))
-
-
-def _headline_errors(pair, adhesive, reference_dir):
-    """{step key: (relative error, [sources])} for the shown run of a problem: the change to the next
-    finer grid (local runs, else the family store's s = 1 runs) and, for adhesive runs, the
-    strategy's error on the scaled family (reports/common.py); the error is the larger of the two."""
-    r, st = pair[0]
-    out = {}
-    for key, short, _, _, _ in HEADLINE:
-        srcs, errs = [], []
-        change = _grid_change(pair, key) or _stored_grid_change(reference_dir, adhesive, key, r.nx) or \
-            (_family_grid_change(r, short) if adhesive and short else None)
-        if change:
-            errs.append(change[0])
-            srcs.append(f"grid change {100 * change[0]:.2g} % ({change[1]})")
-        band = _band(r, short) if adhesive and short else None
-        if band:
-            errs.append(band)
-            srcs.append(f"strategy error {100 * band:.2g} % (scaled family, indicative)")
-        out[key] = (max(errs) if errs else None, srcs)
-    return out
-
-
-def _headline(runs, reference_dir):
-    """The section that opens the report: a_r, repulsive a_r, mean gap and kappa = a_r / p~ at the
-    reference load, with and without adhesion, each with its error, and how they compare with the
-    problem definition's statements."""
-    lines = ["## Headline numbers at the reference load p = 250 kPa (p̃ = p/(E*ḡ) = 0.01)", ""]
-    probs = [(True, _reference_load_runs(runs, True)), (False, _reference_load_runs(runs, False))]
-    stopped = {a: _stopped_reference_runs(runs, a) for a in (True, False)}
-    stopped_lines = [ln for a in (True, False) if stopped[a] for ln in (stopped[a], "")]
-    if not any(pair for _, pair in probs):
-        return lines + (stopped_lines or
-                        ["Not computed yet: run `scripts/main.sh` (the challenge at 250 kPa with and without adhesion).", ""])
-    errs, kappa = [], {}
-    for adhesive, pair in probs:
-        errs.append(_headline_errors(pair, adhesive, reference_dir) if pair else {})
-    rows = []
-    for key, _, label, scale, digits in HEADLINE + (("kappa", "a_r", "κ = a_r / p̃", 1.0, 3),
-                                                      ("kappa_corr", None, "κ from the perimeter-corrected a_r", 1.0, 3)):
-        row = [label]
-        for (adhesive, pair), err in zip(probs, errs):
-            if not pair:
-                row.append("not converged (below)" if stopped[adhesive] else "not computed yet (`scripts/main.sh`)")
-                continue
-            r, st = pair[0]
-            src = {"kappa": "ar", "kappa_corr": "ar_corr"}.get(key, key)
-            v = st.get(src)
-            if v is not None and key.startswith("kappa"):
-                v = v / (st["p"] / r.Estar)
-                kappa[(adhesive, key)] = (v, err.get(src, (None, []))[0])
-            if not adhesive and key == "rep":
-                row.append("= a_r (no tension)")
-                continue
-            row.append(_pm(v, err.get(src, (None, []))[0], digits, scale))
-        rows.append(row)
-    shown = [(f"{pair[0][0].label}, dx = {fmt(pair[0][0].dx * 1e9 if pair[0][0].dx else None, 3)} nm, "
-              f"`{pair[0][0].folder}`" if pair else "–") for _, pair in probs]
-    rows.append(["run shown"] + shown)
-    lines += [md_table(["quantity", "with adhesion (μ_T = 3)", "without adhesion (hard wall)"], rows), ""]
-    lines += stopped_lines
-    for (adhesive, pair), err in zip(probs, errs):
-        if not pair:
-            continue
-        srcs = "; ".join(f"{label.split(' (')[0]}: " + (", ".join(err[key][1]) if err[key][1] else "none measured")
-                         for key, _, label, _, _ in HEADLINE if not (not adhesive and key == "rep"))
-        lines += [f"Errors {'with' if adhesive else 'without'} adhesion (± the larger of the sources): {srcs}."
-                  + (" A grid change is the change to the next finer grid: a lower estimate of the grid error of a "
-                     "quantity that converges as dx (the counted a_r does; the perimeter correction removes most "
-                     "of that)." if not adhesive else ""), ""]
-    ka, k0 = kappa.get((True, "kappa")), kappa.get((False, "kappa"))
-    kac, k0c = kappa.get((True, "kappa_corr")), kappa.get((False, "kappa_corr"))
-    text = ["**Against the problem definition** (section \"Relative contact area as a function of load\": with "
-            "adhesion κ is \"slightly greater than three\", \"increased by roughly 50 %\" over the adhesionless "
-            "case, which puts the adhesionless κ near 2). Nothing in cmc was tuned toward these statements."]
-    if k0:
-        text.append(f"Without adhesion cmc gives κ = {_pm(k0[0], k0[1], 3)} from the counted a_r"
-                    + (f" and {_pm(k0c[0], k0c[1], 3)} from the perimeter-corrected one" if k0c else "") + ".")
-    if ka:
-        lo, hi = ka[0] * (1 - (ka[1] or 0)), ka[0] * (1 + (ka[1] or 0))
-        text.append(f"With adhesion κ = {_pm(ka[0], ka[1], 3)}: its error bar "
-                    + ("includes 3." if lo <= 3 <= hi else f"lies {'below' if hi < 3 else 'above'} 3."))
-    if ka and k0:
-        text.append(f"The ratio with/without adhesion is {ka[0] / k0[0]:.3g} (counted a_r on both sides)"
-                    + (f" and {kac[0] / k0c[0]:.3g} (perimeter-corrected on both)" if kac and k0c else "")
-                    + " where the problem definition says about 1.5; the adhesive runs do not resolve ρ "
-                      "(see the last section), so this comparison is only as good as their error bar.")
-    return lines + [" ".join(text), ""]
-
-
 def _cases_hint(case_dir, words):
     files = sorted(glob.glob(os.path.join(case_dir, "*.toml")))
     hits = [f for f in files if any(w in os.path.basename(f) for w in words)]
@@ -641,7 +519,7 @@ def _merged_sweeps(runs):
     return out
 
 
-def _load_sweep(runs, out_dir, data_dir, case_dir, reference_dir):
+def _load_sweep(runs, out_dir, data_dir, case_dir, reference_dir, best=None):
     sweeps = _merged_sweeps(runs)
     stored = {ad: (_stored(reference_dir, "contact_area_vs_pressure", ad), _stored(reference_dir, "mean_gap_vs_pressure", ad))
               for ad in (True, False) if not any(r.adhesive == ad for r, _, _ in sweeps)}
@@ -740,6 +618,9 @@ def _load_sweep(runs, out_dir, data_dir, case_dir, reference_dir):
         a2.loglog(x[m], 1 - ref_ar["y"][m], "d-", ms=4, color=line.get_color(), label=_stored_label(ref_ar, ad))
         res["notes"].append(f"Drawn from the stored reference ({'with' if ad else 'without'} adhesion): "
                             + _stored_note(ref_ar) + ".")
+    ests = ((best or {}).get("reference_load") or {})
+    for est in (ests.get("adhesive"), ests.get("hardwall")):
+        draw_point(a1, est, "a_r", 1.0, x=P0 / Es)
     a1.axhline(0.75, color="gray", ls=":", lw=0.8)
     a1.set_xlabel("p / (E* ḡ)   (E* ḡ = 25 MPa)")
     a1.set_ylabel("relative contact area a_r")
@@ -778,6 +659,8 @@ def _load_sweep(runs, out_dir, data_dir, case_dir, reference_dir):
             ax.fill_between(x, g - ref_gap["band"] * 1e6, g + ref_gap["band"] * 1e6, color=line.get_color(), alpha=0.2,
                             lw=0, label="its error band")
     if any_gap:
+        for est in (ests.get("adhesive"), ests.get("hardwall")):
+            draw_point(ax, est, "mean_gap", 1e6, x=P0 / Es)
         ax.set_xlabel("p / (E* ḡ)   (E* ḡ = 25 MPa)")
         ax.set_ylabel("mean gap ū (µm)")
         ax.set_title("8. mean gap vs pressure", fontsize=10)
@@ -853,7 +736,7 @@ def _own_refinement_lines(refined, runs, band_of, out_dir):
         "observed order (1 for a band of pixels along the contact lines; the dotted lines are guides of slope 1 and 4)."])
 
 
-def _tabor(runs, out_dir, data_dir, case_dir, reference_dir):
+def _tabor(runs, out_dir, data_dir, case_dir, reference_dir, best=None):
     pts = []
     for r in runs:
         with_tabor = [st for st in r.steps if st["tabor"] is not None]
@@ -867,13 +750,7 @@ def _tabor(runs, out_dir, data_dir, case_dir, reference_dir):
         for st in use:
             if st["ar"] is not None or st["gap"] is not None:
                 pts.append((r, st))
-    # Fewer than three local mu_T: the stored curves too (the sweep is a separate, long command).
-    stored = {}
-    if len({round(st["tabor"], 6) for _, st in pts}) < 3:
-        stored = {w: _stored(reference_dir, q, True) for w, q in (("ar", "contact_area_vs_tabor"),
-                                                                 ("gap", "mean_gap_vs_tabor"))}
-        stored = {w: v for w, v in stored.items() if v is not None}
-    if not pts and not stored:
+    if not pts and not (best or {}).get("tabor"):
         msg = _hint(case_dir, ["tabor"], "a Tabor sweep at the reference load: runs at several Tabor coefficients "
                                          "(one run each, or one run with a \"tabor\" value per step)")
         return {"area": msg, "gap": msg}
@@ -927,13 +804,14 @@ def _tabor(runs, out_dir, data_dir, case_dir, reference_dir):
                                               ("gap", "mean gap ū (nm)", 1e9, "mean_gap_vs_tabor.png",
                                                "7. mean gap vs Tabor coefficient")):
         fig, ax = plt.subplots(figsize=(6, 4.4))
-        drawn = barred = False
+        drawn = draw_tabor(ax, best, what, scale)
+        barred = False
         for key, items in sorted(groups.items()):
             use = [(r, st) for r, st in items if st[what] is not None and st["tabor"] > 0]
             xy = [(st["tabor"], st[what] * scale) for _, st in use]
             if xy:
                 drawn = True
-                line, = ax.semilogx([p[0] for p in xy], [p[1] for p in xy], "o-", ms=4, label=f"grid {key[0]}×{key[1]}")
+                line, = ax.semilogx([p[0] for p in xy], [p[1] for p in xy], "o-", ms=4, label=f"your runs, {key[0]}²")
                 # Each mu_T has its own rho, so its own dx/rho and strategy error: error bars.
                 bands = [band_of[id(r), "a_r" if what == "ar" else "mean_gap"][0] for r, _ in use]
                 if any(bands):
@@ -942,13 +820,6 @@ def _tabor(runs, out_dir, data_dir, case_dir, reference_dir):
                                 label=None if barred else "error bars: own refinement where measured, else the scaled "
                                                           "family's")
                     barred = True
-        ref = stored.get(what)
-        if ref is not None:
-            drawn = True
-            ax.errorbar(ref["x"], ref["y"] * scale, yerr=None if ref["band"] is None else ref["band"] * scale, fmt="d--",
-                        ms=4, lw=1.0, capsize=3, label=_stored_label(ref, True) + (" ± its band" if ref["band"] is not None
-                                                                                    else ""))
-            res.setdefault("notes", []).append(f"Drawn from the stored reference: {_stored_note(ref)}.")
         if not drawn:
             plt.close(fig)
             res["area" if what == "ar" else "gap"] = "not computed yet — the Tabor runs carry no " + \
@@ -1468,7 +1339,13 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
              "ḡ = 1, L = 0.1 mm, λ_r = 20 µm, λ_s = 0.1 µm, H = 0.8, γ0 = 50 mJ/m², ρ = 2.071 nm (μ_T = 3), reference "
              "pressure p = 250 kPa = 0.01 E*ḡ. Numbers behind every figure are in `data/*.csv` (columns as `cmc check` "
              "reads them). The last section says how each number was obtained and how far to trust it.", ""]
-    lines += _headline(runs, reference_dir)
+    best = load_best(reference_dir)
+    user = {a: (pair[0] if pair else None) for a, pair in ((a, _reference_load_runs(runs, a)) for a in (True, False))}
+    lines += headline(best, user)
+    for a in (True, False):
+        stopped_run = _stopped_reference_runs(runs, a)
+        if stopped_run:
+            lines += [stopped_run, ""]
     tail = ["## How the numbers were obtained, and how far to trust them", ""]
     if not runs:
         tail += [f"No challenge runs found under `{results_dir}/` (a summary.json whose case name starts with "
@@ -1485,8 +1362,8 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
     tail += ["#" + ln if ln.startswith("## ") else ln for ln in _realizations(reference_dir, case_dir)]
     tail += ["#" + ln if ln.startswith("## ") else ln for ln in _gpu_grids(reference_dir)]
 
-    sweep = _load_sweep(runs, out_dir, data_dir, case_dir, reference_dir)
-    tabor = _tabor(runs, out_dir, data_dir, case_dir, reference_dir)
+    sweep = _load_sweep(runs, out_dir, data_dir, case_dir, reference_dir, best)
+    tabor = _tabor(runs, out_dir, data_dir, case_dir, reference_dir, best)
     dists = _distribution_runs(runs, notes)
     ref_hint = _hint(case_dir, ["reference"], "a run at the reference load 250 kPa with observables and fields "
                                               "(result.h5 step_*/observables)")

@@ -41,6 +41,8 @@ def main(argv):
     ap.add_argument("--store", default=runs.RUN_STORE, help="the run store (default: %(default)s)")
     ap.add_argument("--family", default=family.FAMILY_STORE, help="the scaled family's store (default: %(default)s)")
     ap.add_argument("--out", default=OUT, help="where to write (default: %(default)s)")
+    ap.add_argument("--any-physics", action="store_true",
+                    help="use every stored run, not only those of the challenge's physics (tests at scaled-down grids)")
     a = ap.parse_args(argv)
     if not os.path.isfile(a.store):
         print(f"best_estimates: {a.store}: no run store (store runs with scripts/store_runs.py or scripts/gpu/store.py)",
@@ -48,7 +50,7 @@ def main(argv):
         return 2
     store_dir = os.path.dirname(a.family)
     data = challenge.build(runs.load_store(a.store), family.measured_members(a.family),
-                           family.condition_members(store_dir))
+                           family.condition_members(store_dir), physics=None if a.any_physics else challenge.PHYSICS)
     data = {"generator": "scripts/best_estimates.py (python/cmc/analysis/challenge.py)",
             "run_store": os.path.relpath(a.store, ROOT), "family_store": os.path.relpath(a.family, ROOT), **data}
     os.makedirs(os.path.dirname(os.path.abspath(a.out)), exist_ok=True)

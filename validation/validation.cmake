@@ -157,3 +157,9 @@ set_tests_properties(gpu_scripts.tabor_stage PROPERTIES LABELS "quick;python")
 set(CMC_GPU_BATCH ${CMAKE_BINARY_DIR}/gpu-batch)
 cmc_cli_test(gpu_scripts.batch "rm -rf ${CMC_GPU_BATCH} && mkdir -p ${CMC_GPU_BATCH}/pack/bin && ln -s $<TARGET_FILE:cmc> ${CMC_GPU_BATCH}/pack/bin/cmc && : > ${CMC_GPU_BATCH}/pack/env.sh && CMC_THREADS=1 ${CMAKE_SOURCE_DIR}/scripts/gpu/batch.sh --deadline 120 --pack ${CMC_GPU_BATCH}/pack --work ${CMC_GPU_BATCH}/check --tar ${CMC_GPU_BATCH}/out.tgz cpu-hardwall:64@60,solver.tolerance=1e-9 | grep -Eq '^cpu-hardwall-64 +[0-9]+ .* converged$' && tar tzf ${CMC_GPU_BATCH}/out.tgz | grep -q '^check/runs/cpu-hardwall-64/summary.json$' && tar xzf ${CMC_GPU_BATCH}/out.tgz -O check/cpu-hardwall-64.command | grep -q 'solver.tolerance=1e-9'")
 set_tests_properties(gpu_scripts.batch PROPERTIES LABELS "quick;python")
+
+# The GPU reference plan end to end on the CPU backend at grids / 64 (scripts/gpu/reference_plan.py,
+# scripts/gpu/ingest.py): runs, pack, store and references rebuilt into a scratch folder.
+add_test(NAME gpu_scripts.reference_plan
+         COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/tests/reference_plan_test.py $<TARGET_FILE:cmc>)
+set_tests_properties(gpu_scripts.reference_plan PROPERTIES LABELS "quick;python" TIMEOUT 300)

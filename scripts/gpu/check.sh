@@ -16,7 +16,13 @@
 #   tabor:N:MU    the challenge's Tabor sweep at mu_T = MU (cases/challenge/tabor-sweep.toml, one of
 #                 the values in cases/challenge/tabor-values) on an N² grid, on the GPU: the sweep's
 #                 refinement beyond the grids the CPU runs (run tag cuda-tabor_muMU-N)
-#   cpu-hardwall:N, cpu-adhesive:N, cpu-tabor:N:MU   the same on the CPU backend of the same build
+#   shape_tabor:N:MU   the Tabor sweep's point MU with the shape coarse-graining (where plain does
+#                 not resolve rho; run tag cuda-shape_tabor_muMU-N)
+#   load:N, shape_load:N, hardwall_load:N   the load sweeps (cases/challenge/load-sweep*.toml):
+#                 with adhesion plain or shape, and the hard wall
+#   adhesive_from:N:M  the adhesive challenge on N² started from this folder's adhesive run on M²
+#                 (cmc run --start-from; that run needs output.fields=true)
+#   cpu-STAGE     any of the stages above but tests and rerun, on the CPU backend of the same build
 # Each run prints one line: iterations, FFT pairs, solve time, the FFT pair time measured in
 # the same run (cuFFT on the GPU, FFTW on the CPU), time per iteration and per pair in units
 # of it, the share inside the transforms, a_r, repulsive a_r, mean gap, the GPU memory
@@ -69,9 +75,16 @@ print(f"{label:26s} {t['iterations']:6d} {t['fft_pairs']:8.1f} {solve_s:9.2f} {1
 PY
 }
 
-run_case() {  # kind (hardwall|hardwall_plain|adhesive|shape|tabor_muMU), n, backend
-  local file=reference-load-hardwall extra=()
+run_case() {  # kind (hardwall|hardwall_plain|adhesive|shape|tabor_muMU|...), n, backend[, start-from n]
+  local file=reference-load-hardwall extra=() shape=(--set 'interaction.coarse_graining="shape"')
   [ "$1" = adhesive ] && file=reference-load
+  [ -n "${4:-}" ] && extra=(--start-from "$out/runs/$3-adhesive-$4")
+  case "$1" in
+    load) file=load-sweep ;;
+    shape_load) file=load-sweep extra=("${shape[@]}") ;;
+    hardwall_load) file=load-sweep-hardwall ;;
+    shape_tabor_mu*) file=tabor-sweep extra=(--set "interaction.tabor=${1#shape_tabor_mu}" "${shape[@]}") ;;
+  esac
   # The Tabor sweep as scripts/tabor_sweep.sh runs it (its case, its tolerance), at one mu_T.
   case "$1" in tabor_mu*) file=tabor-sweep extra=(--set "interaction.tabor=${1#tabor_mu}") ;; esac
   [ "$1" = hardwall_plain ] && extra=(--set solver.precondition=false)
@@ -86,11 +99,14 @@ run_case() {  # kind (hardwall|hardwall_plain|adhesive|shape|tabor_muMU), n, bac
   nvidia-smi --query-gpu=memory.used --format=csv,noheader,nounits --loop-ms=200 >"$samples" 2>/dev/null &
   local mon=$!
   case "$1" in
-    adhesive | shape | tabor_mu*)
+    adhesive | shape | tabor_mu* | shape_tabor_mu* | load | shape_load)
       case " ${sets[*]} " in
         *" solver.max_seconds="*) ;;
         *) local margin=$((10 + (20 * $2 * $2 + 16384 * 16384 - 1) / (16384 * 16384)))  # 10 s + ceil(20 s (N/16384)²)
-          [ "$cap" -gt "$margin" ] && extra+=(--set "solver.max_seconds=$((cap - margin))") ;;
+          # solver.max_seconds bounds each load step's solve: a sweep shares the cap among its 14 loads.
+          local steps=1
+          case "$1" in load | shape_load) steps=14 ;; esac
+          [ "$cap" -gt "$margin" ] && extra+=(--set "solver.max_seconds=$(((cap - margin) / steps))") ;;
       esac ;;
   esac
   local args=(run "cases/challenge/$file.toml" --set "grid.n=$2" --set "grid.backend=$3" --set output.fields=false
@@ -136,18 +152,27 @@ a, b = (strip(json.load(open(p))) for p in sys.argv[1:3])
 print("rerun: summary.json numbers " + ("identical" if a == b else "DIFFER"))
 PY
       ;;
-    hardwall:*|hardwall_plain:*|adhesive:*|shape:*) header; run_case "${stage%%:*}" "${stage#*:}" cuda ;;
-    cpu-hardwall:*|cpu-hardwall_plain:*|cpu-adhesive:*|cpu-shape:*) k=${stage#cpu-}; header; run_case "${k%%:*}" "${k#*:}" cpu ;;
-    tabor:*:*|cpu-tabor:*:*)
+    hardwall:*|hardwall_plain:*|adhesive:*|shape:*|load:*|shape_load:*|hardwall_load:*) header; run_case "${stage%%:*}" "${stage#*:}" cuda ;;
+    cpu-hardwall:*|cpu-hardwall_plain:*|cpu-adhesive:*|cpu-shape:*|cpu-load:*|cpu-shape_load:*|cpu-hardwall_load:*)
+      k=${stage#cpu-}; header; run_case "${k%%:*}" "${k#*:}" cpu ;;
+    adhesive_from:*:*|cpu-adhesive_from:*:*)
       backend=cuda k=$stage
       [ "${stage#cpu-}" != "$stage" ] && backend=cpu k=${stage#cpu-}
+      n=${k#adhesive_from:} n=${n%%:*} m=${k##*:}
+      [ -f "$out/runs/$backend-adhesive-$m/result.h5" ] ||
+        { echo "scripts/gpu/check.sh: $stage: no $out/runs/$backend-adhesive-$m/result.h5 to start from (run adhesive:$m with output.fields=true first)" >&2; continue; }
+      header; run_case adhesive "$n" "$backend" "$m" ;;
+    tabor:*:*|cpu-tabor:*:*|shape_tabor:*:*|cpu-shape_tabor:*:*)
+      backend=cuda k=$stage kind=tabor_mu
+      [ "${stage#cpu-}" != "$stage" ] && backend=cpu k=${stage#cpu-}
+      [ "${k#shape_}" != "$k" ] && kind=shape_tabor_mu k=${k#shape_}
       n=${k#tabor:} n=${n%%:*} mu=${k##*:}
       case " $tabor_values " in
         *" $mu "*) ;;
         *) echo "scripts/gpu/check.sh: $stage: mu_T $mu is not one of the Tabor sweep's ($tabor_values)" >&2; exit 2 ;;
       esac
       case "$n" in '' | *[!0-9]*) echo "scripts/gpu/check.sh: $stage: expected tabor:N:MU (N points a side)" >&2; exit 2 ;; esac
-      header; run_case "tabor_mu$mu" "$n" "$backend" ;;
+      header; run_case "$kind$mu" "$n" "$backend" ;;
     *) echo "scripts/gpu/check.sh: unknown stage $stage" >&2; exit 2 ;;
   esac
 done

@@ -19,8 +19,8 @@ import sys
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
 from cmc.analysis import runs  # noqa: E402
 
-KINDS = ("hardwall", "hardwall_plain", "adhesive", "shape")  # check.sh's stages
-TABOR = "tabor_mu"  # check.sh's tabor:N:MU stage
+KINDS = ("hardwall", "hardwall_plain", "adhesive", "shape", "load", "shape_load", "hardwall_load")  # check.sh's stages
+TABOR = ("tabor_mu", "shape_tabor_mu")  # check.sh's tabor:N:MU and shape_tabor:N:MU stages
 
 
 def read_text(path):

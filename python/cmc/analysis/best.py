@@ -98,21 +98,47 @@ def candidate(seq, top, members, conditions, roundoff=None):
         v = top.get(key)
         if v is None or not math.isfinite(v):
             continue
-        ref = sequence_error([r.get(key) for r in chain])
-        q = {"value": v, "refinement": None if ref is None else dict(ref, relative=ref["error"] / abs(v))}
-        rel = q["refinement"]["relative"] if ref else None
-        if top.get("problem") == "adhesive" and not resolved(top):
-            q["strategy_error"] = _strategy_error(top, short, members, conditions)
-            rel = None if (rel is None or q["strategy_error"] is None) else rel + q["strategy_error"]["error"]
-        floor = (roundoff or {}).get(short)
-        if rel is not None and floor is not None and rel < floor:
-            rel, q["roundoff_floor"] = floor, True
-        q["relative_error"] = rel
-        q["error"] = None if rel is None else rel * abs(v)
-        out["quantities"][short] = q
+        out["quantities"][short] = _quantity(top, chain, short, key, members, conditions, roundoff)
     ar = out["quantities"].get("a_r", {})
-    out["usable"] = ar.get("relative_error") is not None
+    out["usable"] = ar.get("error") is not None
     return out
+
+
+def _quantity(top, chain, short, key, members, conditions, roundoff):
+    """One quantity of a candidate: value, refinement (sequence_error), strategy error, and the
+    total error, absolute and relative to the value (the relative one None at a value of 0, e.g.
+    the mean gap in full contact)."""
+    v = top[key]
+    ref = sequence_error([r.get(key) for r in chain])
+    q = {"value": v, "refinement": None if ref is None else dict(ref, relative=ref["error"] / abs(v) if v else None)}
+    err = None if ref is None else ref["error"]
+    if top.get("problem") == "adhesive" and not resolved(top):
+        q["strategy_error"] = _strategy_error(top, short, members, conditions)
+        err = None if (err is None or q["strategy_error"] is None) else err + q["strategy_error"]["error"] * abs(v)
+    floor = (roundoff or {}).get(short)
+    if err is not None and floor is not None and err < floor * abs(v):
+        err, q["roundoff_floor"] = floor * abs(v), True
+    least = resolution(top, short)
+    if err is not None and least and err < least:
+        err, q["resolution_floor"] = least, True
+    q["error"] = err
+    q["relative_error"] = None if err is None or not v else err / abs(v)
+    return q
+
+
+def resolution(r, short):
+    """The least error a run's value can have: one grid point for an area fraction (1/n²), the
+    solver's tolerance times the rms height for the mean gap; None where unknown."""
+    if short in ("a_r", "a_rep"):
+        return 1.0 / r["n"] ** 2 if r.get("n") else None
+    tol, h = r.get("tolerance"), r.get("rms_height_m")
+    return tol * h if tol and h else None
+
+
+def _rank(c):
+    """A candidate's rank: its relative error in a_r, else (a_r = 0) its absolute error."""
+    q = c["quantities"]["a_r"]
+    return q["relative_error"] if q["relative_error"] is not None else q["error"]
 
 
 def best_at(records, problem, pressure, tabor, members, conditions, roundoff=None):
@@ -126,7 +152,7 @@ def best_at(records, problem, pressure, tabor, members, conditions, roundoff=Non
     usable = [c for c in cands if c["usable"]]
     if not usable:
         return None
-    best = min(usable, key=lambda c: c["quantities"]["a_r"]["relative_error"])
+    best = min(usable, key=_rank)
     others = [{"run": c["run"], "n": c["n"], "strategy": c["strategy"],
                "a_r_relative_error": c["quantities"].get("a_r", {}).get("relative_error")}
               for c in cands if c is not best]
@@ -134,7 +160,7 @@ def best_at(records, problem, pressure, tabor, members, conditions, roundoff=Non
 
 
 def ratio(a, b):
-    """a/b of two estimates' quantity entries, relative errors added."""
+    """a/b of two estimates' quantity entries (values not 0), relative errors added."""
     v = a["value"] / b["value"]
     rel = a["relative_error"] + b["relative_error"]
     return {"value": v, "relative_error": rel, "error": rel * abs(v)}

@@ -6,12 +6,17 @@ in mu_T. The result is what reference/challenge/best_estimates.json holds.
 import json
 import os
 
-from . import best, extremum, family
+from . import best, extremum, family, runs
 
 P0 = 250e3        # Pa, the reference load
 ESTAR = 25e6      # Pa, E*
 RMS_SLOPE = 1.0   # the surface's rms gradient: p~ = p / (E* rms slope)
 TABOR_CASE = "challenge-tabor-sweep"
+# The challenge's physics (problem definition, "Summary of default parameters"; the surface is the
+# case files' realization, seed 28). Runs of other physics are left out of its best estimates.
+PHYSICS = {"grid.size": 1e-4, "material.contact_modulus": 25e6, "surface.hurst": 0.8,
+           "surface.rolloff_wavelength": 20e-6, "surface.cutoff_wavelength": 0.1e-6, "surface.rms_gradient": 1.0,
+           "surface.seed": 28}
 ROUNDOFF_STORE = os.path.join(family.REPO, "reference", "challenge", "roundoff_spread.json")
 _ROUNDOFF_KEYS = {"contact_fraction": "a_r", "repulsive_fraction": "a_rep", "mean_gap": "mean_gap"}
 
@@ -59,6 +64,24 @@ def tabor_curve(records, members, conditions, spread=None):
     return [p for p in pts if p]
 
 
+def pressures(records, problem):
+    """The distinct loads of the problem's runs (mu_T = 3 with adhesion), ascending."""
+    out = []
+    for p in sorted(r["pressure_Pa"] for r in records if r.get("problem") == problem and r.get("pressure_Pa")
+                    and (problem == "hardwall" or best._same(r.get("tabor"), 3.0))):
+        if not out or not best._same(p, out[-1]):
+            out.append(p)
+    return out
+
+
+def load_curve(records, problem, members, conditions, spread=None):
+    """The best estimate at every load the store holds for the problem (load sweeps' steps and
+    single runs alike), ascending in load."""
+    tabor = 3.0 if problem == "adhesive" else None
+    pts = [best.best_at(records, problem, p, tabor, members, conditions, spread) for p in pressures(records, problem)]
+    return [p for p in pts if p]
+
+
 def grid_sweeps(records):
     """{n: (mu list, mean gap list)} of the Tabor sweep's case run plain and converged on each grid."""
     out = {}
@@ -90,13 +113,22 @@ def mean_gap_extremum(curve, records):
     return out
 
 
-def build(records, members=None, conditions=None, spread=None):
-    """Everything best_estimates.json holds, from the run store's records, the family's stores and
-    the round-off spread."""
+def of_physics(records, physics=PHYSICS):
+    """The records of runs that solve the given physics (all of them where physics is None);
+    records without a physics entry are taken to be the challenge's."""
+    return [r for r in records if physics is None or runs.same_physics(r.get("physics") or {}, physics)]
+
+
+def build(records, members=None, conditions=None, spread=None, physics=PHYSICS):
+    """Everything best_estimates.json holds, from the run store's records (those of the given
+    physics: the challenge's by default), the family's stores and the round-off spread."""
+    records = of_physics(records, physics)
     members = family.measured_members() if members is None else members
     conditions = family.condition_members() if conditions is None else conditions
     spread = roundoff() if spread is None else spread
+    records = runs.expand_steps(records)
     curve = tabor_curve(records, members, conditions, spread)
     return {"reference_load": reference_load(records, members, conditions, spread), "roundoff": spread,
+            "load_sweep": {pb: load_curve(records, pb, members, conditions, spread) for pb in ("adhesive", "hardwall")},
             "tabor": curve,
             "mean_gap_extremum": mean_gap_extremum(curve, records)}

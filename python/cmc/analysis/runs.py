@@ -59,14 +59,73 @@ def dx_over_rho(summary):
 def kind_of(summary):
     """The run's kind, as scripts/gpu/check.sh names its stages: hardwall, adhesive (the reference
     load, plain), shape / range (the same coarse-grained), tabor_mu<MU> (one point of the Tabor
-    sweep's case)."""
+    sweep's case; shape_tabor_mu<MU> coarse-grained), load / shape_load / hardwall_load (the load
+    sweeps)."""
+    name = _get(summary, "case", "case", "name") or ""
+    strategy = strategy_of(summary)
+    prefix = "" if strategy == "plain" else strategy + "_"
     if _get(summary, "case", "interaction", "kind") != "exponential":
-        return "hardwall"
-    if strategy_of(summary) != "plain":
-        return strategy_of(summary)
-    if "tabor" in (_get(summary, "case", "case", "name") or ""):
-        return f"tabor_mu{tabor_of(summary):g}"
-    return "adhesive"
+        return "hardwall_load" if "load-sweep" in name else "hardwall"
+    if "load-sweep" in name:
+        return prefix + "load"
+    if "tabor" in name:
+        return f"{prefix}tabor_mu{tabor_of(summary):g}"
+    return strategy if strategy != "plain" else "adhesive"
+
+
+def step_values(summary):
+    """Each load step's answer, for runs of several steps (load sweeps): [{pressure_Pa, a_r, a_rep,
+    mean_gap_m, converged}]; None for a single step."""
+    steps = summary.get("steps") or []
+    if len(steps) < 2:
+        return None
+    return [{"pressure_Pa": s.get("mean_pressure"), "a_r": s.get("contact_fraction"),
+             "a_rep": (s.get("observables") or {}).get("repulsive_fraction"), "mean_gap_m": s.get("mean_gap"),
+             "converged": bool(s.get("converged"))} for s in steps]
+
+
+def expand_steps(records):
+    """The records with every load sweep replaced by one record per converged or stopped step (tag
+    TAG@k, that step's load and answer, status "converged" where the step converged), so that a
+    sweep's steps take part in the best estimates like single runs at their loads."""
+    out = []
+    for r in records:
+        if not r.get("steps"):
+            out.append(r)
+            continue
+        for k, st in enumerate(r["steps"]):
+            out.append(dict(r, tag=f"{r['tag']}@{k}", pressure_Pa=st["pressure_Pa"], a_r=st["a_r"], a_rep=st["a_rep"],
+                            mean_gap_m=st["mean_gap_m"], status="converged" if st["converged"] else "not_converged",
+                            steps=None))
+    return out
+
+
+# The problem a run solves apart from its grid, strategy, range (mu_T) and load: runs of one
+# physics only form refinement sequences and best estimates together.
+PHYSICS_KEYS = (("grid", "size"), ("material", "contact_modulus"), ("surface", "hurst"),
+                ("surface", "rolloff_wavelength"), ("surface", "cutoff_wavelength"), ("surface", "rms_gradient"),
+                ("surface", "seed"), ("interaction", "work_of_adhesion"))
+
+
+def physics_of(summary):
+    """The run's physics (PHYSICS_KEYS of its resolved case), e.g. {"surface.seed": 28, ...}."""
+    return {f"{a}.{b}": _get(summary, "case", a, b) for a, b in PHYSICS_KEYS}
+
+
+def same_physics(a, b):
+    """Whether two physics dicts agree (numbers within 1e-9 relative; a key missing on one side
+    is not compared)."""
+    for k in set(a) & set(b):
+        x, y = a[k], b[k]
+        if x is None or y is None:
+            if x is not y:
+                return False
+        elif isinstance(x, (int, float)) and isinstance(y, (int, float)):
+            if abs(x - y) > 1e-9 * max(abs(x), abs(y)):
+                return False
+        elif x != y:
+            return False
+    return True
 
 
 def record(summary, *, tag, command, device, date, commit=None, origin=None, gpu_peak_mib=None):
@@ -87,6 +146,7 @@ def record(summary, *, tag, command, device, date, commit=None, origin=None, gpu
         "tolerance": _get(summary, "case", "solver", "tolerance"),
         "device": device, "host_threads": _get(summary, "grid", "threads"),
         "command": command, "date": date, "commit": commit, "origin": origin,
+        "cmc_version": summary.get("cmc_version"),
         "status": summary.get("status"), "message": summary.get("message") or None,
         "iterations": t.get("iterations"), "fft_pairs": t.get("fft_pairs"),
         "solve_s": sum(x.get("wall_s", 0.0) for x in steps), "run_s": t.get("wall_s"),
@@ -95,9 +155,10 @@ def record(summary, *, tag, command, device, date, commit=None, origin=None, gpu
         "outer_steps": _get(last, "diagnostics", "outer_iterations"),
         "dx_over_rho": dx_over_rho(summary),
         "bistability_number": _get(summary, "surface_facts", "bistability_number"),
+        "rms_height_m": _get(summary, "surface_facts", "rms_height"),
         "a_r": last.get("contact_fraction"), "a_r_corrected": obs.get("contact_fraction_corrected"),
         "a_rep": obs.get("repulsive_fraction"), "mean_gap_m": last.get("mean_gap"),
-        "gpu_peak_mib": gpu_peak_mib,
+        "gpu_peak_mib": gpu_peak_mib, "steps": step_values(summary), "physics": physics_of(summary),
     }
 
 

@@ -1,0 +1,232 @@
+#!/usr/bin/python3
+"""Put the best estimates (reference/challenge/best_estimates.json, scripts/best_estimates.py) into
+the stored challenge references, without the runs at hand:
+
+    /usr/bin/python3 scripts/apply_best_estimates.py [--best FILE] [--out DIR] [--cmc build/cmc]
+
+- contact_area_vs_pressure.csv and mean_gap_vs_pressure.csv, with and without adhesion
+  (adhesionless/): the row at 250 kPa becomes the best estimate with its error as the band; the
+  other loads keep their sweep's values and bands (the file says which run each comes from);
+- contact_area_vs_tabor.csv and mean_gap_vs_tabor.csv: every point the best estimate at its mu_T
+  (its own finest run and band);
+- README.md: the block between the best-estimate markers, which lists each of them with its run.
+
+cmc formats and writes every file (`cmc reference --run-curve`, as scripts/challenge_reference.py
+does), so `cmc check` reads them as before. scripts/challenge_reference.py calls this after it
+rewrites the curves from the runs.
+"""
+import argparse
+import json
+import os
+import sys
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
+sys.path.insert(0, os.path.join(ROOT, "scripts"))
+sys.path.insert(0, os.path.join(ROOT, "python"))
+from challenge_reference import write_atomically, write_curve  # noqa: E402
+from cmc.analysis import best as best_mod  # noqa: E402
+
+P0 = 250e3
+PROVENANCE = ("cmc_version", "case_file", "grid", "solver_tolerance", "date", "command")
+STANDARD = {"cmc-reference-csv", "name", "quantity", "title", "source", "columns", "x", "y", "representation",
+            "band", "estimated_error"} | set(PROVENANCE)
+BEGIN, END = "<!-- best-estimates:begin -->", "<!-- best-estimates:end -->"
+QUANTITY = {"contact_fraction": ("a_r", "relative contact area a_r"), "mean_gap_m": ("mean_gap", "mean gap")}
+
+
+def read_curve(path):
+    """A stored reference CSV as the curve that writes it again: every metadata key in its order,
+    the columns with unit and meaning; None where the file is missing."""
+    if not os.path.isfile(path):
+        return None
+    meta, names, rows = {}, None, []
+    with open(path, encoding="utf-8") as f:
+        for line in f:
+            s = line.rstrip("\n")
+            if s.startswith("#"):
+                if names is None and ":" in s:
+                    k, v = s[1:].split(":", 1)
+                    meta[k.strip()] = v.strip()
+            elif s.strip():
+                if names is None:
+                    names = s.split(",")
+                else:
+                    rows.append([float(v) for v in s.split(",")])
+    cols = []
+    for i, n in enumerate(names):
+        unit, _, meaning = meta.get(f"unit.{n}", "").partition(" (")
+        cols.append([n, unit, meaning[:-1] if meaning.endswith(")") else meaning, [r[i] for r in rows]])
+    return {"name": meta["name"], "quantity": meta["quantity"], "title": meta.get("title", ""), "x": meta["x"],
+            "y": meta["y"], "representation": meta["representation"], "band": meta.get("band"),
+            "estimated_error": meta.get("estimated_error", ""), "columns": cols,
+            "extra": [(k, v) for k, v in meta.items() if k in PROVENANCE or (k not in STANDARD and not k.startswith("unit."))]}
+
+
+def run_words(est):
+    return f"{est['run']} ({est['n']}^2, {est['strategy']}, {est['device']})"
+
+
+def error_words(est, short):
+    """How the error of one estimated quantity was made, in a sentence."""
+    q = est["quantities"][short]
+    ref = q["refinement"]
+    grids = ", ".join(f"{g['n']}^2" + ("" if g["status"] == "converged" else f" ({g['status']})") for g in est["grids"])
+    order = "" if ref["order"] is None else f", order {ref['order']:.2g}"
+    def pct(rel, err):  # a relative error in %, or the absolute one where the value is 0
+        return f"{100 * rel:.3g} %" if rel is not None else f"{err:.3g} (absolute)"
+    text = (f"+-{pct(q['relative_error'], q['error'])}: refinement over {grids} ({ref['method']}{order}: "
+            f"{pct(ref['relative'], ref['error'])})")
+    if q.get("strategy_error"):
+        text += f" plus the {est['strategy']} strategy's error at dx = {est['dx_over_rho']:.3g} rho " \
+                f"({100 * q['strategy_error']['error']:.2g} %, {q['strategy_error']['rule']})"
+    if q.get("roundoff_floor"):
+        text += "; at least the round-off spread between builds"
+    return text
+
+
+def with_best_rows(curve, ests, short):
+    """The load-sweep curve with each row that has a best estimate at its load (ests, ascending in
+    load) replaced by it, its error the band; a best estimate at 250 kPa is joined where the
+    curve has no row there. The file's words say which rows come from where."""
+    x, y = curve["columns"][0][3], curve["columns"][1][3]
+    band = curve["columns"][2][3] if len(curve["columns"]) > 2 else None
+    used = []
+    for est in ests:
+        q = est["quantities"].get(short)
+        if not q or not q.get("error"):  # the format needs a band > 0
+            continue
+        p = est["pressure_Pa"]
+        i = next((k for k, v in enumerate(x) if abs(v / p - 1) < best_mod.SAME_POINT), None)
+        if i is None:
+            if abs(p / P0 - 1) >= best_mod.SAME_POINT:
+                continue
+            i = sum(1 for v in x if v < p)
+            x.insert(i, p), y.insert(i, q["value"])
+            if band is not None:
+                band.insert(i, q["error"])
+        y[i] = q["value"]
+        if band is not None:
+            band[i] = q["error"]
+        used.append((p, est))
+    if not used:
+        return curve
+    old = curve["estimated_error"].split(" || ")[-1]
+    per = "; ".join(f"{p / 1e3:g} kPa: {run_words(e)}, {error_words(e, short)}" for p, e in used)
+    curve["estimated_error"] = (f"rows with a best estimate (reference/challenge/best_estimates.json): {per} || "
+                                f"the other rows: {old}")
+    curve["extra"] = [(k, v) for k, v in curve["extra"] if k != "best_estimate"] + [
+        ("best_estimate", "rows at " + ", ".join(f"{p / 1e3:g} kPa" for p, _ in used)
+         + ": the best estimates (estimated_error); the other rows: the sweep named in command")]
+    curve["title"] = curve["title"].split(" [")[0] + " [best estimates at " + \
+        ", ".join(f"{p / 1e3:g}" for p, _ in used) + " kPa]"
+    return curve
+
+
+def tabor_curve(old, points, ycol, short):
+    """Item 6 or 7 as the best estimates at every mu_T, keeping the stored file's columns and words."""
+    pts = [p for p in points if short in p["quantities"] and p["quantities"][short]["error"]]
+    cols = [list(c[:3]) for c in old["columns"]] if old else [
+        ["tabor", "1", "Tabor coefficient mu_T"], [ycol, "1" if short == "a_r" else "m", QUANTITY[ycol][1]],
+        [ycol + "_err", "1" if short == "a_r" else "m", "half-width of the error band: " + QUANTITY[ycol][1]]]
+    cols[0].append([p["tabor"] for p in pts])
+    cols[1].append([p["quantities"][short]["value"] for p in pts])
+    cols[2].append([p["quantities"][short]["error"] for p in pts])
+    grids = sorted({p["n"] for p in pts})
+    per = "; ".join(f"mu_T = {p['tabor']:.3g}: {run_words(p)}, {error_words(p, short)}" for p in pts)
+    item = 6 if short == "a_r" else 7
+    return {"name": f"{'contact_area' if item == 6 else 'mean_gap'}_vs_tabor",
+            "quantity": f"{'contact_area' if item == 6 else 'mean_gap'}_vs_tabor",
+            "title": f"Challenge item {item}: {QUANTITY[ycol][1]} vs Tabor coefficient at 250 kPa, best estimates "
+                     f"(grids {', '.join(f'{n}^2' for n in grids)})",
+            "x": "tabor", "y": ycol, "representation": "log-lin", "band": ycol + "_err", "columns": cols,
+            "estimated_error": f"band per point, the best estimate's error ({per})",
+            "extra": [("cmc_version", "0.1.0"), ("case_file", "cases/challenge/tabor-sweep.toml and the reference load's"),
+                      ("grid", "per point, its best estimate's (estimated_error)"),
+                      ("solver_tolerance", "per run, in reference/challenge/runs.json"),
+                      ("date", max(p.get("date") or "" for p in pts) if pts else ""),
+                      ("command", "scripts/best_estimates.py; scripts/apply_best_estimates.py"),
+                      ("sampling", f"{len(pts)} mu_T, each from its own finest converged run"),
+                      ("generator", "scripts/apply_best_estimates.py (python/cmc/analysis/best.py)")]}
+
+
+def readme_block(best):
+    """The README's best-estimate block: what each rewritten file takes from which run."""
+    rl = best["reference_load"]
+    L = [BEGIN, "## Best estimates", "",
+         "The files below take the **best estimates** (`best_estimates.json`, `scripts/best_estimates.py`): at each "
+         "point the finest converged run the project has stored (`runs.json`), with the error from its own refinement "
+         "sequence plus, where it does not resolve ρ, its strategy's error measured on the scaled family at its dx/ρ "
+         "(`python/cmc/analysis/best.py`).", ""]
+    for name, est in (("with adhesion", rl.get("adhesive")), ("without adhesion", rl.get("hardwall"))):
+        if est:
+            q = est["quantities"]
+            L.append(f"- 250 kPa {name}: {run_words(est)}: a_r {q['a_r']['value']:.5g} ± {q['a_r']['error']:.2g}, "
+                     f"mean gap {q['mean_gap']['value'] * 1e6:.6g} ± {q['mean_gap']['error'] * 1e6:.2g} µm: the 250 kPa "
+                     "rows of `contact_area_vs_pressure.csv` and `mean_gap_vs_pressure.csv`"
+                     + (" (in `adhesionless/`)" if name.startswith("without") else "")
+                     + "; their other rows are still the 2048² load sweep's.")
+    grids = sorted({p["n"] for p in best["tabor"]})
+    L += [f"- `contact_area_vs_tabor.csv`, `mean_gap_vs_tabor.csv`: {len(best['tabor'])} values of μ_T, each its own "
+          f"best estimate (grids {', '.join(f'{n}²' for n in grids)}).",
+          "- Items 1, 3, 4, 5 and 9 (distributions, spectrum, cross sections) and the load sweep's other rows are "
+          "still the **2048²** runs (dx ≈ 24 ρ), with bands from 4096²: no finer run with those observables is "
+          "stored yet (`scripts/gpu/reference_plan.sh` makes them on one GPU).", ""]
+    ex = best.get("mean_gap_extremum")
+    if ex:
+        L += [f"The mean gap's minimum in μ_T: μ_T* = {ex['mu']:.3g} (between {ex['mu_range'][0]:.3g} and "
+              f"{ex['mu_range'][1]:.3g}), mean gap there {ex['y'] * 1e6:.5f} ± {ex['y_total_error'] * 1e6:.2g} µm.", ""]
+    return L + [END]
+
+
+def update_readme(path, best):
+    """Replace (or add, after the title) the best-estimate block of the README."""
+    text = open(path, encoding="utf-8").read() if os.path.exists(path) else "# Challenge reference curves\n"
+    block = "\n".join(readme_block(best))
+    if BEGIN in text and END in text:
+        text = text[:text.index(BEGIN)] + block + text[text.index(END) + len(END):]
+    else:
+        head, _, rest = text.partition("\n\n")
+        text = head + "\n\n" + block + "\n\n" + rest
+    write_atomically(path, text)
+
+
+def apply(best, out_dir, cmc):
+    """Rewrite the stored curves the best estimates decide; returns the paths written."""
+    done = []
+    rl, sweeps = best["reference_load"], best.get("load_sweep") or {}
+    for problem, folder in (("adhesive", out_dir), ("hardwall", os.path.join(out_dir, "adhesionless"))):
+        ests = sweeps.get(problem) or [e for e in (rl.get(problem),) if e]
+        for q, short in (("contact_area_vs_pressure", "a_r"), ("mean_gap_vs_pressure", "mean_gap")):
+            path = os.path.join(folder, q + ".csv")
+            old = read_curve(path)
+            if ests and old:
+                write_curve(cmc, with_best_rows(old, ests, short), path)
+                done.append(path)
+    for q, ycol, short in (("contact_area_vs_tabor", "contact_fraction", "a_r"), ("mean_gap_vs_tabor", "mean_gap_m", "mean_gap")):
+        path = os.path.join(out_dir, q + ".csv")
+        if best["tabor"]:
+            write_curve(cmc, tabor_curve(read_curve(path), best["tabor"], ycol, short), path)
+            done.append(path)
+    update_readme(os.path.join(out_dir, "README.md"), best)
+    return done + [os.path.join(out_dir, "README.md")]
+
+
+def main(argv):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--best", default=os.path.join(ROOT, "reference", "challenge", "best_estimates.json"))
+    ap.add_argument("--out", default=os.path.join(ROOT, "reference", "challenge"))
+    ap.add_argument("--cmc", default=os.path.join(ROOT, "build", "cmc"), help="the cmc that formats the curves")
+    a = ap.parse_args(argv)
+    try:
+        with open(a.best) as f:
+            best = json.load(f)
+    except (OSError, ValueError) as e:
+        print(f"apply_best_estimates: {a.best}: {e} (scripts/best_estimates.py writes it)", file=sys.stderr)
+        return 2
+    for p in apply(best, a.out, a.cmc):
+        print(f"apply_best_estimates: {os.path.relpath(p, ROOT)}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

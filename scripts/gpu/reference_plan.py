@@ -1,0 +1,163 @@
+#!/usr/bin/env python3
+"""The runs behind the challenge's best estimates, on one GPU within one deadline, packed into one
+file that scripts/gpu/ingest.py turns into the run store and reference/challenge/.
+
+    scripts/gpu/reference_plan.py [--deadline S] [--scale K] [--cpu] [--pack DIR] [--tar FILE]
+                                  [--work DIR] [--skip P,...] [--dry-run]
+
+The plan, in order of what the references gain (each stage capped; a stage whose estimate does
+not fit in the time left is dropped before anything starts, and the plan says so):
+  1. the challenge at 250 kPa with the shape coarse-graining on 16384² (the headline with
+     adhesion and its distributions, spectrum and cross sections);
+  2. the Tabor sweep on 8192²: plain where that grid resolves rho (mu_T <= 0.562), shape above;
+  3. the hard-wall load sweep on 4096² and 8192² (the adhesionless curves at every load);
+  4. the plain challenge on 16384² with its fields, then on 32768² started from it (the
+     challenge's own check of the shape strategy: plain approaching it from below);
+  5. the adhesive load sweep with shape on 4096² and 8192² (items 2 and 8 at every load).
+Estimates come from the run store (reference/challenge/runs.json: the same kind of run on the
+same backend, scaled by the grid's points where only another grid was run) plus a start-up
+allowance. Stages are kept in order while their estimates fit in the deadline; each stage's cap
+is its estimate plus half (and 10 s), the deadline cuts the last one short, and quasi-static
+solves stop themselves inside their cap (scripts/gpu/check.sh: solver.max_seconds), so every
+run leaves its summary.
+
+--scale K divides every grid by K and --cpu runs the same stages on the CPU backend: the whole
+plan, end to end, at small grids (the test command runs it with --scale 64 --cpu). The pack is
+scripts/gpu/pack.sh's (--pack, default .gpucarry); the results go to --tar (default
+$OUT/reference-plan.tgz where $OUT is set), with the machine's description and the build's commit.
+"""
+import argparse
+import datetime
+import json
+import os
+import subprocess
+import sys
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+TABOR = [v for line in open(os.path.join(ROOT, "cases", "challenge", "tabor-values"))
+         if not line.startswith("#") for v in line.split()]  # as written there (check.sh matches the text)
+PLAIN_TABOR_MAX = 0.562  # 8192² resolves rho (dx <= 1.1 rho) up to this mu_T; shape above
+STARTUP_S = {"cuda": 6.0, "cpu": 1.5}  # process start, surface, plans and writing (a floor per run)
+MAX_PACK_MIB = 16
+
+
+def stages(scale):
+    """[(priority, stage, overrides, kind, n)] of the full plan, grids divided by scale."""
+    def g(n):
+        return max(16, n // scale)
+    out = [(1, f"shape:{g(16384)}", [], "shape", g(16384))]
+    for mu in TABOR:
+        if float(mu) <= PLAIN_TABOR_MAX:
+            out.append((2, f"tabor:{g(8192)}:{mu}", [], f"tabor_mu{float(mu):g}", g(8192)))
+        elif float(mu) < 3.0:  # mu_T = 3 with shape is stage 1's case
+            out.append((2, f"shape_tabor:{g(8192)}:{mu}", [], f"shape_tabor_mu{float(mu):g}", g(8192)))
+    out += [(3, f"hardwall_load:{g(n)}", [], "hardwall_load", g(n)) for n in (4096, 8192)]
+    out += [(4, f"adhesive:{g(16384)}", ["output.fields=true"], "adhesive", g(16384)),
+            (4, f"adhesive_from:{g(32768)}:{g(16384)}", [], "adhesive", g(32768))]
+    out += [(5, f"shape_load:{g(n)}", [], "shape_load", g(n)) for n in (4096, 8192)]
+    return out
+
+
+def estimate(kind, n, backend, records):
+    """Seconds a stage takes: the stored run of this kind and backend on the nearest grid, scaled by
+    the points (n²), plus STARTUP_S; where none is stored, the nearest adhesive or hard-wall run
+    of any kind on this backend, times 3 (a guess, printed as one)."""
+    base = "shape" if kind.startswith("shape_tabor") else "tabor_mu" if kind.startswith("tabor_mu") else kind
+    same = [r for r in records if r.get("backend") == backend and r.get("run_s") and
+            (r["kind"] == kind or r["kind"].startswith(base))]
+    guess = False
+    if not same:
+        family = "hardwall" if kind.startswith("hardwall") else "adhesive"
+        same = [r for r in records if r.get("backend") == backend and r.get("run_s") and r.get("problem") == family]
+        guess = True
+    if not same:
+        return 60.0, True
+    r = min(same, key=lambda r: abs((r["n"] or 1) - n))
+    t = r["run_s"] * (n / r["n"]) ** 2 * (3.0 if guess else 1.0)
+    if kind.endswith("load"):
+        t *= 14 if r.get("steps") is None else 1  # a sweep of 14 loads from a single-load run
+    return STARTUP_S[backend] + t, guess
+
+
+PACK_S = 20  # the deadline's reserve for the last pack
+
+
+def plan(a, records):
+    """The stages whose estimates fit in the deadline, in order, each with its cap (its estimate
+    plus half, and 10 s), and those dropped. A run started from another needs that one kept."""
+    backend = "cpu" if a.cpu else "cuda"
+    kept, dropped, total = [], [], 0.0
+    for prio, stage, sets, kind, n in stages(a.scale):
+        if prio in a.skip:
+            continue
+        est, guess = estimate(kind, n, backend, records)
+        needs = stage.startswith("adhesive_from") and not any(k[1].endswith(f"adhesive:{stage.split(':')[2]}") for k in kept)
+        if needs or total + est > a.deadline - PACK_S:
+            dropped.append((prio, stage, est, guess))
+            continue
+        total += est
+        kept.append((prio, ("cpu-" if a.cpu else "") + stage, sets, est, guess, int(est * 1.5 + 10)))
+    return kept, dropped, total
+
+
+def machine_text(a):
+    """What ran the plan: the GPU (nvidia-smi) or the CPU, cores, the time (UTC)."""
+    if a.cpu:
+        dev = "host CPU"
+    else:
+        r = subprocess.run(["nvidia-smi", "--query-gpu=name,memory.total,driver_version", "--format=csv,noheader"],
+                           capture_output=True, text=True)
+        dev = r.stdout.strip().splitlines()[0] if r.returncode == 0 and r.stdout.strip() else "GPU (nvidia-smi failed)"
+    now = datetime.datetime.now(datetime.timezone.utc)
+    return f"device {dev}\ncores {os.cpu_count()}\ndate {now:%Y-%m-%d}\nstarted {now:%Y-%m-%dT%H:%M:%SZ}\n"
+
+
+def main(argv):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--deadline", type=int, default=540, help="seconds for the whole plan (default %(default)s)")
+    ap.add_argument("--scale", type=int, default=1, help="divide every grid by this (default %(default)s)")
+    ap.add_argument("--cpu", action="store_true", help="run the stages on the CPU backend")
+    ap.add_argument("--pack", default=".gpucarry", help="scripts/gpu/pack.sh's pack (default %(default)s)")
+    ap.add_argument("--work", default="reference-plan", help="where the runs go (default %(default)s)")
+    ap.add_argument("--tar", default=os.path.join(os.environ.get("OUT", "."), "reference-plan.tgz"))
+    ap.add_argument("--store", default=os.path.join(ROOT, "reference", "challenge", "runs.json"))
+    ap.add_argument("--skip", default="", help="priorities to leave out, e.g. 1,2 for a second call (default: none)")
+    ap.add_argument("--dry-run", action="store_true", help="print the plan and stop")
+    a = ap.parse_args(argv)
+    try:
+        a.skip = {int(p) for p in a.skip.split(",") if p.strip()}
+    except ValueError:
+        print(f"reference_plan: --skip {a.skip}: expected priorities 1-5 separated by commas", file=sys.stderr)
+        return 2
+    if a.scale < 1 or a.deadline < 60:
+        print("reference_plan: --scale must be >= 1 and --deadline >= 60 s", file=sys.stderr)
+        return 2
+    records = json.load(open(a.store)).get("records", []) if os.path.exists(a.store) else []
+    kept, dropped, total = plan(a, records)
+    print(f"reference_plan: {len(kept)} stages, about {total:.0f} s estimated in a deadline of {a.deadline} s "
+          f"({'CPU' if a.cpu else 'GPU'}, grids / {a.scale}):")
+    for prio, stage, sets, est, guess, cap in kept:
+        print(f"  [{prio}] {stage:32s} estimate {est:6.0f} s{' (guess)' if guess else '':8s} cap {cap:4d} s"
+              + (f"  {' '.join(sets)}" if sets else ""))
+    for prio, stage, est, guess in dropped:
+        print(f"  [{prio}] {stage:32s} estimate {est:6.0f} s: dropped, it does not fit")
+    if a.dry_run or not kept:
+        return 0
+    os.makedirs(a.work, exist_ok=True)
+    with open(os.path.join(a.work, "machine.txt"), "w") as f:
+        f.write(machine_text(a))
+    # Scaled down, the spectrum is cut at the grid's own resolution as the full plan's grids hold
+    # it (lambda_s = 2 dx of 2048² / K): every grid then has the same surface, and a run can start
+    # from a coarser one.
+    scaled = [f"surface.cutoff_wavelength={0.1e-6 * a.scale:g}"] if a.scale > 1 else []
+    specs = [f"{stage}@{cap}" + "".join("," + s for s in sets + scaled) for _, stage, sets, _, _, cap in kept]
+    env = dict(os.environ, DEADLINE=str(a.deadline))
+    r = subprocess.run([os.path.join(ROOT, "scripts", "gpu", "batch.sh"), "--pack", a.pack, "--work", a.work,
+                        "--tar", a.tar, "--keep-h5", "8", "--deadline", str(a.deadline)] + specs, env=env, cwd=ROOT)
+    size = os.path.getsize(a.tar) / 2 ** 20 if os.path.exists(a.tar) else 0
+    print(f"reference_plan: {a.tar}: {size:.2f} MiB" + (f" (more than {MAX_PACK_MIB} MiB)" if size > MAX_PACK_MIB else ""))
+    return r.returncode
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
