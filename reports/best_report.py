@@ -47,10 +47,30 @@ def error_source(est, short):
     text = f"refinement {grids} {100 * ref['relative']:.2g} % ({ref['method']})"
     if q.get("strategy_error"):
         text += f" + {est['strategy']} at dx = {est['dx_over_rho']:.3g} ρ {100 * q['strategy_error']['error']:.2g} % (scaled family)"
+    if q.get("roundoff_floor"):
+        text += f"; raised to the round-off spread between builds, {100 * q['relative_error']:.2g} %"
     return text
 
 
-def headline(best, user):
+DISTRIBUTIONS = (("patch_size_distribution", 1), ("gap_distribution", 3), ("stress_distribution", 4),
+                 ("stress_spectrum", 5), ("cross_section_gap", 9))
+
+
+def stored_grids(reference_dir):
+    """{grid text: [items]} of the stored references of items 1, 3, 4, 5, 9 (their `grid` line)."""
+    out = {}
+    for q, item in DISTRIBUTIONS:
+        try:
+            with open(os.path.join(reference_dir, "challenge", q + ".csv"), encoding="utf-8") as f:
+                grid = next((ln.split(":", 1)[1].strip() for ln in f if ln.startswith("# grid:")), None)
+        except OSError:
+            continue
+        if grid:
+            out.setdefault(grid.split(" (")[0], []).append(item)
+    return out
+
+
+def headline(best, user, reference_dir="reference"):
     """The report's opening section. user: {True: (run, step) or None, False: ...} (with and without
     adhesion, the user's runs at 250 kPa, as the report finds them)."""
     L = ["## Headline: the best estimates at p = 250 kPa (p̃ = p/(E*ḡ) = 0.01)", ""]
@@ -64,7 +84,7 @@ def headline(best, user):
         got = user.get(a)
         head += [f"{label[a]}: best estimate", f"your run ({got[0].nx}²)" if got else "your run"]
     rows = []
-    for short, name, scale, digits in ROWS + (("kappa", "κ = a_r / p̃", 1.0, 3),):
+    for short, name, scale, digits in ROWS + (("kappa", "κ = a_r / p̃", 1.0, 4),):
         row = [name]
         for a in (True, False):
             est, got = ests[a], user.get(a)
@@ -84,7 +104,11 @@ def headline(best, user):
             L.append(f"- Best estimate {label[a]}: {provenance(ests[a])}; error of a_r: {error_source(ests[a], 'a_r')}; "
                      f"of the mean gap: {error_source(ests[a], 'mean_gap')}.")
     L += ["- Your run: the step at 250 kPa of your `results/` run, its deviation in % and in units of the best "
-          "estimate's error (σ here is that error, not a standard deviation).", ""]
+          "estimate's error (σ here is that error, not a standard deviation)."]
+    for grid, items in stored_grids(reference_dir).items():
+        L.append(f"- Items {', '.join(str(i) for i in items)} (distributions, spectrum, cross sections): the finest "
+                 f"stored run with these observables is still {grid}; their references carry that grid's band.")
+    L.append("")
     L += [statement_sentence(rl), ""]
     ex = best.get("mean_gap_extremum")
     if ex:

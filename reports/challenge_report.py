@@ -1341,7 +1341,7 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
              "reads them). The last section says how each number was obtained and how far to trust it.", ""]
     best = load_best(reference_dir)
     user = {a: (pair[0] if pair else None) for a, pair in ((a, _reference_load_runs(runs, a)) for a in (True, False))}
-    lines += headline(best, user)
+    lines += headline(best, user, reference_dir)
     for a in (True, False):
         stopped_run = _stopped_reference_runs(runs, a)
         if stopped_run:
