@@ -103,6 +103,7 @@ def headline(best, user, reference_dir="reference"):
         if ests[a]:
             L.append(f"- Best estimate {label[a]}: {provenance(ests[a])}; error of a_r: {error_source(ests[a], 'a_r')}; "
                      f"of the mean gap: {error_source(ests[a], 'mean_gap')}.")
+    L += cross_check(ests[True])
     L += ["- Your run: the step at 250 kPa of your `results/` run, its deviation in % and in units of the best "
           "estimate's error (σ here is that error, not a standard deviation)."]
     for grid, items in stored_grids(reference_dir).items():
@@ -114,6 +115,19 @@ def headline(best, user, reference_dir="reference"):
     if ex:
         L += [extremum_sentence(ex, best), ""]
     return L
+
+
+def cross_check(est):
+    """A bullet on the challenge's own check of the chosen estimate: each finest run of another
+    strategy at the point, its a_r against the estimate and the way its refinement still moves."""
+    if not est:
+        return []
+    q = est["quantities"]["a_r"]
+    parts = [f"{o['strategy']} on {o['n']}² gives a_r {o['a_r']:.5g} ({100 * (o['a_r'] / q['value'] - 1):+.2g} %)"
+             + (f", still moving by {100 * o['a_r_last_change']:+.2g} % from the grid before" if o.get("a_r_last_change")
+                else "")
+             for o in est.get("passed_over", []) if o.get("a_r")]
+    return [f"- Checks on the challenge itself (runs the choice passed over): {'; '.join(parts)}."] if parts else []
 
 
 def statement_sentence(rl):

@@ -153,10 +153,20 @@ def best_at(records, problem, pressure, tabor, members, conditions, roundoff=Non
     if not usable:
         return None
     best = min(usable, key=_rank)
-    others = [{"run": c["run"], "n": c["n"], "strategy": c["strategy"],
-               "a_r_relative_error": c["quantities"].get("a_r", {}).get("relative_error")}
-              for c in cands if c is not best]
+    others = [_passed_over(c) for c in cands if c is not best]
     return dict(best, problem=problem, pressure_Pa=pressure, tabor=tabor, passed_over=others)
+
+
+def _passed_over(c):
+    """What the choice of a point's best estimate passed over: each other candidate's run, value,
+    error and last refinement change of a_r (a check on the chosen one: e.g. plain on the same grid
+    as shape, and the direction it is still moving in)."""
+    q = c["quantities"].get("a_r", {})
+    ref = q.get("refinement") or {}
+    last = ref.get("changes", [None])[-1] if ref else None
+    return {"run": c["run"], "n": c["n"], "strategy": c["strategy"], "a_r": q.get("value"),
+            "a_r_relative_error": q.get("relative_error"),
+            "a_r_last_change": None if last is None or not q.get("value") else last / q["value"]}
 
 
 def ratio(a, b):
