@@ -44,6 +44,7 @@ import numpy as np
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 sys.path.insert(0, os.path.join(ROOT, "reports"))
+sys.path.insert(0, os.path.join(ROOT, "scripts"))
 from challenge_report import (Run, _centers, _find_runs, _merged_sweeps, _observables,  # noqa: E402
                               _reference_load_runs, _stopped, band_floor, finer_sweep, grid_change, hardwall_sweep_band,
                               profile_band, refinement_band, sweep_band)  # (the report's extraction)
@@ -53,7 +54,6 @@ from common import (CHALLENGE, FAMILY_STORE, REFINEMENT_BISTABILITY, STRATEGY_WO
 
 RHO, LAMBDA_S, P0 = CHALLENGE["rho"], CHALLENGE["lambda_s"], CHALLENGE["p0"]
 GENERATOR = "scripts/challenge_reference.py (extraction: reports/challenge_report.py)"
-STORED_CHANGE_KEY = "reference_load_grid_change"  # read by reports/challenge_report.py
 
 
 # ------------------------------------------------------------------ the format: cmc writes it
@@ -862,6 +862,7 @@ def main():
         write_atomically(os.path.join(a.out, "README.md"),
                          readme(kept + curves, a.out, hw, None, None, keep_from=os.path.join(a.out, "README.md")))
         print(f"challenge_reference: {_rel(os.path.join(a.out, 'README.md'))} (the other curves kept)")
+        apply_best(a.out, a.cmc)
         return
     written = {}
     for adhesive in (True, False):
@@ -873,14 +874,6 @@ def main():
             c, ref_step = reference_load_curves(ref_run, hw, notes, pair[1] if len(pair) > 1 else None)
             curves += c
         curves += load_sweep_curves(runs, hw, adhesive, pair)
-        # The headline quantities' change between the two grids at the reference load, for a
-        # report that has only the coarse run (reports/challenge_report.py _headline_errors).
-        changes = [(k, _grid_change_of(pair, k)) for k in ("ar", "ar_corr", "rep", "gap")]
-        changes = [(k, c) for k, c in changes if c]
-        for c in curves:
-            if c["quantity"] == "contact_area_vs_pressure" and changes:
-                c["extra"] = c["extra"] + [(STORED_CHANGE_KEY, " ".join(f"{k}={v[0]:.4g}" for k, v in changes)
-                                            + f" ({changes[0][1][1]})")]
         if adhesive:
             curves += tabor_curves([r for r in runs if r.name.startswith("challenge-tabor")], hw)
         for c in curves:
@@ -897,6 +890,21 @@ def main():
         print("challenge_reference: note: " + str(n), file=sys.stderr)
     if not written[True][0]:
         sys.exit("challenge_reference: no curves: no adhesive challenge run with observables found")
+    apply_best(a.out, a.cmc)
+
+
+def apply_best(out, cmc):
+    """The best estimates (OUT/best_estimates.json, scripts/best_estimates.py) put into the curves
+    they decide (scripts/apply_best_estimates.py), after the curves were written from the runs."""
+    path = os.path.join(out, "best_estimates.json")
+    if not os.path.exists(path):
+        print(f"challenge_reference: no {_rel(path)}: the curves keep their runs' values "
+              "(scripts/best_estimates.py makes it)", file=sys.stderr)
+        return
+    import apply_best_estimates  # noqa: E402 (imports this module)
+    with open(path) as f:
+        for p in apply_best_estimates.apply(json.load(f), out, cmc):
+            print(f"challenge_reference: {_rel(p)} (best estimates)")
 
 
 if __name__ == "__main__":

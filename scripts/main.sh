@@ -4,10 +4,11 @@
 # surface spectrum) and write the challenge report (reports/challenge/index.md):
 #   - the reference load (250 kPa) with and without adhesion (quantities 1, 3, 4, 5, 9);
 #   - with adhesion, the load sweep 12.5 kPa .. 100 MPa, to full contact (quantities 2 and
-#     8), and the Tabor sweep mu_T = 0.0562 .. 3 (quantities 6 and 7).
-# 12 to 14 min on 2 cores after the build (README). The hard-wall load sweep and the 4096²
-# runs that give the bands are scripts/sweeps.sh's (about an hour more); until they run the
-# report draws their stored reference curves (reference/challenge/) and says so.
+#     8), and the Tabor sweep mu_T = 0.001 .. 3 (quantities 6 and 7, 15 values).
+# About 16 min on 2 cores after the build. The report opens with the stored best estimates
+# (reference/challenge/best_estimates.json: the finest runs the project has, CPU or GPU) and
+# puts these runs beside them; scripts/sweeps.sh and scripts/gpu/reference_plan.py make the
+# runs behind the best estimates.
 #   scripts/main.sh            everything above
 #   scripts/main.sh --quick    only the two runs at the reference load (under a minute)
 # Results: results/challenge-*/. A run interrupted half-way continues where it stopped
