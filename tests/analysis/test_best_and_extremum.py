@@ -73,6 +73,8 @@ def test_extremum_of_a_parabola_in_log_mu():
     assert math.log10(got["mu"]) == pytest.approx(-1.9, abs=1e-9) and got["y"] == pytest.approx(1.0)
     assert got["bracket"][0] < got["mu"] < got["bracket"][1]
     assert extremum.locate(mu, np.log10(mu), "min") is None   # monotone: not bracketed
+    # a neighbour a decade away does not bracket it: the samples between are missing
+    assert extremum.locate([0.001, 0.00316, 0.00562, 3.0], [1.0, 0.99, 0.98, 1.01], "min") is None
     m, s = extremum.log_slope([1, 10, 100], [0.0, 1.0, 3.0])
     assert list(s) == [1.0, 2.0] and m[0] == pytest.approx(math.sqrt(10))
 

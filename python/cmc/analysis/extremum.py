@@ -12,6 +12,10 @@ import math
 
 import numpy as np
 
+# The widest step (in decades of mu) between a bracketing sample and its neighbours: wider, and
+# the samples do not locate the extremum (the sweep's points are a quarter decade apart).
+MAX_STEP_DECADES = 0.5
+
 
 def _vertex(x, y):
     """The vertex (x*, y*, curvature) of the least-squares parabola through the points, or None
@@ -36,7 +40,8 @@ def bracket(mu, y, kind="min"):
 
 def locate(mu, y, kind="min"):
     """The extremum of y(mu) on log10(mu) (mu ascending): {"mu", "y", "log10_mu_error", "y_error",
-    "bracket": [mu_left, mu_right], "estimates": {...}} or None where it is not bracketed. The
+    "bracket": [mu_left, mu_right], "estimates": {...}} or None where it is not bracketed (or its
+    neighbours lie more than MAX_STEP_DECADES away). The
     errors are those of locating it on these samples (the two parabolas' distance, at least a
     tenth of the bracket's half-width on the abscissa); the samples' own errors come on top
     (y_sample_error)."""
@@ -47,6 +52,8 @@ def locate(mu, y, kind="min"):
     if i is None:
         return None
     x = np.log10(mu)
+    if x[i + 1] - x[i] > MAX_STEP_DECADES or x[i] - x[i - 1] > MAX_STEP_DECADES:
+        return None
     three = _vertex(x[i - 1:i + 2], y[i - 1:i + 2])
     lo, hi = max(0, i - 2), min(len(x), i + 3)
     five = _vertex(x[lo:hi], y[lo:hi]) if hi - lo >= 4 else None
