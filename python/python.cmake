@@ -56,4 +56,11 @@ if(CMC_BUILD_TESTS)
     set_tests_properties(python.${name} PROPERTIES LABELS "quick;python"
                          ENVIRONMENT "PYTHONPATH=${CMC_PYTHON_DIR};CMC_EXE=$<TARGET_FILE:cmc>;CMC_SOURCE=${CMAKE_SOURCE_DIR}")
   endforeach()
+  # The documented example (docs/user-guide/python.md) runs as written: the challenge at 512².
+  add_test(NAME python.example_challenge
+           COMMAND ${Python_EXECUTABLE} ${CMAKE_SOURCE_DIR}/docs/examples/python_challenge.py
+                   ${CMAKE_BINARY_DIR}/python-example/challenge_512.png)
+  set_tests_properties(python.example_challenge PROPERTIES LABELS "quick;python"
+                       ENVIRONMENT "PYTHONPATH=${CMC_PYTHON_DIR};MPLBACKEND=Agg")
+  file(MAKE_DIRECTORY ${CMAKE_BINARY_DIR}/python-example)
 endif()

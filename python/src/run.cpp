@@ -51,7 +51,8 @@ toml::table case_table(const py::dict& sections, const std::string& label) {
     toml::table s;
     for (const auto& [k, v] : keys.cast<py::dict>()) {
       const std::string key = py::str(k);
-      put_value(v, label + ": [" + section + "] " + key, [&](auto&& x) { s.insert_or_assign(key, std::forward<decltype(x)>(x)); });
+      put_value(v, label + ": [" + section + "] " + key,
+                [&](auto&& x) { s.insert_or_assign(key, std::forward<decltype(x)>(x)); });
     }
     t.insert_or_assign(section, std::move(s));
   }
@@ -148,6 +149,9 @@ RunOutput run_case(const cmc::Case& c, const std::optional<std::span<const doubl
             if (!inside || inside->outer + 1 >= c.solver.max_outer_steps) writer.checkpoint(st, path, inside);
           });
       writer.finish(run);
+    } catch (const py::error_already_set&) {  // its text (a traceback) needs the GIL, and says less
+      writer.fail("stopped from Python: Ctrl-C, or an exception raised by the progress callback");
+      throw;
     } catch (const std::exception& e) {
       writer.fail(e.what());
       throw;

@@ -19,7 +19,8 @@ except ImportError as e:
 
 
 def test_import_cmc_loads_nothing_compiled():
-    r = python("import json, sys, cmc; print(json.dumps(sorted(m for m in sys.modules if m.startswith(('cmc', 'numpy')))))")
+    r = python("import json, sys, cmc\n"
+               "print(json.dumps(sorted(m for m in sys.modules if m.startswith(('cmc', 'numpy')))))")
     assert r.returncode == 0, r.stderr
     assert json.loads(r.stdout) == ["cmc"]
 

@@ -77,6 +77,31 @@ def test_run_with_out_writes_what_cmc_run_writes(cmc, tmp_path):
     assert set(r.summary) == set(cli)
 
 
+def test_a_run_stopped_from_python_is_resumed_by_cmc_run(cmc, tmp_path):
+    """Stopped in its third step (as Ctrl-C stops it), a run with out= says so in its
+    summary.json and `cmc run --resume` finishes it with the numbers of a whole run."""
+    overrides = ["grid.n=64", "loading.values=[1e5, 2e5, 3e5]", "observables.enabled=false"]
+    case = cmc.Case.load(case_path("challenge/reference-load-hardwall.toml"), set=overrides)
+
+    def stop_in_step_2(point):
+        if point["step"] == 2:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        cmc.run(case, out=tmp_path / "py", progress=stop_in_step_2)
+    with open(tmp_path / "py" / "summary.json") as f:
+        stopped = json.load(f)
+    assert stopped["status"] == "failed" and stopped["message"].startswith("stopped from Python")
+    assert os.path.exists(tmp_path / "py" / "INCOMPLETE")
+    args = ["run", case.file, "--out", str(tmp_path / "py"), "--quiet", "--resume"]
+    for o in overrides:
+        args += ["--set", o]
+    r = cmc_cli(*args)
+    assert r.returncode == 0, r.stderr
+    with open(tmp_path / "py" / "summary.json") as f:
+        same_steps(json.load(f)["steps"], cmc.run(case).steps)
+
+
 def cli_error(case, *overrides):
     args = ["run", case, "--out", "/nonexistent/never-written", "--quiet"]
     for o in overrides:
@@ -106,8 +131,9 @@ def test_case_errors_are_the_command_lines(cmc, overrides, named):
 
 def test_set_takes_a_dict_of_python_values(cmc):
     path = case_path("challenge/reference-load-hardwall.toml")
-    case = cmc.Case.load(path, set={"grid.n": np.int64(64), "solver.kind": "polonsky_keer", "loading.values": [1e5, 2e5],
-                                    "observables.enabled": False, "case.description": 'quote " and \\ kept'})
+    case = cmc.Case.load(path, set={"grid.n": np.int64(64), "solver.kind": "polonsky_keer",
+                                    "loading.values": [1e5, 2e5], "observables.enabled": False,
+                                    "case.description": 'quote " and \\ kept'})
     c = case.resolved
     assert case.shape == (64, 64)
     assert c["loading"]["values"] == [1e5, 2e5] and c["observables"]["enabled"] is False
