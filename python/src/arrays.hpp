@@ -39,6 +39,13 @@ inline cmc::Field scaled(std::span<const double> f, double k) {
   return out;
 }
 
+// `f` times `k`, in place (a unit conversion of a buffer the caller hands on).
+inline void scale_in_place(cmc::Field& f, double k) {
+  cmc::Grid::parallel_for(f.size(), [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) f[i] *= k;
+  });
+}
+
 // The values of a C-contiguous float64 array, to be read with the GIL released (the
 // caller keeps the array alive).
 inline std::span<const double> values_of(const py::array_t<double, py::array::c_style | py::array::forcecast>& a) {

@@ -29,14 +29,9 @@ std::string si_column(const ck::AxisSpec& a) {
 py::tuple check(const std::string& prediction, const std::string& quantity, const std::string& reference,
                 std::optional<double> tolerance, const std::string& metric, std::optional<double> min_coverage,
                 bool adhesionless) {
-  ck::Options o;
-  o.prediction = prediction;
-  o.quantity = quantity;
-  o.reference_file = reference;
-  o.tolerance = tolerance;
-  o.metric = metric;
-  o.min_coverage = min_coverage;
-  o.adhesionless = adhesionless;
+  const ck::Options o{.prediction = prediction, .quantity = quantity, .reference_file = reference, .x = {}, .y = {},
+                      .metric = metric, .tolerance = tolerance, .min_coverage = min_coverage, .columns = {},
+                      .adhesionless = adhesionless};
   ck::Report r;
   {
     py::gil_scoped_release free;

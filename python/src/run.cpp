@@ -158,7 +158,8 @@ RunOutput run_case(const cmc::Case& c, const std::optional<std::span<const doubl
     }
     o.summary_json = read_text((writer.dir() / "summary.json").string());
   }
-  o.heights = scaled(scene.topography.heights, u.length_m);
+  o.heights = std::move(scene.topography.heights);  // the scene ends here: its buffer, in metres
+  scale_in_place(o.heights, u.length_m);
   return o;
 }
 

@@ -18,9 +18,7 @@ namespace {
 
 // The heights of `map` times `to_m` (metres per height unit), in place, as a (ny, nx) array.
 py::array_t<double> heights_in_metres(cmc::HeightMap&& map, double to_m) {
-  cmc::Grid::parallel_for(map.heights.size(), [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) map.heights[i] *= to_m;
-  });
+  scale_in_place(map.heights, to_m);
   return adopt_field(std::move(map.heights), map.grid.nx, map.grid.ny);
 }
 
