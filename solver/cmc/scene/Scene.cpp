@@ -5,6 +5,8 @@
 #include "cmc/surface/SurfaceIO.hpp"
 #include "cmc/surface/SurfaceStats.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 namespace cmc {
@@ -57,6 +59,8 @@ Topography load_surface_file(const Case& c, const Grid& grid) {
   map.grid.lx = grid.lx, map.grid.ly = grid.ly;
   return {grid, std::move(map.heights), std::string(kind_name(sf.format)) + " file " + path.string()};
 }
+}  // namespace
+
 SelfAffineSpec self_affine_spec(const SurfaceSpec& sf, const Units& u) {
   SelfAffineSpec spec;
   spec.hurst = sf.hurst;
@@ -66,6 +70,8 @@ SelfAffineSpec self_affine_spec(const SurfaceSpec& sf, const Units& u) {
   spec.seed = (unsigned long)sf.seed;
   return spec;
 }
+
+namespace {
 
 void build_self_affine(const SurfaceSpec& sf, Scene& s) {
   const SelfAffineSpec spec = self_affine_spec(sf, s.units);
@@ -82,11 +88,16 @@ void build_self_affine(const SurfaceSpec& sf, Scene& s) {
 }
 
 // The indenter's heights (reduced), its shape parameters and, for rough surfaces,
-// their statistics.
-void build_topography(const Case& c, Scene& s) {
+// their statistics. `given`: heights in metres in place of the case's surface.
+void build_topography(const Case& c, Scene& s, const std::span<const double>* given) {
   const Units& u = s.units;
   const auto& sf = c.surface;
-  switch (sf.kind) {
+  if (given) {
+    Field h(given->size());
+    const double to_reduced = 1.0 / u.length_m;
+    for (std::size_t i = 0; i < h.size(); ++i) h[i] = (*given)[i] * to_reduced;
+    s.topography = {s.grid, std::move(h), "heights given by the caller"};
+  } else switch (sf.kind) {
     case SurfaceKind::Sphere:
       s.sphere_radius = u.length(sf.radius);
       s.apex_x = sf.center ? u.length((*sf.center)[0]) : 0.5 * s.grid.lx;
@@ -102,7 +113,7 @@ void build_topography(const Case& c, Scene& s) {
     case SurfaceKind::File: s.topography = load_surface_file(c, s.grid); break;
     case SurfaceKind::Flat: s.topography = flat(s.grid); break;
   }
-  if (sf.kind == SurfaceKind::SelfAffine || sf.kind == SurfaceKind::File) {
+  if (given || sf.kind == SurfaceKind::SelfAffine || sf.kind == SurfaceKind::File) {
     const SurfaceStatistics st = surface_statistics(s.grid, s.topography.heights);
     const double L = u.length_m;
     auto& f = s.surface_facts;
@@ -191,7 +202,9 @@ std::vector<std::pair<std::string, double>> surface_fact_entries(const SurfaceFa
   return out;
 }
 
-Scene build_scene(const Case& c) {
+namespace {
+// The scene of case `c`; `given`: the heights in metres in place of its surface (null: its own).
+Scene make_scene(const Case& c, const std::span<const double>* given) {
   Scene s;
   s.units.length_m = c.grid.size_x;
   s.units.pressure_pa = c.contact_modulus;
@@ -203,17 +216,17 @@ Scene build_scene(const Case& c) {
   } catch (const std::invalid_argument& e) {
     throw CaseError(c.file + ": [grid]: " + e.what());
   }
-  if (c.surface.kind == SurfaceKind::SelfAffine) {
+  if (c.surface.kind == SurfaceKind::SelfAffine && !given) {
     // Made on the slab (each rank its rows of the spectrum, a distributed inverse
     // transform): no rank holds the whole surface.
     s.grid = slab;
-    build_topography(c, s);
+    build_topography(c, s, nullptr);
   } else {
     // Analytic shapes and files: every rank makes the whole map and its statistics (the
     // same heights as a serial run, bit for bit), then keeps its slab of it.
     LocalReductions whole_surface;
     s.grid = whole;
-    build_topography(c, s);
+    build_topography(c, s, given);
     s.grid = slab;
     if (slab.split()) {
       s.topography.heights = slab_of(slab, s.topography.heights);
@@ -233,6 +246,26 @@ Scene build_scene(const Case& c) {
   s.contact_rule = ContactRule::of(s.interaction, s.observables.contact_gap_threshold);
   build_targets(c.loading, s);
   return s;
+}
+}  // namespace
+
+Scene build_scene(const Case& c) { return make_scene(c, nullptr); }
+
+Scene build_scene(const Case& c, std::span<const double> heights_m) {
+  const std::size_t points = std::size_t(c.grid.nx) * std::size_t(c.grid.ny);
+  if (heights_m.size() != points)
+    throw CaseError(c.file + ": heights: " + std::to_string(heights_m.size()) + " values, expected the grid's " +
+                    std::to_string(c.grid.nx) + " x " + std::to_string(c.grid.ny));
+  LocalReductions every_rank_holds_them;
+  const std::size_t bad = Grid::count_if(heights_m, [](double h) { return !std::isfinite(h); });
+  if (bad) {
+    const std::size_t first = std::size_t(std::find_if(heights_m.begin(), heights_m.end(),
+                                                       [](double h) { return !std::isfinite(h); }) - heights_m.begin());
+    throw CaseError(c.file + ": heights: " + std::to_string(bad) + " of " + std::to_string(points) +
+                    " values are not finite (NaN or infinite), the first at row " + std::to_string(first / c.grid.nx) +
+                    ", column " + std::to_string(first % c.grid.nx) + "; expected finite heights in metres");
+  }
+  return make_scene(c, &heights_m);
 }
 
 }  // namespace cmc

@@ -7,11 +7,13 @@
 #include "cmc/contact/ContactRule.hpp"
 #include "cmc/contact/Interaction.hpp"
 #include "cmc/contact/Solver.hpp"
+#include "cmc/surface/SelfAffine.hpp"
 #include "cmc/surface/Topography.hpp"
 #include "cmc/input/Units.hpp"
 
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -60,5 +62,13 @@ struct Scene {
 };
 
 Scene build_scene(const Case& c);
+// The same with the indenter's heights given in place of the case's [surface] (metres, on
+// the case's grid: nx x ny values, x fastest), e.g. an array from Python (cmc.solve); they
+// get the statistics of a surface from a file. CaseError naming `heights` when the count
+// does not fit the grid or a value is not finite.
+Scene build_scene(const Case& c, std::span<const double> heights_m);
+
+// The generator's spec of a case's self-affine surface (lengths in units of the grid size).
+SelfAffineSpec self_affine_spec(const SurfaceSpec& sf, const Units& u);
 
 }  // namespace cmc

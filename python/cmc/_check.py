@@ -1,0 +1,102 @@
+"""Predictions scored against the reference curves: cmc.check, as `cmc check` scores them."""
+import json
+import os
+import re
+import tempfile
+
+import numpy as np
+
+from ._native import _core, path_text, CaseError, InputError
+
+
+class CheckReport:
+    """The outcome of :func:`cmc.check`, as data.
+
+    * ``passed``: the verdict (the metric within the tolerance and the reference's range
+      covered);
+    * ``verdict``: {"pass", "metric", "value", "tolerance", "tolerance_source", "covered",
+      "min_coverage", "reason", ...};
+    * ``metrics``: {"max_abs", "rms_abs", "max_rel", "rms_rel", "max_band", ...} (units in
+      "abs_unit", definitions in "rel_definition");
+    * ``report``: everything ``cmc check --out DIR`` writes to DIR/check.json (axes,
+      common range, the evaluation points, prediction and reference in SI units);
+    * ``text``: the summary ``cmc check`` prints.
+    """
+
+    def __init__(self, report, text):
+        self.report = report
+        self.text = text
+
+    @property
+    def passed(self):
+        return bool(self.report["verdict"]["pass"])
+
+    @property
+    def verdict(self):
+        return self.report["verdict"]
+
+    @property
+    def metrics(self):
+        return self.report["metrics"]
+
+    def __repr__(self):
+        v = self.verdict
+        return (f"cmc.CheckReport({self.report['quantity']!r}, {'pass' if self.passed else 'FAIL'}: "
+                f"{v['metric']} = {v['value']:.4g} (tolerance {v['tolerance']:.4g}))")
+
+
+def _columns(prediction):
+    """A prediction given as data: an (N, 2) array of (x, y) rows, or a pair (x, y) of 1-D arrays."""
+    try:
+        if isinstance(prediction, (tuple, list)) and len(prediction) == 2 and np.ndim(prediction[0]) == 1:
+            a = np.column_stack([np.asarray(prediction[0], dtype=float), np.asarray(prediction[1], dtype=float)])
+        else:
+            a = np.asarray(prediction, dtype=float)
+    except (TypeError, ValueError) as e:
+        raise InputError("prediction: expected a CSV file, an (N, 2) array of (x, y) rows or a pair (x, y) "
+                         f"({e})") from None
+    if a.ndim != 2 or a.shape[1] != 2:
+        raise InputError(f"prediction: expected an (N, 2) array of (x, y) rows in SI units, got shape {a.shape}")
+    return a
+
+
+def check(prediction, quantity=None, *, reference=None, tolerance=None, metric=None, min_coverage=None,
+          adhesionless=False):
+    """Score a prediction against a reference curve, as ``cmc check`` does.
+
+    `prediction`: a CSV file (the columns ``cmc check --help`` and reference/README.md
+    name, any of their units), or the curve as data in SI units: an (N, 2) array of (x, y)
+    rows or a pair (x, y) of 1-D arrays, e.g. ``cmc.check((pressure_pa, contact_fraction),
+    "contact_area_vs_pressure")``. `quantity`: the challenge quantity (its stored reference
+    is reference/challenge/QUANTITY.csv), needed for data; `reference`: another reference
+    file instead. `tolerance`, `metric`, `min_coverage`, `adhesionless`: as the options of
+    ``cmc check``.
+
+    Returns a :class:`CheckReport`; bad input raises :class:`cmc.InputError` naming the file
+    (or the prediction's row), column and what was expected.
+    """
+    args = ("" if quantity is None else str(quantity),
+            "" if reference is None else path_text(reference, "reference"),
+            None if tolerance is None else float(tolerance), "" if metric is None else str(metric),
+            None if min_coverage is None else float(min_coverage), bool(adhesionless))
+    if isinstance(prediction, (str, os.PathLike)):
+        json_text, text = _core.check(path_text(prediction, "prediction"), *args)
+        return CheckReport(json.loads(json_text), text)
+    if quantity is None:
+        raise InputError("prediction given as data: name its quantity (quantity=, one of "
+                         f"{', '.join(_core.check_quantities())}) so that its columns are known")
+    rows = _columns(prediction)
+    x, y = _core.check_columns(str(quantity))
+    with tempfile.TemporaryDirectory(prefix="cmc-check-") as folder:
+        path = os.path.join(folder, "prediction.csv")
+        np.savetxt(path, rows, fmt="%.17g", delimiter=",", header=f"{x},{y}", comments="")
+        try:
+            json_text, text = _core.check(path, *args)
+        except (InputError, CaseError) as e:
+            # The file's line N (after the header) is row N - 2 of the array.
+            message = re.sub(re.escape(path) + r":(\d+)", lambda m: f"prediction row {int(m.group(1)) - 2}", str(e))
+            message = re.sub(r"\(line (\d+)\)", lambda m: f"(row {int(m.group(1)) - 2})", message)
+            raise type(e)(message.replace(path, "prediction (array)")) from None
+    report = json.loads(json_text)
+    report["prediction_file"] = "(array)"
+    return CheckReport(report, text.replace(path, "(array)"))
