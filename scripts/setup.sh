@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 # clang): the fuzz build of scripts/fuzz.sh, which scripts/test.sh runs. libopenmpi-dev,
 # openmpi-bin and libfftw3-mpi-dev: the distributed build of scripts/mpi.sh (same).
 packages=(build-essential cmake pkg-config libfftw3-dev libgsl-dev libhdf5-dev libtomlplusplus-dev
-          libgtest-dev libbenchmark-dev python3-matplotlib python3-numpy python3-h5py python3-pytest
+          libgtest-dev libbenchmark-dev python3-matplotlib python3-numpy python3-h5py
           clang libclang-rt-dev libomp-dev
           libopenmpi-dev openmpi-bin libfftw3-mpi-dev)
 # The Python module cmc and its tests (python/python.cmake): pybind11, Python's headers, pytest.
