@@ -582,7 +582,7 @@ def tabor_curves(runs, hw):
                        f"the adhesion (bistability number w dx/(E* rho^2) <= {REFINEMENT_BISTABILITY:g} on its coarser grid, "
                        "as on the family's refinement grids; scripts/tabor_sweep.sh --grid N): the "
                        "challenge's own grid error, Richardson extrapolation of order 1 plus the spread of the other "
-                       "estimates of the converged value (reports/common.py own_refinement; " + "; ".join(owns)
+                       "estimates of the converged value (python/cmc/analysis/refinement.py own_band; " + "; ".join(owns)
                        + "). Elsewhere: " if owns else "")
                     + f"the strategy's error measured on the scaled challenge "
                     f"family ({_rel(FAMILY_STORE)}) at that point's dx/rho (deviation from the family's converged "
@@ -694,7 +694,7 @@ def _own_refinement_sentence(banded):
         "by refining the sweep itself (`scripts/tabor_sweep.sh --grid N`) where the finer pair of grids resolves the "
         f"adhesion (bistability number w dx/(E\\* ρ²) ≤ {REFINEMENT_BISTABILITY:g} on its coarser grid, as on the "
         "family's refinement grids): Richardson extrapolation of order 1 plus the spread of "
-        "the other estimates of the converged value (`reports/common.py` `own_refinement`); it needs no transfer "
+        "the other estimates of the converged value (`python/cmc/analysis/refinement.py` `own_band`); it needs no transfer "
         "from the family. " for mus, files in by.items())
 
 

@@ -255,8 +255,9 @@ def readme(data, store_dir):
     if data["members"] and ("tabor" in data["members"][0] or "pressure_Pa" in data["members"][0]):
         lines += ["**Another condition than the challenge's** (μ_T = 3, 250 kPa): a point of the challenge's "
                   "Tabor sweep or load sweep, whose error bands are the family's error measured at μ_T = 3 and "
-                  "250 kPa. This store checks whether they hold here (`reports/common.py`, `condition_checks`; the "
-                  "family's README and the challenge report print the check); where it measures a larger error, the "
+                  "250 kPa. This store checks whether they hold here (`python/cmc/analysis/conditions.py`, "
+                  "`condition_checks`; the family's README and the challenge report print the check); where it "
+                  "measures a larger error, the "
                   "sweep's reference takes that as its band (`run_band`, `load_bands`).", ""]
     lines += [
              "**Reference** = the run on the resolved grid (dx ≤ 0.8 ρ(s)). **Refinement error** = |resolved − "
@@ -352,7 +353,7 @@ def condition_lines(store_dir, members):
         "The sweeps' references (`reference/challenge/`, `scripts/challenge_reference.py`) take the larger of the "
         "two errors as their band: the Tabor sweep's at each μ_T measured here, the load sweep's per load "
         "(interpolated in log p between the loads measured here and 250 kPa, held beyond them; "
-        "`reports/common.py`, `load_bands`).", ""]
+        "`python/cmc/analysis/conditions.py`, `load_bands`).", ""]
     return lines
 
 
@@ -370,7 +371,7 @@ def s_route_lines(x):
               "Along the family only the bandwidth λ_r/λ_s changes; the ratio carries what adhesion adds. Value: the "
               "midpoint of the two lines; error: the model error (half their distance where a third member's held-out "
               "check finds them bracketing the curve, else their whole distance), the members' refinement errors "
-              "through the lines, and the hard-wall value's refinement error (`reports/common.py`, `s_extrapolation`).",
+              "through the lines, and the hard-wall value's refinement error (`python/cmc/analysis/s_route.py`, `s_extrapolation`).",
               "", "| quantity | " + " | ".join(f"R(s = {m})" for m in members)
               + " | R(1), line in log s | R(1), line in s | hard wall at s = 1 | value at s = 1 |",
               "|---|" + "---|" * (len(members) + 4)]
