@@ -35,6 +35,14 @@ from cmc.analysis.runs import strategy_of  # noqa: E402
 from cmc.analysis.s_route import route_difference, s_extrapolation  # noqa: E402
 
 P0 = CHALLENGE["p0"]
+# How each band and number is made: the report keeps short captions that link here.
+METHOD = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "docs", "challenge",
+                      "report-method.md")
+
+
+def method_link(out_dir, anchor, words="method"):
+    """A Markdown link from the report in out_dir to a section of docs/challenge/report-method.md."""
+    return f"[{words}]({rel(METHOD, out_dir)}#{anchor})"
 
 
 def _band(run, short):
@@ -94,7 +102,7 @@ def sweep_band(run, short, runs):
     return (own["band"], own) if own else (_band(run, short), None)
 
 
-def _condition_note(kind, own=False):
+def _condition_note(kind, out_dir, own=False):
     """The Tabor section's (kind "tabor") or the load sweep's ("load") lines on the bands at the
     sweep's other points (cmc.analysis.conditions condition_checks): the family's member run at the
     point's own mu_T or load against the band measured at mu_T = 3 and 250 kPa."""
@@ -102,21 +110,15 @@ def _condition_note(kind, own=False):
             if (r["pressure_Pa"] == 250e3 if kind == "tabor" else r["tabor"] == 3.0)]  # condition_checks' defaults
     if not rows:
         return []
-    if kind == "tabor":
-        head = ("**Does the band measured at μ_T = 3 hold at the sweep's other μ_T?** The family's s = 32 member run "
-                "at the sweep's own μ_T (`reference/challenge-scaled/conditions/`, `scripts/scaled_family.py --tabor "
-                "MU`), each with its own resolved reference, on the grids that match the challenge's 2048² and 4096² at "
-                "that μ_T in dx/ρ and dx/λ_s")
-    else:
-        head = ("**Does the band measured at 250 kPa hold at the sweep's other loads?** The family's s = 32 member run "
-                "at other loads (`reference/challenge-scaled/conditions/`, `scripts/scaled_family.py --pressure PA`), "
-                "each with its own resolved reference, at 2 to 24 ρ")
-    return [head + ": each row, a plain run's deviation from that reference (its refinement error in brackets) "
-            "against the band taken at μ_T = 3 and 250 kPa. Where measured, the error bars above are the larger of "
-            "the two" + ((" (but at the points marked ‡, refined on the challenge itself: there its own grid error)"
-                          if own else "") if kind == "tabor" else
-                         " (per load, interpolated in log p between the measured loads)")
-            + ".", ""] + condition_check_lines(rows) + [condition_summary(rows), ""]
+    head = ("**Does the band measured at μ_T = 3 hold at the sweep's other μ_T?** Each row: the family's s = 32 "
+            "member run at that μ_T (`scripts/scaled_family.py --tabor MU`)" if kind == "tabor" else
+            "**Does the band measured at 250 kPa hold at the sweep's other loads?** Each row: the family's s = 32 "
+            "member run at that load (`scripts/scaled_family.py --pressure PA`)")
+    return [head + ", its deviation from its own resolved reference (refinement error in brackets) against the band "
+            "taken at μ_T = 3 and 250 kPa. Where measured, the error bars above are the larger of the two"
+            + ((", at the points marked ‡ the challenge's own grid error" if own else "") if kind == "tabor" else
+               ", per load") + f" ({method_link(out_dir, 'the-bands-at-other-conditions')}).", ""] \
+        + condition_check_lines(rows) + [condition_summary(rows), ""]
 
 
 def _pm(v, relerr, digits=4, scale=1.0):
@@ -665,20 +667,18 @@ def _own_refinement_lines(refined, runs, band_of, out_dir):
     savefig(fig, path)
     return "\n".join([
         "‡ **The Tabor sweep refined on the challenge itself** (`scripts/tabor_sweep.sh --grid N`): at these μ_T the "
-        "band is the challenge's own grid error, not the family's (reports/common.py `own_refinement`: the distance "
-        "from the converged value estimated by Richardson extrapolation of order 1 from the finest pair of grids "
-        f"whose coarser grid has w dx/(E\\* ρ²) ≤ {REFINEMENT_BISTABILITY:g}, as on the family's refinement grids, plus "
-        "the largest distance of the other estimates from it). w dx/(E\\* ρ²) is the spacing in units of the "
-        "adhesion's cohesive zone (`surface_facts.bistability_number`). Grids marked (GPU) ran with `grid.backend = "
-        "\"cuda\"` (`scripts/gpu/check.sh tabor:N:MU`; `reference/challenge/runs.json` holds each one's command, device and "
-        "date), the others on the CPU: the same case, tolerance and extraction.", "",
+        "band is the challenge's own grid error, not the family's: the distance from the converged value that "
+        "Richardson extrapolation of order 1 estimates from the finest pair of grids with w dx/(E\\* ρ²) ≤ "
+        f"{REFINEMENT_BISTABILITY:g}, plus the spread of the other estimates "
+        f"({method_link(out_dir, 'the-tabor-sweep-refined-on-the-challenge-itself')}). Grids marked (GPU) ran with "
+        "`grid.backend = \"cuda\"`.", "",
         md_table(["μ_T", "grid", "dx/ρ", "w dx/(E\\* ρ²)", "a_r", "band (own)", "band (family)", "mean gap (nm)",
                   "band (own)", "band (family)"], rows), "",
         md_table(["μ_T", "quantity", "observed order", "converged (Richardson, order 1, finest pair)",
                   "other estimates"], est_rows), "",
         f"![the Tabor sweep refined on the challenge]({rel(path, out_dir)})", "",
         "The change between successive grids against the coarser grid's spacing, log-log: the slope is the "
-        "observed order (1 for a band of pixels along the contact lines; the dotted lines are guides of slope 1 and 4)."])
+        "observed order (dotted: guides of slope 1 and 4)."])
 
 
 def _tabor(runs, out_dir, data_dir, case_dir, reference_dir, best=None):
@@ -1083,7 +1083,7 @@ def _gpu_grids(reference_dir):
     return lines
 
 
-def _adhesion_resolution(reference_dir):
+def _adhesion_resolution(reference_dir, out_dir):
     """Issue 13: the challenge's adhesive numbers with error bars, from the scaled-family store
     (reference/challenge-scaled/scaled_family.json, written by scripts/scaled_family.py)."""
     path = os.path.join(reference_dir, "challenge-scaled", "scaled_family.json")
@@ -1094,16 +1094,12 @@ def _adhesion_resolution(reference_dir):
         return lines + [f"Not computed yet: {cmd} (after the family's references, same script).", ""]
     members = {m["s"]: m for m in data.get("members", [])}
     ch = members.get(1)
-    lines += ["No grid on one machine resolves ρ = 2.071 nm (the published solution used 65536² points, dx ≈ 0.75 ρ). "
-              "The runs below are the challenge at 250 kPa on the loading branch on coarse grids, plain (the "
-              "exponential law at grid points) and with the two resolution strategies (`[interaction] "
-              "coarse_graining = \"range\"`: ρ lengthened, w kept, the Tabor parameter lowered; `\"shape\"`: w "
-              "and the peak tension kept, the law's form changed to the least curvature that leaves no point "
-              "bistable). A strategy's error bar is its deviation measured on the scaled challenge family "
-              "(λ_s and w multiplied by s, μ_T = 3: the same dx/ρ and dx/λ_s as the challenge's grid, on a grid "
-              "that resolves ρ there) plus that reference's refinement error: "
-              f"`{rel(os.path.join(reference_dir, 'challenge-scaled', 'README.md'), '.')}`. "
-              "The plain runs carry no error bar: their error is what the family shows for plain runs.", ""]
+    lines += ["No grid on one machine resolves ρ = 2.071 nm (the published solution used 65536², dx ≈ 0.75 ρ). Below: "
+              "the challenge at 250 kPa on coarse grids, plain and with the two resolution strategies (`[interaction] "
+              "coarse_graining = \"range\"` or `\"shape\"`); a strategy's error bar is its error measured on the scaled "
+              "challenge family at the same dx/ρ, the plain runs carry none "
+              f"({method_link(out_dir, 'adhesion-resolution-strategies-and-the-scaled-family')}; "
+              f"`{rel(os.path.join(reference_dir, 'challenge-scaled', 'README.md'), '.')}`).", ""]
     if ch:
         rows = []
         est = {e["role"]: e for e in ch.get("estimates", [])}
@@ -1122,9 +1118,9 @@ def _adhesion_resolution(reference_dir):
         lines += [md_table(["run", "grid", "dx/ρ", "a_r", "repulsive a_r", "mean gap (µm)", "iterations",
                             "wall (s)", "strategy error measured on"], rows), ""]
         for strategy in STRATEGIES:
-            caveat = transfer_caveat(list(members.values()), strategy)
+            caveat = transfer_caveat(list(members.values()), strategy, brief=True)
             if caveat:
-                lines += ["**Caveat.** " + caveat, ""]
+                lines += ["**Caveat.** " + caveat.rstrip(".") + f" ({method_link(out_dir, 'the-transfer-check')}).", ""]
     else:
         lines += [f"The challenge's own runs: not computed yet ({cmd}).", ""]
     fam = [m for s, m in sorted(members.items(), reverse=True) if m.get("reference", {}).get("a_r")]
@@ -1147,12 +1143,9 @@ def _adhesion_resolution(reference_dir):
     x = s_extrapolation(list(members.values()))
     if x:
         sa, sb = x["members"][:2]
-        lines += [f"Extrapolated in s (`reference/challenge-scaled/README.md`, \"Second route\"): each member's "
-                  f"converged value over the same surface's hard-wall value, R(s), on two lines through s = {sb} and "
-                  f"{sa} to s = 1, one in log s and one in s, times the challenge's own hard-wall value: their "
-                  "midpoint, with their half-distance as the model error where a third member's held-out check finds "
-                  "the lines bracketing the curve (else their whole distance), plus the refinement errors carried "
-                  "through the lines.", ""]
+        lines += [f"Extrapolated in s: R(s), each member's converged value over its hard-wall value, on two lines "
+                  f"through s = {sb} and {sa} (in log s and in s) to s = 1, times the challenge's own hard-wall value "
+                  f"({method_link(out_dir, 'second-route-extrapolation-in-s')}).", ""]
         rows = []
         for _, short, _ in FAMILY_QUANTITIES:
             q = x[short]
@@ -1199,7 +1192,7 @@ def _case_seed(case_dir):
         return None
 
 
-def _realizations(reference_dir, case_dir):
+def _realizations(reference_dir, case_dir, out_dir):
     """Issue 13: the strategies' coarse-grid errors on several realizations of the surface (the
     family's members stored with scripts/scaled_family.py --seed N), beside the case file's."""
     by_s = realization_members(reference_dir, _case_seed(case_dir))
@@ -1209,15 +1202,11 @@ def _realizations(reference_dir, case_dir):
             continue
         if not lines:
             lines = ["## The strategies on other realizations of the surface", "",
-                     "The family's member (the same λ_s, w and μ_T) on surfaces that differ only in their random "
-                     "phases and amplitudes (`surface.seed`; `/usr/bin/python3 scripts/scaled_family.py --s S --coarse 2 4 6 12 24 "
-                     "--start-resolved --no-hardwall --seed N --store reference/challenge-scaled/seeds/seedN`), each "
-                     "with its own resolved reference (dx ≤ 0.8 ρ) and refinement error. Each cell: the run's a_r and "
-                     "mean gap relative to that realization's reference, and for a strategy whether issue 13's target "
-                     "(±3 % / ±0.5 % at 2 ρ, ±6 % / ±1 % at 4 ρ) is met. One realization's error is partly its own "
-                     "contact geometry (a neck of contact that joins on one grid and not on another moves a_r by "
-                     "percents at this bandwidth); the spread over realizations is the strategy's. The challenge's "
-                     "error bars (above) take the largest deviation over every realization.", ""]
+                     "The family's member on surfaces that differ only in their random phases (`scripts/scaled_family.py "
+                     "--seed N`), each against its own resolved reference. Each cell: the run's a_r and mean gap "
+                     "relative to that reference, and for a strategy whether its target (±3 % / ±0.5 % at 2 ρ, ±6 % / "
+                     "±1 % at 4 ρ) is met; the error bars above take the largest deviation over every realization "
+                     f"({method_link(out_dir, 'other-realizations')}).", ""]
         header, rows = realization_rows(members)
         lines += [f"s = {s}, at the spacings issue 13 sets targets for:", "", md_table(header, rows), ""]
         header, rows = realization_rows(members, spacings=(6, 12, 24))
@@ -1256,8 +1245,8 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
                  "gives the band (its change to the finer grid).", "", _grid_table(runs), ""]
     else:
         tail += ["(none yet)", ""]
-    tail += ["#" + ln if ln.startswith("## ") else ln for ln in _adhesion_resolution(reference_dir)]
-    tail += ["#" + ln if ln.startswith("## ") else ln for ln in _realizations(reference_dir, case_dir)]
+    tail += ["#" + ln if ln.startswith("## ") else ln for ln in _adhesion_resolution(reference_dir, out_dir)]
+    tail += ["#" + ln if ln.startswith("## ") else ln for ln in _realizations(reference_dir, case_dir, out_dir)]
     tail += ["#" + ln if ln.startswith("## ") else ln for ln in _gpu_grids(reference_dir)]
 
     sweep = _load_sweep(runs, out_dir, data_dir, case_dir, reference_dir, best)
@@ -1296,7 +1285,10 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
                          "1. contact patch size distribution", os.path.join(out_dir, "patch_size_distribution.png"),
                          data_dir, ("patch_area_m2", "density_per_m2"), "patch_size_distribution", reference_dir)
     dist_cols = ["problem", "run", "p (kPa)", "bins", "range ({})", "band"]
-    section(1, "Distribution of contact patch size (log-log)", patch, [c.format("µm²") for c in dist_cols])
+    dist_note = ["Band (shaded): per point, the change of the curve to the same case on the next finer grid, "
+                 "interpolated in the figure's axes; without a finer run here, the stored reference's relative band "
+                 f"({method_link(out_dir, 'distributions-and-spectrum')}).", ""]
+    section(1, "Distribution of contact patch size (log-log)", patch, [c.format("µm²") for c in dist_cols], dist_note)
 
     def area_rows(content):
         if isinstance(content, str):
@@ -1308,39 +1300,35 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
         return (path, rows, [t[1] for t in tables])
 
     sweep_cols = ["run", "p (kPa)", "p/(E*ḡ)", "a_r", "a_r corrected", "mean gap (µm)", "patches", "converged"]
-    band_note = ["Error bands (shaded, and ± in the tables): for adhesive runs, the error that the run's "
-                 "strategy (the range or shape coarse-graining, `interaction.coarse_graining = \"range\"` or "
-                 "`\"shape\"`, or the plain interaction) has on the scaled challenge family at the run's dx/ρ (deviation from the family's "
-                 "converged reference plus that reference's refinement error; `reference/challenge-scaled/`). It was "
-                 "measured at μ_T = 3 and 250 kPa; that it holds at other loads and μ_T is assumed, not measured. A "
-                 "run whose dx/ρ the family has not measured carries no band. " + roundoff_note() + " "
-                 "For the hard wall (no adhesion): "
+    band_note = ["Error bands (shaded, and ± in the tables): for adhesive runs, the error that the run's strategy "
+                 "(plain, range or shape) has on the scaled challenge family at the run's dx/ρ, measured at μ_T = 3 "
+                 "and 250 kPa (assumed elsewhere unless measured there, below); for the hard wall, its change to a "
+                 "finer grid: "
                  + ("; ".join(f"{'a_r' if k == 'ar' else 'mean gap'} on {v}" for k, v in sorted(sweep["hw_how"].items()))
-                    if isinstance(sweep, dict) and sweep.get("hw_how") else
-                    "the change at 250 kPa from the grid shown to the next finer one: for a_r scaled by each load's "
-                    "contact perimeter (the counted area's grid error is a boundary effect), for the mean gap the same "
-                    "relative change at every load (assumed)")
-                 + ". " + transfer_caveat(), ""]
+                    if isinstance(sweep, dict) and sweep.get("hw_how") else "at 250 kPa, scaled to each load")
+                 + f" ({method_link(out_dir, 'error-bands-of-the-sweeps')}). " + roundoff_note() + " "
+                 + transfer_caveat(brief=True), ""]
     section(2, "Contact area as a function of pressure (log-log; 1 − a_r for the approach to full contact)",
-            area_rows(sweep["area"]), sweep_cols, band_note + _condition_note("load") + [n + "\n" for n in sweep["notes"]])
+            area_rows(sweep["area"]), sweep_cols,
+            band_note + _condition_note("load", out_dir) + [n + "\n" for n in sweep["notes"]])
     gap = _hist_figure(dists, "gap_hist_edges", "gap_hist_density", "log", "log", 1e6, 1e-6,
                        "gap g (µm)", "probability density P(g) (1/µm)", "3. gap distribution (contact points excluded)",
                        os.path.join(out_dir, "gap_distribution.png"), data_dir, ("gap_m", "density_per_m"),
                        "gap_distribution", reference_dir)
-    section(3, "Gap distribution function (log-log)", gap, [c.format("µm") for c in dist_cols])
+    section(3, "Gap distribution function (log-log)", gap, [c.format("µm") for c in dist_cols], ["Band: as in item 1.", ""])
     stress = _hist_figure(dists, "stress_hist_edges", "stress_hist_density", "linear", "log", 1e-6, 1e6,
                           "interfacial stress p (MPa, compressive > 0)", "probability density P(p) (1/MPa)",
                           "4. interfacial stress distribution", os.path.join(out_dir, "stress_distribution.png"),
                           data_dir, ("stress_Pa", "density_per_Pa"), "stress_distribution", reference_dir,
                           extra=lambda ax: ax.axvline(0, color="gray", lw=0.8))
     section(4, "Interfacial stress distribution (stress linear, probability logarithmic)", stress,
-            [c.format("MPa") for c in dist_cols])
+            [c.format("MPa") for c in dist_cols], ["Band: as in item 1.", ""])
     section(5, "Interfacial stress spectrum (log-log)", _spectrum(dists, out_dir, data_dir, reference_dir),
-            ["problem", "run", "p (kPa)", "q points", "q range (1/m)", "band"])
+            ["problem", "run", "p (kPa)", "q points", "q range (1/m)", "band"], ["Band: as in item 1.", ""])
     tabor_cols = ["μ_T", "run", "grid", "p (kPa)", "a_r", "repulsive fraction", "mean gap (nm)"]
     section(6, "Contact area as a function of the Tabor coefficient (log μ_T)", tabor["area"], tabor_cols,
             band_note[:1] + ["Each μ_T has its own ρ, hence its own dx/ρ and its own error bar.", ""]
-            + _condition_note("tabor", own=tabor.get("own_refined", False))
+            + _condition_note("tabor", out_dir, own=tabor.get("own_refined", False))
             + [n + "\n" for n in dict.fromkeys(tabor.get("notes", []))])
     section(7, "Mean gap as a function of the Tabor coefficient (log μ_T)", _no_rows(tabor["gap"]), tabor_cols,
             ["Numbers: the table of item 6.", ""])
@@ -1348,13 +1336,9 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
             ["Numbers: the table of item 2.", ""])
     section(9, "Gap and stress along the cross section x = 50 µm", _cross_section(dists, out_dir, data_dir),
             ["problem", "run", "x (µm)", "points", "band"],
-            ["Band (shaded in the zooms): per point, the largest change of the profile (linear between its points) to "
-             "the same case on the next finer grid at the finer points nearest it (the point and the midpoints "
-             "beside it), so that the band holds the finer profile everywhere. Near a contact line "
-             "it is large: the line moves by up to a grid spacing between the grids, and that is how well the "
-             "profile is known there. Where both grids agree exactly (inside a contact for the gap, away from contact "
-             "for the stress) the band is the floor: the solver's tolerance times the rms height (gap) or times E* "
-             "times the rms slope (stress). With adhesion the band is the numerics' change at this dx/ρ only: both "
-             "grids leave ρ unresolved.", ""])
+            ["Band (shaded in the zooms): per point, the largest change of the profile to the same case on the next "
+             "finer grid near it, at least the solver's tolerance in the problem's scale; large at contact lines, "
+             "which move by up to a grid spacing between the grids. With adhesion both grids leave ρ unresolved "
+             f"({method_link(out_dir, 'cross-section')}).", ""])
     lines += tail
     return "\n".join(lines) + "\n"

@@ -260,10 +260,12 @@ def s_extrapolation_verdict(x):
     return text.strip()
 
 
-def transfer_caveat(members=None, strategy="range"):
+def transfer_caveat(members=None, strategy="range", brief=False):
     """One sentence on the transfer check (transfer.transfer_check, transfer_verdict) for error
     statements, or "" when it cannot be made: per s = 1 grid the ratio there and in each member
-    (largest s first), and whether the members approach the challenge's ratio as s falls toward 1."""
+    (largest s first), and whether the members approach the challenge's ratio as s falls toward 1.
+    brief: the ratios and the verdict only (the report; docs/challenge/report-method.md says what
+    the verdict means)."""
     rows = transfer_check(members, strategy)
     if not rows:
         return ""
@@ -273,6 +275,10 @@ def transfer_caveat(members=None, strategy="range"):
     text = f"Transfer check, a_r of the {strategy} run over the plain run at the same dx/rho: {'; '.join(parts)}. "
     if verdict["agree"]:
         return text + "They agree within 5 %, as the transfer assumes."
+    if brief:
+        return text + ("They do not agree but approach the challenge's as s falls toward 1: the band is indicative, "
+                       "probably pessimistic." if verdict["approach"] else
+                       "They do not agree: the band is indicative, not a bound.")
     nearest = min(s for _, _, _, s, _ in rows)
     with_ref = {m["s"] for m in (family_members() if members is None else members) if m.get("reference", {}).get("a_r")}
     nearer = ("a member nearer s = 1 (s = 8, resolved on 8192²)" if nearest not in with_ref or nearest > 8 else
