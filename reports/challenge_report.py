@@ -125,7 +125,7 @@ def _pm(v, relerr, digits=4, scale=1.0):
     """A table cell: the value, with ± its error where there is one."""
     if v is None:
         return fmt(None)
-    return fmt(v * scale, digits) + (f" ± {fmt(relerr * abs(v) * scale, 2)}" if relerr else "")
+    return fmt(v * scale, digits) + (f" ± {fmt(bands.absolute_band([relerr], [v])[0] * scale, 2)}" if relerr else "")
 
 
 class Run:
@@ -758,9 +758,10 @@ def _tabor(runs, out_dir, data_dir, case_dir, reference_dir, best=None):
                 drawn = True
                 line, = ax.semilogx([p[0] for p in xy], [p[1] for p in xy], "o-", ms=4, label=f"your runs, {key[0]}²")
                 # Each mu_T has its own rho, so its own dx/rho and strategy error: error bars.
-                bands = [band_of[id(r), "a_r" if what == "ar" else "mean_gap"][0] for r, _ in use]
-                if any(bands):
-                    ax.errorbar([p[0] for p in xy], [p[1] for p in xy], yerr=[(b or 0) * abs(p[1]) for b, p in zip(bands, xy)],
+                rels = [band_of[id(r), "a_r" if what == "ar" else "mean_gap"][0] for r, _ in use]
+                if any(rels):
+                    ax.errorbar([p[0] for p in xy], [p[1] for p in xy],
+                                yerr=bands.absolute_band([b or 0 for b in rels], [p[1] for p in xy]),
                                 fmt="none", ecolor=line.get_color(), capsize=3, lw=0.8,
                                 label=None if barred else "error bars: own refinement where measured, else the scaled "
                                                           "family's")
