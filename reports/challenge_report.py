@@ -21,20 +21,35 @@ import re
 
 import numpy as np
 
-from common import (CHALLENGE, FAMILY_QUANTITIES, REFINEMENT_BISTABILITY, own_refinement, condition_check_lines, condition_checks, condition_summary, load_bands, realization_members, realization_rows, case_name, family_members, finite, fmt, get, gpu_row_head, gpu_section, h5_open, load_json,
-                    md_table, plt, read_reference_csv, rel, roundoff_note, run_band, run_strategy, STRATEGIES, s_extrapolation,
-                    s_extrapolation_verdict, savefig, step_groups, transfer_caveat, write_csv)
+from common import (CHALLENGE, condition_check_lines, condition_summary, realization_members, realization_rows,
+                    case_name, finite, fmt, get, gpu_row_head, gpu_section, h5_open, load_json, md_table, plt,
+                    read_reference_csv, rel, roundoff_note, s_extrapolation_verdict, savefig, step_groups,
+                    transfer_caveat, write_csv)  # common puts python/ on the path for cmc.analysis
 
 from best_report import draw_point, draw_tabor, headline, load_best  # noqa: E402
+from cmc.analysis import bands, refinement  # noqa: E402
+from cmc.analysis.conditions import condition_checks, load_bands, run_band  # noqa: E402
+from cmc.analysis.family import FAMILY_QUANTITIES, STRATEGIES  # noqa: E402
+from cmc.analysis.refinement import REFINEMENT_BISTABILITY  # noqa: E402
+from cmc.analysis.runs import strategy_of  # noqa: E402
+from cmc.analysis.s_route import route_difference, s_extrapolation  # noqa: E402
 
 P0 = CHALLENGE["p0"]
+# How each band and number is made: the report keeps short captions that link here.
+METHOD = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "docs", "challenge",
+                      "report-method.md")
+
+
+def method_link(out_dir, anchor, words="method"):
+    """A Markdown link from the report in out_dir to a section of docs/challenge/report-method.md."""
+    return f"[{words}]({rel(METHOD, out_dir)}#{anchor})"
 
 
 def _band(run, short):
     """The relative error for `short` (a_r, mean_gap) that the run's strategy (range or shape
-    coarse-graining, or plain) has on the scaled challenge family at this run's dx/rho
-    (reports/common.py), the larger of it and the error measured at the run's own mu_T where the
-    family was run there too (run_band), or None (no exponential adhesion, or no family run near
+    coarse-graining, or plain) has on the scaled challenge family at this run's dx/rho, the larger
+    of it and the error measured at the run's own mu_T where the family was run there too
+    (cmc.analysis.conditions run_band), or None (no exponential adhesion, or no family run near
     its dx/rho)."""
     got = run_band(run.s, short)
     return got[1] if got else None
@@ -46,7 +61,7 @@ def refinement_grids(run, runs):
     scripts/tabor_sweep.sh --grid N), coarsest first."""
     def same(q, nx, ny):
         return (q.name == run.name and q.nx == nx and q.ny == ny and q.status == "converged"
-                and run_strategy(q.s) == run_strategy(run.s) and q.run_tabor and run.run_tabor
+                and strategy_of(q.s) == strategy_of(run.s) and q.run_tabor and run.run_tabor
                 and abs(q.run_tabor / run.run_tabor - 1) < 1e-6 and q.reference_step() is not None)
     out = [run]
     while True:
@@ -63,12 +78,11 @@ def refinement_grids(run, runs):
 
 
 def own_band(run, short, runs):
-    """own_refinement (reports/common.py) of a plain, converged run from the other grids of its
-    point among `runs` (refinement_grids), for short = a_r or mean_gap, with "band" that of this
-    run's value: its distance from the estimated converged value plus the estimates' spread,
-    relative to it. None where it does not apply."""
+    """cmc.analysis.refinement own_band of a plain, converged run from the other grids of its
+    point among `runs` (refinement_grids), for short = a_r or mean_gap: the band of this run's
+    value from the challenge's own refinement. None where it does not apply."""
     grids = refinement_grids(run, runs)
-    if len(grids) < 2 or run.status != "converged" or run_strategy(run.s) != "plain":
+    if len(grids) < 2 or run.status != "converged" or strategy_of(run.s) != "plain":
         return None
     key = {"a_r": "ar", "mean_gap": "gap"}[short]
     rows = []
@@ -77,13 +91,7 @@ def own_band(run, short, runs):
         rows.append({"nx": q.nx, "dx_over_rho": get(q.s, "surface_facts", "dx_over_range"),
                      "bistability": get(q.s, "surface_facts", "bistability_number"), "value": st[key],
                      "corrected": st["ar_corr"] if short == "a_r" else None})
-    if not all(finite(r["dx_over_rho"]) and finite(r["bistability"]) for r in rows):
-        return None
-    got = own_refinement(rows)
-    v = rows[grids.index(run)]["value"]
-    if got is None or not v:
-        return None
-    return dict(got, band=(abs(v - got["v_inf"]) + got["spread"]) / abs(v), nx=run.nx)
+    return refinement.own_band(rows, grids.index(run))
 
 
 def sweep_band(run, short, runs):
@@ -94,36 +102,30 @@ def sweep_band(run, short, runs):
     return (own["band"], own) if own else (_band(run, short), None)
 
 
-def _condition_note(kind, own=False):
+def _condition_note(kind, out_dir, own=False):
     """The Tabor section's (kind "tabor") or the load sweep's ("load") lines on the bands at the
-    sweep's other points (reports/common.py condition_checks): the family's member run at the
+    sweep's other points (cmc.analysis.conditions condition_checks): the family's member run at the
     point's own mu_T or load against the band measured at mu_T = 3 and 250 kPa."""
     rows = [r for r in condition_checks()
             if (r["pressure_Pa"] == 250e3 if kind == "tabor" else r["tabor"] == 3.0)]  # condition_checks' defaults
     if not rows:
         return []
-    if kind == "tabor":
-        head = ("**Does the band measured at μ_T = 3 hold at the sweep's other μ_T?** The family's s = 32 member run "
-                "at the sweep's own μ_T (`reference/challenge-scaled/conditions/`, `scripts/scaled_family.py --tabor "
-                "MU`), each with its own resolved reference, on the grids that match the challenge's 2048² and 4096² at "
-                "that μ_T in dx/ρ and dx/λ_s")
-    else:
-        head = ("**Does the band measured at 250 kPa hold at the sweep's other loads?** The family's s = 32 member run "
-                "at other loads (`reference/challenge-scaled/conditions/`, `scripts/scaled_family.py --pressure PA`), "
-                "each with its own resolved reference, at 2 to 24 ρ")
-    return [head + ": each row, a plain run's deviation from that reference (its refinement error in brackets) "
-            "against the band taken at μ_T = 3 and 250 kPa. Where measured, the error bars above are the larger of "
-            "the two" + ((" (but at the points marked ‡, refined on the challenge itself: there its own grid error)"
-                          if own else "") if kind == "tabor" else
-                         " (per load, interpolated in log p between the measured loads)")
-            + ".", ""] + condition_check_lines(rows) + [condition_summary(rows), ""]
+    head = ("**Does the band measured at μ_T = 3 hold at the sweep's other μ_T?** Each row: the family's s = 32 "
+            "member run at that μ_T (`scripts/scaled_family.py --tabor MU`)" if kind == "tabor" else
+            "**Does the band measured at 250 kPa hold at the sweep's other loads?** Each row: the family's s = 32 "
+            "member run at that load (`scripts/scaled_family.py --pressure PA`)")
+    return [head + ", its deviation from its own resolved reference (refinement error in brackets) against the band "
+            "taken at μ_T = 3 and 250 kPa. Where measured, the error bars above are the larger of the two"
+            + ((", at the points marked ‡ the challenge's own grid error" if own else "") if kind == "tabor" else
+               ", per load") + f" ({method_link(out_dir, 'the-bands-at-other-conditions')}).", ""] \
+        + condition_check_lines(rows) + [condition_summary(rows), ""]
 
 
 def _pm(v, relerr, digits=4, scale=1.0):
     """A table cell: the value, with ± its error where there is one."""
     if v is None:
         return fmt(None)
-    return fmt(v * scale, digits) + (f" ± {fmt(relerr * abs(v) * scale, 2)}" if relerr else "")
+    return fmt(v * scale, digits) + (f" ± {fmt(bands.absolute_band([relerr], [v])[0] * scale, 2)}" if relerr else "")
 
 
 class Run:
@@ -293,19 +295,13 @@ def _reference_load_runs(runs, adhesive):
 
 
 def grid_change(pair, key):
-    """(|v(coarse) - v(finer)| / |v(finer)|, coarse run, finer run) for step quantity `key` between
-    the first two of [(run, step)] (coarsest first); None with fewer than two grids."""
+    """(bands.relative_change of step quantity `key`, coarse run, finer run) between the first two
+    of [(run, step)] (coarsest first); None with fewer than two grids or without the change."""
     if len(pair) < 2:
         return None
     (r0, a), (r1, b) = pair[0], pair[1]
-    if a.get(key) is None or not b.get(key):
-        return None
-    return abs(a[key] - b[key]) / abs(b[key]), r0, r1
-
-
-def _grid_change(pair, key):
-    got = grid_change(pair, key)
-    return got and (got[0], f"{got[1].nx}² → {got[2].nx}², `{got[2].folder}`")
+    change = bands.relative_change(a.get(key), b.get(key))
+    return None if change is None else (change, r0, r1)
 
 
 def finer_sweep(sweeps, r):
@@ -315,68 +311,20 @@ def finer_sweep(sweeps, r):
     return min(cands, key=lambda c: c[0].nx) if cands else None
 
 
-def _measured_sweep_band(r, steps, key, finer):
-    """Band of a hard-wall sweep from the same sweep on a finer grid (finer = (run, steps)): at a
-    load both ran, the change between the grids. Elsewhere the change per unit of what it scales
-    with, interpolated linearly in log p between the loads both ran and held beyond them: for a_r
-    the contact perimeter (the counted area's grid error is a boundary effect: it vanishes at full
-    contact), for the mean gap the value itself. (None, "") with fewer than two shared loads."""
-    rf, pf = finer
-    fine = {round(st["p"], 6): st[key] for st in pf if st["converged"] and st.get(key) is not None}
-    per = key == "ar" and all(st.get("perimeter") is not None for st in steps)
-    scale = (lambda st: st["perimeter"]) if per else (lambda st: abs(st[key] or 0.0))
-    meas = [(st["p"], abs(st[key] - fine[round(st["p"], 6)]) / scale(st))
-            for st in steps if st.get(key) and round(st["p"], 6) in fine and scale(st) > 0]
-    if len(meas) < 2:
-        return None, ""
-    lp = np.log([m[0] for m in meas])
-    ratio = np.interp(np.log([st["p"] for st in steps]), lp, [m[1] for m in meas])
-    band = [b * scale(st) for b, st in zip(ratio, steps)]
-    return band, (f"the change from {r.nx}^2 to {rf.nx}^2 measured at {len(meas)} loads ("
-                  + ", ".join(f"{m[0] / 1e6:.4g}" for m in meas) + " MPa); between and beyond them the change per unit "
-                  + ("contact perimeter" if per else "of the value") + " interpolated linearly in log p and held")
-
-
 def band_floor(r, key):
-    """(least band, its words) of a load-sweep point of run r, for key "ar" or "gap": one grid
-    point (1/N^2, the count's quantum) for a_r, the solver's tolerance times the rms height for
-    the mean gap (exact where the mean gap is 0, in full contact)."""
-    if key == "ar":
-        return 1.0 / (r.nx * r.ny), f"one grid point (1/{r.nx}^2)"
-    tol = get(r.s, "case", "solver", "tolerance") or 0.0
-    return tol * (get(r.s, "surface_facts", "rms_height") or 0.0), "the solver's tolerance times the rms height"
+    """(least band, its words) of a load-sweep point of run r, for key "ar" or "gap"
+    (bands.sweep_floor, from the run's grid, solver tolerance and rms height)."""
+    return bands.sweep_floor(key, r.nx, r.ny, get(r.s, "case", "solver", "tolerance") or 0.0,
+                             get(r.s, "surface_facts", "rms_height") or 0.0)
 
 
 def hardwall_sweep_band(pair, r, steps, key, finer=None):
-    """Per-step absolute band of a hard-wall load sweep (run r) for key "ar" or "gap", with a
-    sentence saying how; (None, "") without one. Measured where the same sweep ran on a finer
-    grid (finer = (run, steps), finer_sweep): _measured_sweep_band. Otherwise modelled from the
-    grid change of the run at 250 kPa (pair: coarsest first; r on the grid of pair[0]). a_r:
-    the counted area's grid error is a boundary effect, first order in dx times the contact
-    perimeter, so the change at 250 kPa is scaled by each step's perimeter over that at 250
-    kPa. Mean gap: the relative change at 250 kPa at every load (assumed). Either way at least
-    band_floor."""
-    floor, floor_words = band_floor(r, key)
-    if finer is not None:
-        band, how = _measured_sweep_band(r, steps, key, finer)
-        if band:
-            return [max(b, floor) for b in band], how + ", at least " + floor_words
-    ch = grid_change(pair, key)
-    if not ch or ch[1].nx != r.nx:
-        return None, ""
-    a0 = pair[0][1]
-    if key == "ar":
-        p0 = a0.get("perimeter")
-        if not p0 or any(st.get("perimeter") is None for st in steps):
-            return None, ""
-        d0 = abs(a0["ar"] - pair[1][1]["ar"])
-        band = [max(d0 * st["perimeter"] / p0, floor) for st in steps]
-        return band, (f"the change of a_r at 250 kPa from {ch[1].nx}^2 to {ch[2].nx}^2 ({d0:.3g}) scaled by each load's "
-                      "contact perimeter over that at 250 kPa (the counted area's grid error is a boundary effect), "
-                      "at least " + floor_words)
-    band = [max(ch[0] * abs(st["gap"]), floor) for st in steps]
-    return band, (f"the relative change of the mean gap at 250 kPa from {ch[1].nx}^2 to {ch[2].nx}^2 "
-                  f"({100 * ch[0]:.2g} %) at every load (assumed), at least " + floor_words)
+    """Per-step band of a hard-wall load sweep (run r) for key "ar" or "gap", with a sentence saying
+    how (bands.hardwall_sweep_band); (None, "") without one. finer = (run, steps) of the same sweep
+    on a finer grid (finer_sweep); pair: the runs at 250 kPa, [(run, step)] coarsest first."""
+    reference = (pair[0][1], pair[1][1], pair[0][0].nx, pair[1][0].nx) if len(pair) >= 2 else None
+    return bands.hardwall_sweep_band(steps, key, r.nx, band_floor(r, key),
+                                     finer=None if finer is None else (finer[0].nx, finer[1]), reference=reference)
 
 
 def _cases_hint(case_dir, words):
@@ -476,17 +424,16 @@ def _stored_note(ref):
             f"({m.get('sampling', '')}); not rerun here")
 
 
-def _stored_rel_band(reference_dir, quantity, adhesive, x):
-    """(relative band at x, stored curve): the stored reference's band over its values, interpolated
-    at x in its representation (NaN outside its range); (None, None) without a banded stored curve.
-    How a run that has no finer grid here borrows the band measured when the references were made."""
+def _stored_band(reference_dir, quantity, adhesive, x, y):
+    """(band of the curve (x, y), stored curve): the stored reference's relative band, interpolated
+    at x in its representation (bands.stored_band; NaN outside its range); (None, None) without a
+    banded stored curve. How a run that has no finer grid here borrows the band measured when the
+    references were made."""
     ref = _stored(reference_dir, quantity, adhesive)
     if ref is None or ref["band"] is None:
         return None, None
     logx = ref["meta"].get("representation", "lin-lin").startswith("log")
-    y = np.abs(ref["y"])
-    rb = np.divide(ref["band"], y, out=np.full(len(y), np.nan), where=y > 0)
-    return interp_curve(x, ref["x"], rb, logx, False), ref
+    return bands.stored_band(x, y, ref["x"], ref["y"], ref["band"], logx), ref
 
 
 def _merged_sweeps(runs):
@@ -542,7 +489,7 @@ def _load_sweep(runs, out_dir, data_dir, case_dir, reference_dir, best=None):
             note = f"Adhesive {r.nx}² sweep, {short}: band per load, {words}."
             if words and note not in res["notes"]:
                 res["notes"].append(note)
-            return ([x * abs(st[key]) for x, st in zip(b, pts)],
+            return (bands.absolute_band(b, [st[key] for st in pts]),
                     f"± {100 * b[0]:.3g} % … {100 * b[-1]:.3g} %, strategy error, scaled family" if words
                     else f"± {100 * b[0]:.3g} %, strategy error, scaled family")
         finer = finer_sweep(sweeps, r)
@@ -703,7 +650,7 @@ def _own_refinement_lines(refined, runs, band_of, out_dir):
                                  "; ".join(f"{w}: {fmt(v * scale, digits)}" for w, v in own["estimates"] if w != pairs[-1])])
         for ax, key in zip(axes, ("ar", "gap")):
             vals = [(q.dx, q.reference_step()[key]) for q in grids]
-            pts = [(a[0] * 1e9, abs(a[1] - b[1]) / abs(b[1])) for a, b in zip(vals, vals[1:]) if a[1] != b[1]]
+            pts = [(a[0] * 1e9, bands.relative_change(a[1], b[1])) for a, b in zip(vals, vals[1:]) if a[1] != b[1]]
             if pts:
                 ax.loglog([p[0] for p in pts], [p[1] for p in pts], "o-", ms=4, label=f"μ_T = {mu:g}")
     for ax, title, slope in zip(axes, ("a_r", "mean gap"), (1, 4)):
@@ -720,20 +667,18 @@ def _own_refinement_lines(refined, runs, band_of, out_dir):
     savefig(fig, path)
     return "\n".join([
         "‡ **The Tabor sweep refined on the challenge itself** (`scripts/tabor_sweep.sh --grid N`): at these μ_T the "
-        "band is the challenge's own grid error, not the family's (reports/common.py `own_refinement`: the distance "
-        "from the converged value estimated by Richardson extrapolation of order 1 from the finest pair of grids "
-        f"whose coarser grid has w dx/(E\\* ρ²) ≤ {REFINEMENT_BISTABILITY:g}, as on the family's refinement grids, plus "
-        "the largest distance of the other estimates from it). w dx/(E\\* ρ²) is the spacing in units of the "
-        "adhesion's cohesive zone (`surface_facts.bistability_number`). Grids marked (GPU) ran with `grid.backend = "
-        "\"cuda\"` (`scripts/gpu/check.sh tabor:N:MU`; `reference/challenge/runs.json` holds each one's command, device and "
-        "date), the others on the CPU: the same case, tolerance and extraction.", "",
+        "band is the challenge's own grid error, not the family's: the distance from the converged value that "
+        "Richardson extrapolation of order 1 estimates from the finest pair of grids with w dx/(E\\* ρ²) ≤ "
+        f"{REFINEMENT_BISTABILITY:g}, plus the spread of the other estimates "
+        f"({method_link(out_dir, 'the-tabor-sweep-refined-on-the-challenge-itself')}). Grids marked (GPU) ran with "
+        "`grid.backend = \"cuda\"`.", "",
         md_table(["μ_T", "grid", "dx/ρ", "w dx/(E\\* ρ²)", "a_r", "band (own)", "band (family)", "mean gap (nm)",
                   "band (own)", "band (family)"], rows), "",
         md_table(["μ_T", "quantity", "observed order", "converged (Richardson, order 1, finest pair)",
                   "other estimates"], est_rows), "",
         f"![the Tabor sweep refined on the challenge]({rel(path, out_dir)})", "",
         "The change between successive grids against the coarser grid's spacing, log-log: the slope is the "
-        "observed order (1 for a band of pixels along the contact lines; the dotted lines are guides of slope 1 and 4)."])
+        "observed order (dotted: guides of slope 1 and 4)."])
 
 
 def _tabor(runs, out_dir, data_dir, case_dir, reference_dir, best=None):
@@ -813,9 +758,10 @@ def _tabor(runs, out_dir, data_dir, case_dir, reference_dir, best=None):
                 drawn = True
                 line, = ax.semilogx([p[0] for p in xy], [p[1] for p in xy], "o-", ms=4, label=f"your runs, {key[0]}²")
                 # Each mu_T has its own rho, so its own dx/rho and strategy error: error bars.
-                bands = [band_of[id(r), "a_r" if what == "ar" else "mean_gap"][0] for r, _ in use]
-                if any(bands):
-                    ax.errorbar([p[0] for p in xy], [p[1] for p in xy], yerr=[(b or 0) * abs(p[1]) for b, p in zip(bands, xy)],
+                rels = [band_of[id(r), "a_r" if what == "ar" else "mean_gap"][0] for r, _ in use]
+                if any(rels):
+                    ax.errorbar([p[0] for p in xy], [p[1] for p in xy],
+                                yerr=bands.absolute_band([b or 0 for b in rels], [p[1] for p in xy]),
                                 fmt="none", ecolor=line.get_color(), capsize=3, lw=0.8,
                                 label=None if barred else "error bars: own refinement where measured, else the scaled "
                                                           "family's")
@@ -854,62 +800,16 @@ def _distribution_runs(runs, notes):
     return out
 
 
-def interp_curve(x, xc, yc, logx, logy):
-    """The curve (xc, yc) at x, interpolated in the representation's axes (log where logx / logy);
-    NaN where x lies outside the curve's range, or where a value is not finite or a logged one not
-    positive."""
-    x, xc, yc = (np.asarray(a, dtype=float) for a in (x, xc, yc))
-    m = np.isfinite(xc) & np.isfinite(yc) & ((xc > 0) if logx else True) & ((yc > 0) if logy else True)
-    xc, yc = xc[m], yc[m]
-    out = np.full(len(x), np.nan)
-    if len(xc) < 2:
-        return out
-    o = np.argsort(xc)
-    xc, yc = xc[o], yc[o]
-    tx = np.log if logx else (lambda v: v)
-    ok = np.isfinite(x) & ((x > 0) if logx else True) & (x >= xc[0]) & (x <= xc[-1])
-    yi = np.interp(tx(x[ok]), tx(xc), np.log(yc) if logy else yc)
-    out[ok] = np.exp(yi) if logy else yi
-    return out
-
-
-def refinement_band(x, y, xf, yf, logx, logy):
-    """|y - y_f(x)|: how far a curve moves on the next finer grid (xf, yf), interpolated at x by
-    interp_curve. NaN where it has no value there."""
-    return np.abs(np.asarray(y, dtype=float) - interp_curve(x, xf, yf, logx, logy))
-
-
 def profile_band(run, key, y, v, yf, vf):
-    """(band, floor) of a cross-section profile v(y) (key cross_section_gap or _pressure): how far
-    the profile, read as `cmc check` reads a curve (linear between its points), is from the same
-    case's profile (yf, vf) on the next finer grid at every point of the finer grid: per point y_i
-    the largest |v(y') - v_f(y')| over the finer points y' between y_i's neighbours that are
-    nearest to it (on a grid twice as fine: y_i itself and the two midpoints beside it), so that
-    the band, interpolated as the checker does, holds the finer profile everywhere. At least a
-    floor, the solver's tolerance in the problem's scale: times the rms height for the gap (as for
-    the load sweep's mean gap), times E* times the rms slope for the stress (the challenge's unit
-    of pressure). Where both grids agree exactly (inside a contact for the gap, away from any
-    contact for the stress) the floor is the band. Near a contact line the change is large: the
-    line moves by up to a grid spacing between the grids, and that is the profile's uncertainty
-    there. (None, None) where the finer profile does not cover the line."""
-    y, v, yf, vf = (np.asarray(a, dtype=float) for a in (y, v, yf, vf))
-    inside = (yf >= y[0]) & (yf <= y[-1])
-    yf, vf = yf[inside], vf[inside]
-    if len(y) < 2 or not np.isfinite(vf).all() or not np.isfinite(v).all() or len(yf) < len(y):
-        return None, None
-    d = np.abs(np.interp(yf, y, v) - vf)
-    b = np.zeros(len(y))
-    # A finer point on a coarse one counts for it alone; one between two counts for both.
-    np.maximum.at(b, np.searchsorted(y, yf, "right") - 1, d)
-    np.maximum.at(b, np.searchsorted(y, yf, "left"), d)
-    tol = get(run.s, "case", "solver", "tolerance") or 0.0
-    if key.endswith("gap"):
-        floor = tol * (get(run.s, "surface_facts", "rms_height") or 0.0)
-    else:
-        floor = tol * run.Estar * (get(run.s, "case", "surface", "rms_gradient") or 1.0)
-    if not floor > 0:
-        return None, None
-    return np.maximum(b, floor), floor
+    """(band, floor) of a cross-section profile v(y) (key cross_section_gap or _pressure) against the
+    same case's profile (yf, vf) on the next finer grid: bands.profile_band, at least
+    bands.profile_floor from the run's solver tolerance, rms height, E* and rms slope. (None, None)
+    where the finer profile does not cover the line."""
+    floor = bands.profile_floor(key, get(run.s, "case", "solver", "tolerance") or 0.0,
+                                get(run.s, "surface_facts", "rms_height") or 0.0, run.Estar,
+                                get(run.s, "case", "surface", "rms_gradient") or 1.0)
+    b = bands.profile_band(y, v, yf, vf, floor)
+    return (None, None) if b is None else (b, floor)
 
 
 def _problem(r):
@@ -921,12 +821,12 @@ def _band_or_stored(c, d, finer_curve, finer_nx, logx, logy, reference_dir, quan
     same case on the next finer grid when that run is here, else the stored reference's relative
     band; (None, ...) when neither exists."""
     if finer_curve is not None:
-        b = refinement_band(c, d, finer_curve[0], finer_curve[1], logx, logy)
+        b = bands.refinement_band(c, d, finer_curve[0], finer_curve[1], logx, logy)
         if np.isfinite(b).any():
             return b, f"band: change to {finer_nx}²", f"|this − {finer_nx}²| at {int(np.isfinite(b).sum())} of {len(c)} points"
-    rb, ref = _stored_rel_band(reference_dir, quantity, adhesive, c)
-    if rb is not None and np.isfinite(rb).any():
-        return rb * np.abs(d), "band: stored reference's, relative", f"the relative band of `{ref['path']}`"
+    b, ref = _stored_band(reference_dir, quantity, adhesive, c, d)
+    if b is not None and np.isfinite(b).any():
+        return b, "band: stored reference's, relative", f"the relative band of `{ref['path']}`"
     return None, "", "–"
 
 
@@ -1184,7 +1084,7 @@ def _gpu_grids(reference_dir):
     return lines
 
 
-def _adhesion_resolution(reference_dir):
+def _adhesion_resolution(reference_dir, out_dir):
     """Issue 13: the challenge's adhesive numbers with error bars, from the scaled-family store
     (reference/challenge-scaled/scaled_family.json, written by scripts/scaled_family.py)."""
     path = os.path.join(reference_dir, "challenge-scaled", "scaled_family.json")
@@ -1195,16 +1095,12 @@ def _adhesion_resolution(reference_dir):
         return lines + [f"Not computed yet: {cmd} (after the family's references, same script).", ""]
     members = {m["s"]: m for m in data.get("members", [])}
     ch = members.get(1)
-    lines += ["No grid on one machine resolves ρ = 2.071 nm (the published solution used 65536² points, dx ≈ 0.75 ρ). "
-              "The runs below are the challenge at 250 kPa on the loading branch on coarse grids, plain (the "
-              "exponential law at grid points) and with the two resolution strategies (`[interaction] "
-              "coarse_graining = \"range\"`: ρ lengthened, w kept, the Tabor parameter lowered; `\"shape\"`: w "
-              "and the peak tension kept, the law's form changed to the least curvature that leaves no point "
-              "bistable). A strategy's error bar is its deviation measured on the scaled challenge family "
-              "(λ_s and w multiplied by s, μ_T = 3: the same dx/ρ and dx/λ_s as the challenge's grid, on a grid "
-              "that resolves ρ there) plus that reference's refinement error: "
-              f"`{rel(os.path.join(reference_dir, 'challenge-scaled', 'README.md'), '.')}`. "
-              "The plain runs carry no error bar: their error is what the family shows for plain runs.", ""]
+    lines += ["No grid on one machine resolves ρ = 2.071 nm (the published solution used 65536², dx ≈ 0.75 ρ). Below: "
+              "the challenge at 250 kPa on coarse grids, plain and with the two resolution strategies (`[interaction] "
+              "coarse_graining = \"range\"` or `\"shape\"`); a strategy's error bar is its error measured on the scaled "
+              "challenge family at the same dx/ρ, the plain runs carry none "
+              f"({method_link(out_dir, 'adhesion-resolution-strategies-and-the-scaled-family')}; "
+              f"`{rel(os.path.join(reference_dir, 'challenge-scaled', 'README.md'), '.')}`).", ""]
     if ch:
         rows = []
         est = {e["role"]: e for e in ch.get("estimates", [])}
@@ -1223,9 +1119,9 @@ def _adhesion_resolution(reference_dir):
         lines += [md_table(["run", "grid", "dx/ρ", "a_r", "repulsive a_r", "mean gap (µm)", "iterations",
                             "wall (s)", "strategy error measured on"], rows), ""]
         for strategy in STRATEGIES:
-            caveat = transfer_caveat(list(members.values()), strategy)
+            caveat = transfer_caveat(list(members.values()), strategy, brief=True)
             if caveat:
-                lines += ["**Caveat.** " + caveat, ""]
+                lines += ["**Caveat.** " + caveat.rstrip(".") + f" ({method_link(out_dir, 'the-transfer-check')}).", ""]
     else:
         lines += [f"The challenge's own runs: not computed yet ({cmd}).", ""]
     fam = [m for s, m in sorted(members.items(), reverse=True) if m.get("reference", {}).get("a_r")]
@@ -1248,12 +1144,9 @@ def _adhesion_resolution(reference_dir):
     x = s_extrapolation(list(members.values()))
     if x:
         sa, sb = x["members"][:2]
-        lines += [f"Extrapolated in s (`reference/challenge-scaled/README.md`, \"Second route\"): each member's "
-                  f"converged value over the same surface's hard-wall value, R(s), on two lines through s = {sb} and "
-                  f"{sa} to s = 1, one in log s and one in s, times the challenge's own hard-wall value: their "
-                  "midpoint, with their half-distance as the model error where a third member's held-out check finds "
-                  "the lines bracketing the curve (else their whole distance), plus the refinement errors carried "
-                  "through the lines.", ""]
+        lines += [f"Extrapolated in s: R(s), each member's converged value over its hard-wall value, on two lines "
+                  f"through s = {sb} and {sa} (in log s and in s) to s = 1, times the challenge's own hard-wall value "
+                  f"({method_link(out_dir, 'second-route-extrapolation-in-s')}).", ""]
         rows = []
         for _, short, _ in FAMILY_QUANTITIES:
             q = x[short]
@@ -1277,12 +1170,11 @@ def _adhesion_resolution(reference_dir):
                 for _, short, _ in FAMILY_QUANTITIES:
                     scale, digits = (1e6, 5) if short == "mean_gap" else (1.0, 4)
                     a, b = e[short], x[short]
-                    gap = abs(a["value"] - b["value"])
-                    both = a["error"] + b["error"]
+                    diff = route_difference(a, b)
                     rows.append([_FAMILY_LABEL[short],
                                  f"{a['value'] * scale:.{digits}g} ± {a['error'] * scale:.2g}",
                                  f"{b['value'] * scale:.{digits}g} ± {b['error'] * scale:.2g}",
-                                 f"{gap / both:.2f}" if both > 0 else "–"])
+                                 "–" if diff is None else f"{diff:.2f}"])
                 lines += [f"Both routes side by side (route 1: the `{strategy}` run on {e['n']}² with the strategy's "
                           "error measured on the family; route 2: the extrapolation in s). A difference beyond the sum "
                           "of the two errors (last column above 1) is a finding, not noise.", "",
@@ -1301,7 +1193,7 @@ def _case_seed(case_dir):
         return None
 
 
-def _realizations(reference_dir, case_dir):
+def _realizations(reference_dir, case_dir, out_dir):
     """Issue 13: the strategies' coarse-grid errors on several realizations of the surface (the
     family's members stored with scripts/scaled_family.py --seed N), beside the case file's."""
     by_s = realization_members(reference_dir, _case_seed(case_dir))
@@ -1311,15 +1203,11 @@ def _realizations(reference_dir, case_dir):
             continue
         if not lines:
             lines = ["## The strategies on other realizations of the surface", "",
-                     "The family's member (the same λ_s, w and μ_T) on surfaces that differ only in their random "
-                     "phases and amplitudes (`surface.seed`; `/usr/bin/python3 scripts/scaled_family.py --s S --coarse 2 4 6 12 24 "
-                     "--start-resolved --no-hardwall --seed N --store reference/challenge-scaled/seeds/seedN`), each "
-                     "with its own resolved reference (dx ≤ 0.8 ρ) and refinement error. Each cell: the run's a_r and "
-                     "mean gap relative to that realization's reference, and for a strategy whether issue 13's target "
-                     "(±3 % / ±0.5 % at 2 ρ, ±6 % / ±1 % at 4 ρ) is met. One realization's error is partly its own "
-                     "contact geometry (a neck of contact that joins on one grid and not on another moves a_r by "
-                     "percents at this bandwidth); the spread over realizations is the strategy's. The challenge's "
-                     "error bars (above) take the largest deviation over every realization.", ""]
+                     "The family's member on surfaces that differ only in their random phases (`scripts/scaled_family.py "
+                     "--seed N`), each against its own resolved reference. Each cell: the run's a_r and mean gap "
+                     "relative to that reference, and for a strategy whether its target (±3 % / ±0.5 % at 2 ρ, ±6 % / "
+                     "±1 % at 4 ρ) is met; the error bars above take the largest deviation over every realization "
+                     f"({method_link(out_dir, 'other-realizations')}).", ""]
         header, rows = realization_rows(members)
         lines += [f"s = {s}, at the spacings issue 13 sets targets for:", "", md_table(header, rows), ""]
         header, rows = realization_rows(members, spacings=(6, 12, 24))
@@ -1358,8 +1246,8 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
                  "gives the band (its change to the finer grid).", "", _grid_table(runs), ""]
     else:
         tail += ["(none yet)", ""]
-    tail += ["#" + ln if ln.startswith("## ") else ln for ln in _adhesion_resolution(reference_dir)]
-    tail += ["#" + ln if ln.startswith("## ") else ln for ln in _realizations(reference_dir, case_dir)]
+    tail += ["#" + ln if ln.startswith("## ") else ln for ln in _adhesion_resolution(reference_dir, out_dir)]
+    tail += ["#" + ln if ln.startswith("## ") else ln for ln in _realizations(reference_dir, case_dir, out_dir)]
     tail += ["#" + ln if ln.startswith("## ") else ln for ln in _gpu_grids(reference_dir)]
 
     sweep = _load_sweep(runs, out_dir, data_dir, case_dir, reference_dir, best)
@@ -1398,7 +1286,10 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
                          "1. contact patch size distribution", os.path.join(out_dir, "patch_size_distribution.png"),
                          data_dir, ("patch_area_m2", "density_per_m2"), "patch_size_distribution", reference_dir)
     dist_cols = ["problem", "run", "p (kPa)", "bins", "range ({})", "band"]
-    section(1, "Distribution of contact patch size (log-log)", patch, [c.format("µm²") for c in dist_cols])
+    dist_note = ["Band (shaded): per point, the change of the curve to the same case on the next finer grid, "
+                 "interpolated in the figure's axes; without a finer run here, the stored reference's relative band "
+                 f"({method_link(out_dir, 'distributions-and-spectrum')}).", ""]
+    section(1, "Distribution of contact patch size (log-log)", patch, [c.format("µm²") for c in dist_cols], dist_note)
 
     def area_rows(content):
         if isinstance(content, str):
@@ -1410,39 +1301,35 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
         return (path, rows, [t[1] for t in tables])
 
     sweep_cols = ["run", "p (kPa)", "p/(E*ḡ)", "a_r", "a_r corrected", "mean gap (µm)", "patches", "converged"]
-    band_note = ["Error bands (shaded, and ± in the tables): for adhesive runs, the error that the run's "
-                 "strategy (the range or shape coarse-graining, `interaction.coarse_graining = \"range\"` or "
-                 "`\"shape\"`, or the plain interaction) has on the scaled challenge family at the run's dx/ρ (deviation from the family's "
-                 "converged reference plus that reference's refinement error; `reference/challenge-scaled/`). It was "
-                 "measured at μ_T = 3 and 250 kPa; that it holds at other loads and μ_T is assumed, not measured. A "
-                 "run whose dx/ρ the family has not measured carries no band. " + roundoff_note() + " "
-                 "For the hard wall (no adhesion): "
+    band_note = ["Error bands (shaded, and ± in the tables): for adhesive runs, the error that the run's strategy "
+                 "(plain, range or shape) has on the scaled challenge family at the run's dx/ρ, measured at μ_T = 3 "
+                 "and 250 kPa (assumed elsewhere unless measured there, below); for the hard wall, its change to a "
+                 "finer grid: "
                  + ("; ".join(f"{'a_r' if k == 'ar' else 'mean gap'} on {v}" for k, v in sorted(sweep["hw_how"].items()))
-                    if isinstance(sweep, dict) and sweep.get("hw_how") else
-                    "the change at 250 kPa from the grid shown to the next finer one: for a_r scaled by each load's "
-                    "contact perimeter (the counted area's grid error is a boundary effect), for the mean gap the same "
-                    "relative change at every load (assumed)")
-                 + ". " + transfer_caveat(), ""]
+                    if isinstance(sweep, dict) and sweep.get("hw_how") else "at 250 kPa, scaled to each load")
+                 + f" ({method_link(out_dir, 'error-bands-of-the-sweeps')}). " + roundoff_note() + " "
+                 + transfer_caveat(brief=True), ""]
     section(2, "Contact area as a function of pressure (log-log; 1 − a_r for the approach to full contact)",
-            area_rows(sweep["area"]), sweep_cols, band_note + _condition_note("load") + [n + "\n" for n in sweep["notes"]])
+            area_rows(sweep["area"]), sweep_cols,
+            band_note + _condition_note("load", out_dir) + [n + "\n" for n in sweep["notes"]])
     gap = _hist_figure(dists, "gap_hist_edges", "gap_hist_density", "log", "log", 1e6, 1e-6,
                        "gap g (µm)", "probability density P(g) (1/µm)", "3. gap distribution (contact points excluded)",
                        os.path.join(out_dir, "gap_distribution.png"), data_dir, ("gap_m", "density_per_m"),
                        "gap_distribution", reference_dir)
-    section(3, "Gap distribution function (log-log)", gap, [c.format("µm") for c in dist_cols])
+    section(3, "Gap distribution function (log-log)", gap, [c.format("µm") for c in dist_cols], ["Band: as in item 1.", ""])
     stress = _hist_figure(dists, "stress_hist_edges", "stress_hist_density", "linear", "log", 1e-6, 1e6,
                           "interfacial stress p (MPa, compressive > 0)", "probability density P(p) (1/MPa)",
                           "4. interfacial stress distribution", os.path.join(out_dir, "stress_distribution.png"),
                           data_dir, ("stress_Pa", "density_per_Pa"), "stress_distribution", reference_dir,
                           extra=lambda ax: ax.axvline(0, color="gray", lw=0.8))
     section(4, "Interfacial stress distribution (stress linear, probability logarithmic)", stress,
-            [c.format("MPa") for c in dist_cols])
+            [c.format("MPa") for c in dist_cols], ["Band: as in item 1.", ""])
     section(5, "Interfacial stress spectrum (log-log)", _spectrum(dists, out_dir, data_dir, reference_dir),
-            ["problem", "run", "p (kPa)", "q points", "q range (1/m)", "band"])
+            ["problem", "run", "p (kPa)", "q points", "q range (1/m)", "band"], ["Band: as in item 1.", ""])
     tabor_cols = ["μ_T", "run", "grid", "p (kPa)", "a_r", "repulsive fraction", "mean gap (nm)"]
     section(6, "Contact area as a function of the Tabor coefficient (log μ_T)", tabor["area"], tabor_cols,
             band_note[:1] + ["Each μ_T has its own ρ, hence its own dx/ρ and its own error bar.", ""]
-            + _condition_note("tabor", own=tabor.get("own_refined", False))
+            + _condition_note("tabor", out_dir, own=tabor.get("own_refined", False))
             + [n + "\n" for n in dict.fromkeys(tabor.get("notes", []))])
     section(7, "Mean gap as a function of the Tabor coefficient (log μ_T)", _no_rows(tabor["gap"]), tabor_cols,
             ["Numbers: the table of item 6.", ""])
@@ -1450,13 +1337,9 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
             ["Numbers: the table of item 2.", ""])
     section(9, "Gap and stress along the cross section x = 50 µm", _cross_section(dists, out_dir, data_dir),
             ["problem", "run", "x (µm)", "points", "band"],
-            ["Band (shaded in the zooms): per point, the largest change of the profile (linear between its points) to "
-             "the same case on the next finer grid at the finer points nearest it (the point and the midpoints "
-             "beside it), so that the band holds the finer profile everywhere. Near a contact line "
-             "it is large: the line moves by up to a grid spacing between the grids, and that is how well the "
-             "profile is known there. Where both grids agree exactly (inside a contact for the gap, away from contact "
-             "for the stress) the band is the floor: the solver's tolerance times the rms height (gap) or times E* "
-             "times the rms slope (stress). With adhesion the band is the numerics' change at this dx/ρ only: both "
-             "grids leave ρ unresolved.", ""])
+            ["Band (shaded in the zooms): per point, the largest change of the profile to the same case on the next "
+             "finer grid near it, at least the solver's tolerance in the problem's scale; large at contact lines, "
+             "which move by up to a grid spacing between the grids. With adhesion both grids leave ρ unresolved "
+             f"({method_link(out_dir, 'cross-section')}).", ""])
     lines += tail
     return "\n".join(lines) + "\n"

@@ -20,10 +20,10 @@ except ImportError:  # pragma: no cover - depends on the machine
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "python"))
-from cmc.analysis.family import (FAMILY_QUANTITIES, FAMILY_STORE, condition_members, family_members,  # noqa: E402,F401
-                                 measured_members, seed_members, strategy_errors, strategy_run_near)
-from cmc.analysis.refinement import (MIN_ORDER, REFINEMENT_BISTABILITY, own_refinement,  # noqa: E402,F401
-                                     own_refinement_words)
+from cmc.analysis.conditions import condition_holds, quantity_holds, worst_failure  # noqa: E402
+from cmc.analysis.family import STRATEGIES, family_members, seed_members  # noqa: E402
+from cmc.analysis.s_route import assessment  # noqa: E402
+from cmc.analysis.transfer import realization_deviations, transfer_check, transfer_verdict  # noqa: E402
 
 import matplotlib  # noqa: E402
 
@@ -221,205 +221,71 @@ def roundoff_note(path=ROUNDOFF_STORE, rel=None):
 
 
 # ---------------------------------------------------------------- the scaled challenge family
-# Its store (scripts/scaled_family.py --store) and the coarse-grid strategy's measured error,
-# shared by scripts/scaled_family.py, scripts/challenge_reference.py and the challenge report.
+# Sentences and tables on the family's analysis (python/cmc/analysis: conditions, transfer,
+# s_route), shared by scripts/scaled_family.py, scripts/challenge_reference.py and the challenge
+# report. The numbers are the analysis package's; here they are only put into words.
 
 
-# The coarse-grainings of the exponential law (cases/README.md, [interaction] coarse_graining),
-# each a resolution strategy whose error the family measures; "plain" is the law at grid points.
-STRATEGIES = ("range", "shape")
 STRATEGY_WORDS = {"plain": "the plain (unmodified) interaction", "range": "the range coarse-graining",
                   "shape": "the shape coarse-graining"}
 
 
-def run_strategy(summary):
-    """The strategy of a run (its summary.json): its interaction.coarse_graining, or "plain"."""
-    cg = get(summary, "case", "interaction", "coarse_graining")
-    return cg if cg in STRATEGIES else "plain"
-
-
-def run_strategy_error(summary, short, members=None):
-    """For an adhesive run with exponential adhesion (its summary.json): its dx over the case's
-    range rho, and the relative error for `short` (a_r, a_rep, mean_gap) that its strategy
-    (interaction.coarse_graining "range" or "shape", else "plain") has on the family at that dx/rho,
-    with what it was measured on; (dx/rho, None, []) where the family has no run near; None for
-    other runs."""
-    inter = get(summary, "case", "interaction", default={}) or {}
-    if inter.get("kind") != "exponential":
-        return None
-    strategy = run_strategy(summary)
-    facts = summary.get("surface_facts") or {}
-    rho = facts.get("specified_range") or facts.get("interaction_range")
-    g = summary.get("grid") or {}
-    dx = g.get("dx_m") or g.get("dx")
-    if not (finite(rho) and rho > 0 and finite(dx) and dx > 0):
-        return None
-    k = dx / rho
-    err, used = strategy_errors(measured_members() if members is None else members, strategy, k)
-    return k, (err or {}).get(short), used
-
-
-def transfer_check(members=None, strategy="range"):
-    """Whether the family's members behave like the challenge (s = 1) on coarse grids: for each
-    s = 1 grid with both a plain run and one of the strategy, the ratio strategy/plain of a_r
-    there and in each member s > 1 at the same dx/rho (within a factor 1.3). The ratio needs no
-    converged answer, so a member whose resolved run is still missing takes part too. Returns
-    [(n, dx/rho, ratio at s = 1, s, ratio in the family)]; [] when the store lacks the runs. The
-    strategy errors transfer to s = 1 only if the ratios agree."""
-    members = family_members() if members is None else members
-    out = []
-    for m1 in members:
-        if m1["s"] != 1:
-            continue
-        runs1 = {r["role"]: r for r in m1["runs"]}
-        for role, p1 in runs1.items():
-            if not role.startswith("plain_") or strategy + "_" + role[6:] not in runs1:
-                continue
-            r1 = runs1[strategy + "_" + role[6:]]
-            k = p1["dx_over_rho"]
-            for m in members:
-                if m["s"] == 1:
-                    continue
-                near = [r for r in m["runs"] if r["role"].endswith("rho") and r["role"].split("_")[0] in ("plain", strategy)
-                        and abs(math.log(r["dx_over_rho"] / k)) < math.log(1.3)]
-                by = {r["role"].split("_")[0]: r for r in near}
-                if "plain" in by and strategy in by:
-                    out.append((p1["n"], k, r1["a_r"] / p1["a_r"], m["s"], by[strategy]["a_r"] / by["plain"]["a_r"]))
-    return out
-
-
-def s_extrapolation(members=None):
-    """The second route to the challenge (s = 1): per quantity (a_r, a_rep, mean_gap), the ratio
-    R(s) = adhesive reference / adhesionless value of each member with both, extrapolated to s = 1
-    and multiplied by the challenge's own adhesionless value (its hard wall converges on grids a
-    machine holds). Why the ratio: along the family w/(E* lambda_s), rho/lambda_s, mu_T, the rms
-    slope and p/(E* rms slope) stay fixed and only the bandwidth lambda_r/lambda_s = 200/s
-    changes, which moves the adhesionless values themselves a lot (the mean gap follows the rms
-    height, 3.06 um at s = 32 against 1.01 um at s = 1); the ratio carries what adhesion adds.
-
-    Two models of the curve, each a straight line through the two members nearest s = 1: one in
-    log s (the bandwidth's octaves), one in s. Two points cannot tell them apart; a third member
-    can test them. The held-out check predicts the nearest member's R from the next two, with
-    both lines: where the two predictions bracket the measured R (within its error) for a
-    quantity, the lines are taken to bracket the curve at s = 1 too (an assumption one octave of
-    evidence supports, not a bound), and the value is their midpoint with half their distance as
-    the model error. Without a third member, or where the check does not bracket, the value is
-    the midpoint and the model error the whole distance between the lines (either could be
-    wrong by that much). Error = model error + the members' refinement errors carried through
-    the lines' weights (the larger of the two lines') + the adhesionless value's refinement
-    error. Returns {"members": [s, ...], short: {...}} or None without two members and the
-    challenge's adhesionless value."""
-    members = family_members() if members is None else members
-    by_s = {m["s"]: m for m in members}
-    ch = by_s.get(1, {}).get("adhesionless") or {}
-    fam = sorted(s for s, m in by_s.items() if s > 1 and m.get("reference", {}).get("a_r") and m.get("adhesionless"))
-    if len(fam) < 2 or not ch.get("a_r"):
-        return None
-    sa, sb = fam[0], fam[1]  # nearest s = 1 first
-    sc = fam[2] if len(fam) > 2 else None
-    out = {"members": [sa, sb] + ([sc] if sc else [])}
-
-    def line(pa, pb, x1, log):
-        """A line through (s_a, R_a), (s_b, R_b) (each (s, (R, error))) at s = x1, in log s or in s:
-        its value and the members' errors carried through its weights."""
-        (xa, (Ra, ea)), (xb, (Rb, eb)) = pa, pb
-        f = math.log if log else float
-        t = (f(x1) - f(xa)) / (f(xb) - f(xa))
-        return Ra + t * (Rb - Ra), abs(1 - t) * ea + abs(t) * eb
-
-    for _, short, unit in FAMILY_QUANTITIES:
-        ratios = {}
-        for s in out["members"]:
-            ref, hw = by_s[s]["reference"][short], by_s[s]["adhesionless"][short]
-            R = ref["value"] / hw["value"]
-            ratios[s] = (R, R * (ref["refinement_error"] / abs(ref["value"]) + hw["refinement_error"] / abs(hw["value"])))
-        pa, pb = (sa, ratios[sa]), (sb, ratios[sb])
-        R_log, e_log = line(pa, pb, 1, True)
-        R_lin, e_lin = line(pa, pb, 1, False)
-        held_out = None
-        if sc:
-            pc = (sc, ratios[sc])
-            p_log, pe_log = line(pb, pc, sa, True)
-            p_lin, pe_lin = line(pb, pc, sa, False)
-            Ra, ea = ratios[sa]
-            lo, hi = min(p_log, p_lin), max(p_log, p_lin)
-            held_out = {"member": sa, "from": [sb, sc], "measured": Ra, "measured_error": ea,
-                        "log_s": p_log, "linear_s": p_lin,
-                        "bracketed": lo - max(pe_log, pe_lin) - ea <= Ra <= hi + max(pe_log, pe_lin) + ea}
-        half = bool(held_out and held_out["bracketed"])
-        R_mid = 0.5 * (R_log + R_lin)
-        model = abs(R_log - R_lin) * (0.5 if half else 1.0)
-        hw1 = ch[short]
-        value = R_mid * hw1["value"]
-        err = (model + max(e_log, e_lin)) * abs(hw1["value"]) + abs(R_mid) * hw1["refinement_error"]
-        out[short] = {"value": value, "error": err, "unit": unit, "ratio_at_1": R_mid, "ratio_at_1_log_s": R_log,
-                      "ratio_at_1_linear_s": R_lin, "ratio_error_propagated": max(e_log, e_lin), "ratio_error_model": model,
-                      "held_out": held_out,
-                      "ratios": {str(s): {"value": r, "error": e} for s, (r, e) in ratios.items()},
-                      "adhesionless_at_1": hw1}
-    return out
-
-
 def s_extrapolation_verdict(x):
-    """Sentences on how far the second route (s_extrapolation's result x) can be used: the held-out
-    check, if there is one, and the quantities whose error is more than half their value."""
+    """Sentences on how far the second route (s_route.s_extrapolation's result x) can be used: the
+    held-out check, if there is one, and the quantities whose error is more than half their value
+    (s_route.assessment)."""
     sa, sb = x["members"][0], x["members"][1]
+    got = assessment(x)
+    checks = got["checks"]
     text = ""
-    checks = [(short, x[short]["held_out"]) for _, short, _ in FAMILY_QUANTITIES if x[short].get("held_out")]
     if checks:
         h0 = checks[0][1]
         parts = [f"{short} {h['measured']:.4f} measured, {h['log_s']:.4f} (log s) and {h['linear_s']:.4f} (s) predicted"
                  for short, h in checks]
-        inside = [short for short, h in checks if h["bracketed"]]
-        outside = [short for short, h in checks if not h["bracketed"]]
         text += (f"Held-out check: R at s = {h0['member']} predicted from s = {h0['from'][0]} and {h0['from'][1]}: "
                  + "; ".join(parts) + ". ")
-        if inside:
-            miss = min(abs(h[m] - h["measured"]) / h["measured_error"] for short, h in checks if h["bracketed"]
-                       for m in ("log_s", "linear_s") if h["measured_error"] > 0)
-            text += ("The two lines bracket the measured ratio for " + ", ".join(inside) + f", each line off by at "
-                     f"least {miss:.3g} times the measured ratio's error one octave out: so at s = 1, "
+        if got["bracketed"]:
+            text += ("The two lines bracket the measured ratio for " + ", ".join(got["bracketed"]) + f", each line off "
+                     f"by at least {got['miss']:.3g} times the measured ratio's error one octave out: so at s = 1, "
                      f"{math.log2(sa):.3g} octaves further, the value is their midpoint and half their distance its "
                      "model error (assumed to bracket there too; not a bound). ")
-        if outside:
-            text += ("They do not bracket it for " + ", ".join(outside) + ": the whole distance between the lines is "
-                     "its model error. ")
-    loose = [short for _, short, _ in FAMILY_QUANTITIES if x[short]["error"] > 0.5 * abs(x[short]["value"])]
-    if loose:
-        text += (f"With the members s = {sb} and {sa} this route is not informative for " + ", ".join(loose) + ": the "
-                 "error is more than half the value, mostly the distance between the two lines.")
+        if got["not_bracketed"]:
+            text += ("They do not bracket it for " + ", ".join(got["not_bracketed"]) + ": the whole distance between "
+                     "the lines is its model error. ")
+    if got["loose"]:
+        text += (f"With the members s = {sb} and {sa} this route is not informative for " + ", ".join(got["loose"])
+                 + ": the error is more than half the value, mostly the distance between the two lines.")
     elif not checks:
         text += "A third member would test the two lines (the held-out check)."
     return text.strip()
 
 
-def transfer_caveat(members=None, strategy="range"):
-    """One sentence on transfer_check for error statements, or "" when it cannot be made: per s = 1
-    grid the ratio there and in each member (largest s first), and whether the members approach
-    the challenge's ratio as s falls toward 1."""
+def transfer_caveat(members=None, strategy="range", brief=False):
+    """One sentence on the transfer check (transfer.transfer_check, transfer_verdict) for error
+    statements, or "" when it cannot be made: per s = 1 grid the ratio there and in each member
+    (largest s first), and whether the members approach the challenge's ratio as s falls toward 1.
+    brief: the ratios and the verdict only (the report; docs/challenge/report-method.md says what
+    the verdict means)."""
     rows = transfer_check(members, strategy)
     if not rows:
         return ""
-    by_grid = {}
-    for n, k, a, s, b in rows:
-        by_grid.setdefault((n, k, a), []).append((s, b))
-    parts, approach = [], True
-    for (n, k, a), fam in sorted(by_grid.items(), key=lambda x: -x[0][0]):
-        fam.sort(reverse=True)
-        parts.append(f"{n}^2 (dx = {k:.3g} rho): " + ", ".join(f"{b:.3f} at s = {s}" for s, b in fam) + f", {a:.3f} at s = 1")
-        dist = [abs(math.log(b / a)) for _, b in fam]
-        approach = approach and len(dist) > 1 and all(d1 < d0 for d0, d1 in zip(dist, dist[1:]))
-    agree = all(abs(math.log(a / b)) < math.log(1.05) for _, _, a, _, b in rows)
+    verdict = transfer_verdict(rows)
+    parts = [f"{n}^2 (dx = {k:.3g} rho): " + ", ".join(f"{b:.3f} at s = {s}" for s, b in fam) + f", {a:.3f} at s = 1"
+             for (n, k, a), fam in verdict["grids"]]
     text = f"Transfer check, a_r of the {strategy} run over the plain run at the same dx/rho: {'; '.join(parts)}. "
-    if agree:
+    if verdict["agree"]:
         return text + "They agree within 5 %, as the transfer assumes."
+    if brief:
+        return text + ("They do not agree but approach the challenge's as s falls toward 1: the band is indicative, "
+                       "probably pessimistic." if verdict["approach"] else
+                       "They do not agree: the band is indicative, not a bound.")
     nearest = min(s for _, _, _, s, _ in rows)
     with_ref = {m["s"] for m in (family_members() if members is None else members) if m.get("reference", {}).get("a_r")}
     nearer = ("a member nearer s = 1 (s = 8, resolved on 8192²)" if nearest not in with_ref or nearest > 8 else
               f"a member nearer s = 1 than s = {nearest}")
     if nearest not in with_ref:
         nearer = f"s = {nearest}'s resolved run (its ratio is measured, its errors are not yet)"
-    if approach:
+    if verdict["approach"]:
         return text + ("They do not agree, but they approach the challenge's as s falls toward 1, so the band (the "
                        "largest error over the members with a reference, hence that of the member farthest from "
                        f"s = 1) is indicative and probably pessimistic, not a bound; {nearer} would test the trend.")
@@ -427,119 +293,9 @@ def transfer_caveat(members=None, strategy="range"):
                    f"band is indicative, not a bound; {nearer} is needed.")
 
 
-# Issue 13's targets for a strategy at dx = 2 rho and 4 rho: relative error of a_r and of the mean gap.
-STRATEGY_TARGETS = {2: (0.03, 0.005), 4: (0.06, 0.01)}
-
-
-def _same(a, b):
-    return (a is None and b is None) or (a is not None and b is not None and abs(a / b - 1) < 0.01)
-
-
-def own_tabor(summary):
-    """The run's mu_T where it is not the challenge's 3 (within 1 %), else None: the condition whose
-    store (condition_error's tabor) measures its band."""
-    tabor = get(summary, "case", "interaction", "tabor")
-    return tabor if finite(tabor) and not _same(tabor, 3.0) else None
-
-
-def condition_error(strategy, dx_over_rho, tabor=None, pressure=None, members=None):
-    """The strategy's error (strategy_errors) measured on the family at this condition (mu_T within
-    1 %, load within 1 %; None for the challenge's own 3 and 250 kPa), or (None, []) where no
-    condition store holds it or no run is near this dx/rho."""
-    ms = [m for m in (condition_members() if members is None else members)
-          if _same(m.get("tabor"), tabor) and _same(m.get("pressure_Pa"), pressure)]
-    return strategy_errors(ms, strategy, dx_over_rho) if ms else (None, [])
-
-
-def run_band(summary, short):
-    """The error band (relative) of an adhesive run for `short`: the larger of its strategy's error
-    measured on the family at mu_T = 3 and 250 kPa (run_strategy_error) and, where the family was
-    also run at the run's own mu_T (condition_members), the error measured there. Returns (dx/rho,
-    band, error at mu_T = 3, error at the run's mu_T, what the first was measured on), or None for
-    runs without exponential adhesion; band None where neither is measured."""
-    got = run_strategy_error(summary, short)
-    if got is None:
-        return None
-    k, rel, used = got
-    tabor, at = own_tabor(summary), None
-    if tabor is not None:
-        err, _ = condition_error(run_strategy(summary), k, tabor=tabor)
-        at = None if err is None else err[short]
-    both = [x for x in (rel, at) if x is not None]
-    return k, (max(both) if both else None), rel, at, used
-
-
-def load_bands(summary, short, pressures):
-    """Per load of an adhesive load sweep (its summary.json; pressures in Pa): the relative band for
-    `short`, and a sentence on what it rests on. The band measured at mu_T = 3 and 250 kPa
-    (run_band) holds at every load unless the family was also run at other loads
-    (condition_members with a "pressure_Pa", scripts/scaled_family.py --pressure): then, at each
-    load, the larger of it and the errors measured at the loads, interpolated linearly in log p
-    between the measured loads (250 kPa's the first band) and held beyond them. None where
-    nothing is measured at this dx/rho."""
-    got = run_band(summary, short)
-    if got is None or got[1] is None:
-        return None, ""
-    k, band, _, _, _ = got
-    members = condition_members()
-    at = [(250e3, band)]
-    for p in sorted({m["pressure_Pa"] for m in members if "pressure_Pa" in m and not _same(m["pressure_Pa"], 250e3)}):
-        err, _ = condition_error(run_strategy(summary), k, tabor=own_tabor(summary), pressure=p, members=members)
-        if err is not None:
-            at.append((p, err[short]))
-    at.sort()
-    if len(at) == 1:
-        return [band] * len(pressures), ""
-    lp = np.log([a[0] for a in at])
-    rel = np.interp(np.log(np.asarray(pressures, dtype=float)), lp, [a[1] for a in at])
-    words = (f"the larger of the band at 250 kPa ({100 * band:.3g} %) and the error measured on the family's s = 32 "
-             "member at the sweep's other loads (" + ", ".join(f"{p / 1e3:g} kPa: {100 * e:.3g} %" for p, e in at
-                                                               if not _same(p, 250e3))
-             + "; reference/challenge-scaled/conditions/p*/), interpolated in log p between the measured loads and "
-             "held beyond them")
-    return [max(band, float(r)) for r in rel], words
-
-
-def condition_checks(members=None, reference=None):
-    """One row per coarse run of each condition member (plain and strategies): its signed relative
-    deviation from that member's reference per quantity, and the band the challenge's references
-    take at that dx/rho from the family at mu_T = 3 and 250 kPa (strategy_errors over
-    measured_members()): whether the band, assumed at this condition, holds there."""
-    rows = []
-    base = measured_members() if reference is None else reference
-    for m in (condition_members() if members is None else members):
-        ref = m["reference"]
-        for r in sorted(m["runs"], key=lambda r: (-r["dx_over_rho"], r["role"])):
-            strategy = r["role"].split("_")[0]
-            if strategy not in ("plain",) + STRATEGIES or not r["role"].endswith("rho"):
-                continue
-            band, _ = strategy_errors(base, strategy, r["dx_over_rho"])
-            row = {"tabor": m.get("tabor", 3.0), "pressure_Pa": m.get("pressure_Pa", 250e3), "s": m["s"],
-                   "strategy": strategy, "n": r["n"], "dx_over_rho": r["dx_over_rho"]}
-            for _, short, _ in FAMILY_QUANTITIES:
-                q = ref[short]
-                dev = r[short] / q["value"] - 1
-                row[short] = {"deviation": dev, "refinement": q["refinement_error"] / abs(q["value"]),
-                              "band": None if band is None else band[short]}
-            rows.append(row)
-    return rows
-
-
-def _quantity_holds(q):
-    """One quantity of a condition_checks row: |deviation| plus the reference's refinement error
-    within the band; None without a band."""
-    return None if q["band"] is None else abs(q["deviation"]) + q["refinement"] <= q["band"]
-
-
-def condition_holds(row):
-    """Whether the band at mu_T = 3 and 250 kPa holds a condition_checks row (a_r and the mean gap);
-    None without a band."""
-    out = [h for h in (_quantity_holds(row[short]) for short in ("a_r", "mean_gap")) if h is not None]
-    return None if not out else all(out)
-
-
 def condition_summary(rows, strategies=("plain",)):
-    """One sentence on the condition check of the given strategies' runs, or "" without rows."""
+    """One sentence on the condition check (conditions.condition_checks rows) of the given
+    strategies' runs, or "" without rows."""
     rows = [r for r in rows if r["strategy"] in strategies and condition_holds(r) is not None]
     if not rows:
         return ""
@@ -549,10 +305,7 @@ def condition_summary(rows, strategies=("plain",)):
     if not bad:
         return (f"At the other conditions measured ({words}) the band measured at μ_T = 3 and 250 kPa held every "
                 f"{'/'.join(strategies)} run ({len(rows)}).")
-    def excess(r, short):  # (|deviation| + refinement error) / band
-        q = r[short]
-        return -1.0 if not q["band"] else (abs(q["deviation"]) + q["refinement"]) / q["band"]
-    worst, short = max(((r, k) for r in bad for k in ("a_r", "mean_gap")), key=lambda x: excess(*x))
+    worst, short = worst_failure(rows)
     q = worst[short]
     return (f"At the other conditions measured ({words}) the band measured at μ_T = 3 and 250 kPa failed "
             f"{len(bad)} of {len(rows)} {'/'.join(strategies)} runs; the worst, μ_T = {worst['tabor']:g} at "
@@ -562,7 +315,8 @@ def condition_summary(rows, strategies=("plain",)):
 
 
 def condition_check_lines(rows, strategies=("plain",)):
-    """Markdown lines: the condition check's table (condition_checks rows of the given strategies)."""
+    """Markdown lines: the condition check's table (conditions.condition_checks rows of the given
+    strategies)."""
     rows = [r for r in rows if r["strategy"] in strategies]
     if not rows:
         return []
@@ -576,7 +330,7 @@ def condition_check_lines(rows, strategies=("plain",)):
             cells.append(f"{100 * q['deviation']:+.1f} % ({100 * q['refinement']:.1f} %) / "
                          + ("—" if band is None else f"±{100 * band:.1f} %") if short == "a_r" else
                          f"{100 * q['deviation']:+.2f} % / " + ("—" if band is None else f"±{100 * band:.2f} %"))
-            holds.append(_quantity_holds(q))
+            holds.append(quantity_holds(q))
         verdict = ("no band" if all(h is None for h in holds) else
                    "yes" if all(h in (True, None) for h in holds) else
                    "**no** (" + ", ".join(k for k, h in zip(("a_r", "mean gap"), holds) if h is False) + ")")
@@ -603,49 +357,40 @@ def realization_members(reference_dir, case_seed):
 def realization_rows(members, spacings=(2, 4)):
     """One row per realization (seed, member): the reference a_r and mean gap (± refinement error) and,
     for each spacing k and each of plain and the strategies, the deviation of that run's a_r and mean
-    gap from the member's reference, marked met/not met against STRATEGY_TARGETS for the strategies.
-    Then a summary row: per column the largest |deviation| and, for the strategies, how many
-    realizations meet the target. Returns (header, rows)."""
+    gap from the member's reference, marked met/not met against the strategies' targets
+    (transfer.realization_deviations). Then a summary row: per column the largest |deviation| and,
+    for the strategies, how many realizations meet the target. Returns (header, rows)."""
     kinds = ("plain",) + STRATEGIES
     header = ["seed", "ρ (nm)", "reference a_r", "reference mean gap (µm)"] + [
         f"{kind}, {k} ρ" for k in spacings for kind in kinds]
-    rows, worst, met, seen = [], {}, {}, {}
-    for seed, m in members:
+    per, cols = realization_deviations(members, spacings, kinds)
+    rows = []
+    for (seed, m), dev in zip(members, per):
         ref = m["reference"]
         row = [seed if seed is not None else "?", fmt(m["rho_m"] * 1e9, 4),
                f"{ref['a_r']['value']:.4g} ± {ref['a_r']['refinement_error']:.2g}",
                f"{ref['mean_gap']['value'] * 1e6:.4g} ± {ref['mean_gap']['refinement_error'] * 1e6:.2g}"]
-        runs = {r["role"]: r for r in m["runs"]}
         for k in spacings:
             for kind in kinds:
-                r = runs.get(f"{kind}_{k}rho")
-                col = (kind, k)
-                if not r:
+                d = dev.get((kind, k))
+                if not d:
                     row.append("–")
                     continue
-                da = r["a_r"] / ref["a_r"]["value"] - 1
-                dg = r["mean_gap"] / ref["mean_gap"]["value"] - 1
-                w = worst.setdefault(col, [0.0, 0.0])
-                w[0], w[1] = max(w[0], abs(da)), max(w[1], abs(dg))
-                cell = f"{100 * da:+.1f} % / {100 * dg:+.2f} %"
-                if kind != "plain" and k in STRATEGY_TARGETS:
-                    ta, tg = STRATEGY_TARGETS[k]
-                    ok = abs(da) <= ta and abs(dg) <= tg
-                    met[col] = met.get(col, 0) + int(ok)
-                    seen[col] = seen.get(col, 0) + 1
-                    cell += " (met)" if ok else " (not met)"
+                cell = f"{100 * d['a_r']:+.1f} % / {100 * d['mean_gap']:+.2f} %"
+                if d["met"] is not None:
+                    cell += " (met)" if d["met"] else " (not met)"
                 row.append(cell)
         rows.append(row)
     summary = ["largest", "", "", ""]
     for k in spacings:
         for kind in kinds:
-            col = (kind, k)
-            if col not in worst:
+            col = cols.get((kind, k))
+            if col is None:
                 summary.append("–")
                 continue
-            text = f"{100 * worst[col][0]:.1f} % / {100 * worst[col][1]:.2f} %"
-            if col in seen:
-                text += f"; target met on {met[col]} of {seen[col]}"
+            text = f"{100 * col['largest'][0]:.1f} % / {100 * col['largest'][1]:.2f} %"
+            if col["seen"]:
+                text += f"; target met on {col['met']} of {col['seen']}"
             summary.append(text)
     rows.append(summary)
     return header, rows

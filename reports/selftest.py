@@ -213,9 +213,10 @@ def run_reports(root, out):
 
 
 def profile_band_checks(np):
-    """The cross-section band (challenge_report.profile_band) holds the finer profile at every
-    finer point when read as `cmc check` reads it (band and curve linear between points), with
-    numbers worked by hand, and is never below its floor."""
+    """The cross-section band (challenge_report.profile_band, which reads the run for
+    cmc.analysis.bands) holds the finer profile at every finer point when read as `cmc check`
+    reads it (band and curve linear between points), with numbers worked by hand, and is never
+    below its floor."""
     sys.path.insert(0, HERE)
     from challenge_report import profile_band
 
@@ -268,11 +269,13 @@ def sweep_end_checks():
 
 
 def transfer_checks():
-    """common.transfer_check compares strategy/plain a_r at s = 1 with every member s > 1 at the
-    same dx/rho, a member without its resolved run included (the ratio needs no reference), for
-    each strategy; transfer_caveat names the strategy and says whether the members approach s = 1."""
+    """cmc.analysis.transfer transfer_check compares strategy/plain a_r at s = 1 with every member
+    s > 1 at the same dx/rho, a member without its resolved run included (the ratio needs no
+    reference), for each strategy; common.transfer_caveat names the strategy and says whether the
+    members approach s = 1."""
     sys.path.insert(0, HERE)
-    from common import transfer_caveat, transfer_check
+    from common import transfer_caveat  # puts python/ on the path
+    from cmc.analysis.transfer import transfer_check
 
     def run(role, k, a_r):
         return {"role": role, "n": 100, "dx_over_rho": k, "a_r": a_r}
@@ -298,9 +301,10 @@ def transfer_checks():
 
 
 def realization_checks():
-    """common.realization_rows: each run's a_r and mean gap against its own realization's reference,
-    the strategies' targets (issue 13: 3 % / 0.5 % at 2 rho, 6 % / 1 % at 4 rho) marked per cell and
-    counted in the summary row, plain runs never marked."""
+    """common.realization_rows (numbers from cmc.analysis.transfer realization_deviations): each
+    run's a_r and mean gap against its own realization's reference, the strategies' targets (3 % /
+    0.5 % at 2 rho, 6 % / 1 % at 4 rho) marked per cell and counted in the summary row, plain runs
+    never marked."""
     sys.path.insert(0, HERE)
     from common import realization_rows
 

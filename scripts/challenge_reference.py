@@ -43,14 +43,19 @@ import h5py
 import numpy as np
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
+sys.path.insert(0, os.path.join(ROOT, "python"))
 sys.path.insert(0, os.path.join(ROOT, "reports"))
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
 from challenge_report import (Run, _centers, _find_runs, _merged_sweeps, _observables,  # noqa: E402
                               _reference_load_runs, _stopped, band_floor, finer_sweep, grid_change, hardwall_sweep_band,
-                              profile_band, refinement_band, sweep_band)  # (the report's extraction)
-from common import (CHALLENGE, FAMILY_STORE, REFINEMENT_BISTABILITY, STRATEGY_WORDS, condition_checks,  # noqa: E402
-                    condition_summary, load_bands, load_json, own_refinement_words, run_band,
-                    read_reference_csv, roundoff_note, run_strategy, run_strategy_error, transfer_caveat)
+                              profile_band, sweep_band)  # (the report's extraction)
+from cmc.analysis import bands  # noqa: E402
+from cmc.analysis.conditions import condition_checks, load_bands, run_band, run_strategy_error  # noqa: E402
+from cmc.analysis.family import FAMILY_STORE  # noqa: E402
+from cmc.analysis.refinement import REFINEMENT_BISTABILITY, own_refinement_words  # noqa: E402
+from cmc.analysis.runs import strategy_of  # noqa: E402
+from common import (CHALLENGE, STRATEGY_WORDS, condition_summary, load_json,  # noqa: E402
+                    read_reference_csv, roundoff_note, transfer_caveat)
 
 RHO, LAMBDA_S, P0 = CHALLENGE["rho"], CHALLENGE["lambda_s"], CHALLENGE["p0"]
 GENERATOR = "scripts/challenge_reference.py (extraction: reports/challenge_report.py)"
@@ -251,16 +256,16 @@ def adhesive_error(run, hw, keys):
 def strategy_band(run, short, elsewhere="that it holds at this point's load and mu_T is assumed, not measured."):
     """For an exponential-adhesion run: the relative error for quantity `short` (a_r, mean_gap)
     that its strategy (range or shape coarse-graining, or plain) has on the scaled challenge family at the
-    same dx/rho (reports/common.py strategy_errors: the family run within a factor 1.3 of this
-    dx/rho, its deviation from the family's converged reference plus that reference's refinement
-    error), and a sentence saying what it rests on (`elsewhere`: what the band is at other loads and
+    same dx/rho (cmc.analysis.conditions run_strategy_error: the family run within a factor 1.3 of
+    this dx/rho, its deviation from the family's converged reference plus that reference's
+    refinement error), and a sentence saying what it rests on (`elsewhere`: what the band is at other loads and
     mu_T). None where the family has no run near."""
     got = run_strategy_error(run.s, short)
     if got is None:
         return None, ""
     k, rel, used = got
     store = _rel(FAMILY_STORE)
-    what = STRATEGY_WORDS[run_strategy(run.s)]
+    what = STRATEGY_WORDS[strategy_of(run.s)]
     if rel is None:
         return None, (f"{what} at dx = {k:.3g} rho: the scaled family ({store}) has no run of it within a factor "
                       "1.3 of this dx/rho, so no error band")
@@ -280,8 +285,8 @@ def add_abs_band(curve, band):
 
 
 def add_band(curve, rels):
-    """Appends a relative error band: half-width rel x |y| per point."""
-    return add_abs_band(curve, [rel * abs(v) for rel, v in zip(rels, curve["columns"][1][3])])
+    """Appends a relative error band: half-width rel x |y| per point (bands.absolute_band)."""
+    return add_abs_band(curve, bands.absolute_band(rels, curve["columns"][1][3]))
 
 
 def with_band(curve, run, short):
@@ -302,7 +307,7 @@ def with_band(curve, run, short):
     ys = curve["columns"][1][3]
     if any(r * abs(v) < floor for r, v in zip(rels, ys)):
         curve["estimated_error"] += f" At least {what} where the relative band is smaller."
-    return add_abs_band(curve, [max(r * abs(v), floor) for r, v in zip(rels, ys)])
+    return add_abs_band(curve, bands.absolute_band(rels, ys, floor))
 
 
 # ------------------------------------------------------------------ curves
@@ -317,10 +322,10 @@ def _clean(x, y, log_x, log_y):
 
 
 def _with_refinement_band(curve, x, y, xf, yf, log_x, log_y, n, nf, base_error):
-    """Adds the band |y - y_finer(x)| (refinement_band, the report's) to a curve of the run at the
+    """Adds the band |y - y_finer(x)| (bands.refinement_band) to a curve of the run at the
     reference load: points outside the finer curve's range (or where both grids agree exactly)
     carry no band and are left out, and `sampling` says how many."""
-    b = refinement_band(x, y, xf, yf, log_x, log_y)
+    b = bands.refinement_band(x, y, xf, yf, log_x, log_y)
     keep = np.isfinite(b) & (b > 0)
     curve["columns"][0] = curve["columns"][0][:3] + (x[keep],)
     curve["columns"][1] = curve["columns"][1][:3] + (y[keep],)
@@ -556,7 +561,7 @@ def tabor_curves(runs, hw):
                 # two measured errors: the one at mu_T = 3 alone does not hold at every mu_T.
                 rels, per, measured, owns, own_mus = [], [], [], [], []
                 for (r, _), m, (rel, _) in zip(items, mus, bands):
-                    _, band, _, at, _ = run_band(r.s, short)  # reports/common.py: max(rel, at)
+                    _, band, _, at, _ = run_band(r.s, short)  # max(rel, at)
                     b, own = sweep_band(r, short, runs)  # the challenge's own refinement where it applies
                     rels.append(b)
                     per.append(f"mu_T = {m:.3g}: +-{100 * rels[-1]:.3g} %"
@@ -577,7 +582,7 @@ def tabor_curves(runs, hw):
                        f"the adhesion (bistability number w dx/(E* rho^2) <= {REFINEMENT_BISTABILITY:g} on its coarser grid, "
                        "as on the family's refinement grids; scripts/tabor_sweep.sh --grid N): the "
                        "challenge's own grid error, Richardson extrapolation of order 1 plus the spread of the other "
-                       "estimates of the converged value (reports/common.py own_refinement; " + "; ".join(owns)
+                       "estimates of the converged value (python/cmc/analysis/refinement.py own_band; " + "; ".join(owns)
                        + "). Elsewhere: " if owns else "")
                     + f"the strategy's error measured on the scaled challenge "
                     f"family ({_rel(FAMILY_STORE)}) at that point's dx/rho (deviation from the family's converged "
@@ -689,7 +694,7 @@ def _own_refinement_sentence(banded):
         "by refining the sweep itself (`scripts/tabor_sweep.sh --grid N`) where the finer pair of grids resolves the "
         f"adhesion (bistability number w dx/(E\\* ρ²) ≤ {REFINEMENT_BISTABILITY:g} on its coarser grid, as on the "
         "family's refinement grids): Richardson extrapolation of order 1 plus the spread of "
-        "the other estimates of the converged value (`reports/common.py` `own_refinement`); it needs no transfer "
+        "the other estimates of the converged value (`python/cmc/analysis/refinement.py` `own_band`); it needs no transfer "
         "from the family. " for mus, files in by.items())
 
 

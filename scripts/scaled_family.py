@@ -44,7 +44,7 @@ RESULTS/s<S>/n<N>/ with --resume: a finished run is kept, an interrupted one res
 and 8), whose error bands are the family's error measured at mu_T = 3 and 250 kPa. A
 condition's runs go to RESULTS/conditions/<condition>/ and its store holds that condition
 only (e.g. --store reference/challenge-scaled/conditions/mu_T1): it measures whether the
-bands hold there (reports/common.py, condition_checks), and the sweeps' references take the
+bands hold there (cmc.analysis.conditions, condition_checks), and the sweeps' references take the
 larger of the two errors (run_band, load_bands); the challenge's own error bars (s = 1 at
 250 kPa) take nothing from it. The hard-wall runs get the pressure too (mu_T is adhesion's).
 
@@ -67,10 +67,14 @@ import subprocess
 import sys
 import tempfile
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "python"))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "reports"))
-from common import (FAMILY_QUANTITIES as QUANTITIES, STRATEGY_TARGETS, condition_check_lines,  # noqa: E402
-                    condition_checks, condition_members, condition_summary, s_extrapolation,
-                    s_extrapolation_verdict, seed_members, strategy_errors, strategy_run_near)
+from cmc.analysis.conditions import condition_checks  # noqa: E402
+from cmc.analysis.family import (FAMILY_QUANTITIES as QUANTITIES, adhesionless, challenge_estimates,  # noqa: E402
+                                 condition_members, deviation, member_reference, seed_members, strategy_run_near)
+from cmc.analysis.s_route import s_extrapolation  # noqa: E402
+from cmc.analysis.transfer import STRATEGY_TARGETS, meets_target  # noqa: E402
+from common import condition_check_lines, condition_summary, s_extrapolation_verdict  # noqa: E402
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 CASE = "cases/challenge/scaled-family.toml"
@@ -224,50 +228,12 @@ def record(out, role, n, rho, command):
     return r
 
 
-def adhesionless(runs):
-    """The member's hard-wall values from its two finest hard-wall runs: a_r (the perimeter-
-    corrected contact fraction; the repulsive area is the whole contact without adhesion) and the
-    mean gap, each with |finest - next| as its refinement error. {} without two such runs."""
-    hw = sorted((r for r in runs if r["role"].startswith("hardwall") and r["status"] == "converged"),
-                key=lambda r: -r["n"])
-    if len(hw) < 2 or hw[0]["a_r_corrected"] is None or hw[1]["a_r_corrected"] is None:
-        return {}
-    out = {}
-    for short, key in (("a_r", "a_r_corrected"), ("a_rep", "a_r_corrected"), ("mean_gap", "mean_gap")):
-        out[short] = {"value": hw[0][key], "refinement_error": abs(hw[0][key] - hw[1][key]),
-                      "grid": hw[0]["n"], "coarser_grid": hw[1]["n"]}
-    return out
-
-
 def atomic_write(path, text):
     os.makedirs(os.path.dirname(path), exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=os.path.dirname(path), prefix=".tmp-")
     with os.fdopen(fd, "w", encoding="utf-8") as f:
         f.write(text)
     os.replace(tmp, path)
-
-
-def estimates(members, realizations=()):
-    """For members without a reference (the challenge, s = 1): each strategy run's value with the
-    strategy's error measured on the family at the same dx/rho (and, as rho/lambda_s is the same
-    for every s, the same dx/lambda_s), over the members and the other realizations given (the
-    members of STORE/seeds/*, common.seed_members)."""
-    measured = list(members) + list(realizations)
-    for m in members:
-        if m.get("reference", {}).get("a_r"):
-            m.pop("estimates", None)
-            continue
-        rows = []
-        for r in m["runs"]:
-            strategy = r["role"].split("_")[0]
-            if strategy not in STRATEGY:
-                continue
-            err, used = strategy_errors(measured, strategy, r["dx_over_rho"])
-            row = {"role": r["role"], "n": r["n"], "dx_over_rho": r["dx_over_rho"], "measured_on": used}
-            for _, short, _ in QUANTITIES:
-                row[short] = {"value": r[short], "error": None if err is None else err[short] * abs(r[short])}
-            rows.append(row)
-        m["estimates"] = rows
 
 
 def write_store(store, data):
@@ -289,8 +255,9 @@ def readme(data, store_dir):
     if data["members"] and ("tabor" in data["members"][0] or "pressure_Pa" in data["members"][0]):
         lines += ["**Another condition than the challenge's** (μ_T = 3, 250 kPa): a point of the challenge's "
                   "Tabor sweep or load sweep, whose error bands are the family's error measured at μ_T = 3 and "
-                  "250 kPa. This store checks whether they hold here (`reports/common.py`, `condition_checks`; the "
-                  "family's README and the challenge report print the check); where it measures a larger error, the "
+                  "250 kPa. This store checks whether they hold here (`python/cmc/analysis/conditions.py`, "
+                  "`condition_checks`; the family's README and the challenge report print the check); where it "
+                  "measures a larger error, the "
                   "sweep's reference takes that as its band (`run_band`, `load_bands`).", ""]
     lines += [
              "**Reference** = the run on the resolved grid (dx ≤ 0.8 ρ(s)). **Refinement error** = |resolved − "
@@ -330,12 +297,11 @@ def readme(data, store_dir):
         for r in m["runs"]:
             dev = ""
             if r["role"].split("_")[0] in ("plain",) + tuple(STRATEGY) and ref.get("a_r"):
-                da = r['a_r'] / ref['a_r']['value'] - 1
-                dg = r['mean_gap'] / ref['mean_gap']['value'] - 1
+                da, dg = deviation(r, ref, "a_r"), deviation(r, ref, "mean_gap")
                 dev = f" ({100 * da:+.1f} %, gap {100 * dg:+.2f} %)"
                 for k, (ta, tg) in STRATEGY_TARGETS.items():
                     if any(strategy_run_near(r, st, k) for st in STRATEGY):
-                        dev += (" target " + ("met" if abs(da) <= ta and abs(dg) <= tg else "NOT met")
+                        dev += (" target " + ("met" if meets_target(k, da, dg) else "NOT met")
                                 + f" (±{100 * ta:g} %, ±{100 * tg:g} %)")
             lines.append(f"| {r['role']}{dev} | {r['n']}² | {r['dx_over_rho']:.2f} | {r['a_r']:.6g} | {r['a_rep']:.6g} | "
                          f"{r['mean_gap']:.7g} | {r['iterations']} | {r['fft_pairs']:.0f} | {r['wall_s']:.0f} | {r['status']} |")
@@ -387,12 +353,12 @@ def condition_lines(store_dir, members):
         "The sweeps' references (`reference/challenge/`, `scripts/challenge_reference.py`) take the larger of the "
         "two errors as their band: the Tabor sweep's at each μ_T measured here, the load sweep's per load "
         "(interpolated in log p between the loads measured here and 250 kPa, held beyond them; "
-        "`reports/common.py`, `load_bands`).", ""]
+        "`python/cmc/analysis/conditions.py`, `load_bands`).", ""]
     return lines
 
 
 def s_route_lines(x):
-    """README lines for the second route (reports/common.py s_extrapolation)."""
+    """README lines for the second route (cmc.analysis.s_route s_extrapolation)."""
     lines = ["## Second route to the challenge: extrapolation in s", ""]
     if not x:
         return lines + ["Not computed: it needs two members with a reference and a hard-wall value "
@@ -405,7 +371,7 @@ def s_route_lines(x):
               "Along the family only the bandwidth λ_r/λ_s changes; the ratio carries what adhesion adds. Value: the "
               "midpoint of the two lines; error: the model error (half their distance where a third member's held-out "
               "check finds them bracketing the curve, else their whole distance), the members' refinement errors "
-              "through the lines, and the hard-wall value's refinement error (`reports/common.py`, `s_extrapolation`).",
+              "through the lines, and the hard-wall value's refinement error (`python/cmc/analysis/s_route.py`, `s_extrapolation`).",
               "", "| quantity | " + " | ".join(f"R(s = {m})" for m in members)
               + " | R(1), line in log s | R(1), line in s | hard wall at s = 1 | value at s = 1 |",
               "|---|" + "---|" * (len(members) + 4)]
@@ -474,7 +440,7 @@ def main():
             sys.exit(f"scaled_family: --reestimate: no {path} (expected a store written with --store)")
         with open(path, encoding="utf-8") as f:
             data = json.load(f)
-        estimates(data["members"], seed_members(os.path.join(ROOT, a.store)))
+        challenge_estimates(data["members"], seed_members(os.path.join(ROOT, a.store)))
         write_store(a.store, data)
         print(f"scaled_family: recomputed the estimates of {a.store}", file=sys.stderr)
         return
@@ -543,11 +509,7 @@ def main():
             m["pressure_Pa"] = a.pressure
         by = {r["role"]: r for r in runs}
         if "resolved" in by and "refinement" in by:
-            for _, short, unit in QUANTITIES:
-                m["reference"][short] = {"value": by["resolved"][short], "unit": unit,
-                                         "refinement_error": abs(by["resolved"][short] - by["refinement"][short]),
-                                         "grid": by["resolved"]["n"], "coarser_grid": by["refinement"]["n"],
-                                         "status": by["resolved"]["status"]}
+            m["reference"] = member_reference(by["resolved"], by["refinement"])
         members.append(m)
     if a.store and not a.dry_run:
         path = os.path.join(ROOT, a.store, "scaled_family.json")
@@ -576,7 +538,7 @@ def main():
             m["runs"].sort(key=lambda r: (r["role"].split("_")[0] not in ("resolved", "refinement"), -r["n"], r["role"]))
         # A realization's or a condition's own store measures nothing for the challenge: only the
         # family store's estimates take the other realizations in.
-        estimates(merged, seed_members(os.path.join(ROOT, a.store)) if a.seed is None and not condition else ())
+        challenge_estimates(merged, seed_members(os.path.join(ROOT, a.store)) if a.seed is None and not condition else ())
         data = {"generator": "scripts/scaled_family.py", "case_file": CASE, "case_file_hardwall": CASE_HW,
                 "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
                 "load_Pa": a.pressure or 250e3, "members": merged, "s_extrapolation": s_extrapolation(merged)}

@@ -45,7 +45,7 @@ run cases/challenge/load-sweep-hardwall.toml results/challenge-load-sweep-hardwa
 scripts/tabor_sweep.sh
 # The Tabor sweep refined on the challenge itself where rho is long (a bistability number
 # w dx/(E* rho^2) <= 1.49 on the coarser grid of a pair, as on the family's refinement grids:
-# mu_T <= 0.562): the bands of items 6 and 7 there (reports/common.py own_refinement). About 10
+# mu_T <= 0.562): the bands of items 6 and 7 there (python/cmc/analysis/refinement.py own_band). About 10
 # min for the five 4096² runs and 65 min for the five 8192² ones on 2 cores (2026-11-27).
 low="0.001 0.00178 0.00316 0.00562 0.01 0.0178 0.0316 0.0562 0.1 0.178 0.316 0.562"
 scripts/tabor_sweep.sh --grid 4096 --tabor "$low"

@@ -12,12 +12,12 @@
                  store (STORE/conditions/mu_T1, a member at mu_T = 1): the family's README checks
                  the band measured at mu_T = 3 against the error measured at mu_T = 1 and says it
                  does not hold where the run there errs more, and that it holds where it does not.
-  bands          reports/common.py run_band / load_bands on synthetic members: a run's band is the
+  bands          cmc.analysis.conditions run_band / load_bands on synthetic members: a run's band is the
                  larger of the error at mu_T = 3 and the one at its own mu_T; a load sweep's is, per
                  load, the larger of the 250 kPa band and the errors at the measured loads,
                  interpolated in log p and held beyond. And scripts/challenge_reference.py --only
                  tabor without the Tabor sweep's runs: a message naming what makes them.
-  own_refinement reports/common.py own_refinement on synthetic values that err in proportion to dx:
+  own_refinement cmc.analysis.refinement own_refinement on synthetic values that err in proportion to dx:
                  Richardson of order 1 recovers the converged value, the band is the coarsest
                  grid's distance from it plus the spread of the other estimates, the observed order
                  is 1; a pair whose coarser grid has dx > 1.6 rho is not used, and grids that do not
@@ -139,8 +139,8 @@ def conditions():
 
 
 def bands():
-    sys.path.insert(0, os.path.join(ROOT, "reports"))
-    import common
+    sys.path.insert(0, os.path.join(ROOT, "python"))
+    from cmc.analysis import conditions
     # At mu_T = 3 and 250 kPa the plain run at 24 rho is 10 % low (band 10 % + 1 % refinement);
     # at 2.5 MPa 20 % high (21 %); at mu_T = 1 30 % high (31 %).
     fam = member(32, [a_run("plain_24rho", 64, 24.0, 0.045, 3.0e-6)], ref=(0.05, 3.0e-6))
@@ -148,17 +148,16 @@ def bands():
     at_p["pressure_Pa"] = 2.5e6
     at_mu = member(32, [a_run("plain_24rho", 64, 24.0, 0.065, 3.0e-6)], ref=(0.05, 3.0e-6))
     at_mu["tabor"] = 1.0
-    common.measured_members = lambda: [fam]
-    common.condition_members = lambda store_dir=None: [at_p, at_mu]
+    stores = {"members": [fam], "conditions": [at_p, at_mu]}
 
     def summary(tabor):
         return {"case": {"interaction": {"kind": "exponential", "tabor": tabor}},
                 "surface_facts": {"specified_range": 1.0}, "grid": {"dx_m": 24.0}}
-    _, band, rel, at, _ = common.run_band(summary(3.0), "a_r")
+    _, band, rel, at, _ = conditions.run_band(summary(3.0), "a_r", **stores)
     assert abs(band - 0.11) < 1e-12 and at is None, (band, rel, at)
-    _, band, rel, at, _ = common.run_band(summary(1.0), "a_r")
+    _, band, rel, at, _ = conditions.run_band(summary(1.0), "a_r", **stores)
     assert abs(rel - 0.11) < 1e-12 and abs(at - 0.31) < 1e-12 and band == at, (band, rel, at)
-    got, words = common.load_bands(summary(3.0), "a_r", [12.5e3, 250e3, 790569.4150420949, 2.5e6, 1e8])
+    got, words = conditions.load_bands(summary(3.0), "a_r", [12.5e3, 250e3, 790569.4150420949, 2.5e6, 1e8], **stores)
     want = [0.11, 0.11, 0.16, 0.21, 0.21]
     assert all(abs(g - w) < 1e-9 for g, w in zip(got, want)), got
     assert "2500 kPa: 21 %" in words, words
@@ -176,8 +175,9 @@ def bands():
 
 
 def own_refinement():
+    sys.path.insert(0, os.path.join(ROOT, "python"))
     sys.path.insert(0, os.path.join(ROOT, "reports"))
-    import common
+    from cmc.analysis import refinement
     import challenge_report
 
     def grid(nx, k, v, corrected=None, b=None):
@@ -185,37 +185,37 @@ def own_refinement():
         return {"nx": nx, "dx_over_rho": k, "bistability": k if b is None else b, "value": v, "corrected": corrected}
     # v = 0.02 (1 + 0.14 * 2048 / n): first order in dx, as the counted contact area.
     v = {n: 0.02 * (1 + 0.14 * 2048 / n) for n in (2048, 4096, 8192)}
-    got = common.own_refinement([grid(2048, 0.44, v[2048]), grid(4096, 0.22, v[4096]),
+    got = refinement.own_refinement([grid(2048, 0.44, v[2048]), grid(4096, 0.22, v[4096]),
                                  grid(8192, 0.11, v[8192], corrected=0.0201)])
     assert abs(got["v_inf"] - 0.02) < 1e-12, got
     assert abs(got["band"] - (v[2048] - 0.02 + 0.0001) / v[2048]) < 1e-9, got
     assert abs(got["order"] - 1.0) < 1e-9 and len(got["estimates"]) == 4, got
     # The pair 2048/4096 at b = 2.5 is not extrapolated: v_inf comes from 4096/8192 alone; the order
     # the three grids show (3.6 here) gives the only other estimate.
-    got = common.own_refinement([grid(2048, 2.5, 0.03), grid(4096, 1.25, v[4096]), grid(8192, 0.62, v[8192])])
+    got = refinement.own_refinement([grid(2048, 2.5, 0.03), grid(4096, 1.25, v[4096]), grid(8192, 0.62, v[8192])])
     assert abs(got["v_inf"] - 0.02) < 1e-12 and len(got["estimates"]) == 2, got
     p = math.log2((0.03 - v[4096]) / (v[4096] - v[8192]))
     with_p = v[8192] - (v[4096] - v[8192]) / (2 ** p - 1)
     assert abs(got["band"] - (0.01 + abs(with_p - 0.02)) / 0.03) < 1e-9, got
-    assert common.own_refinement([grid(2048, 2.5, 0.03), grid(4096, 1.25, v[4096])]) is None
+    assert refinement.own_refinement([grid(2048, 2.5, 0.03), grid(4096, 1.25, v[4096])]) is None
     # Not in the asymptotic range: the finest change shrinks by less than 2^-MIN_ORDER (the challenge at
     # mu_T = 1: changes 1.28e-3 and 1.26e-3); just inside it, a band.
     flat = [grid(2048, 2.5, 0.0333), grid(4096, 1.25, 0.0320), grid(8192, 0.62, 0.0307)]
-    assert common.own_refinement(flat) is None
-    c2 = 0.0013 * 2 ** -common.MIN_ORDER
-    assert common.own_refinement([grid(2048, 2.5, 0.0333), grid(4096, 1.25, 0.0320),
+    assert refinement.own_refinement(flat) is None
+    c2 = 0.0013 * 2 ** -refinement.MIN_ORDER
+    assert refinement.own_refinement([grid(2048, 2.5, 0.0333), grid(4096, 1.25, 0.0320),
                                   grid(8192, 0.62, 0.0320 - 1.01 * c2)]) is None
-    assert common.own_refinement([grid(2048, 2.5, 0.0333), grid(4096, 1.25, 0.0320),
+    assert refinement.own_refinement([grid(2048, 2.5, 0.0333), grid(4096, 1.25, 0.0320),
                                   grid(8192, 0.62, 0.0320 - 0.99 * c2)]) is not None
-    assert common.own_refinement([grid(2048, 0.4, 0.03), grid(3000, 0.3, v[4096])]) is None
+    assert refinement.own_refinement([grid(2048, 0.4, 0.03), grid(3000, 0.3, v[4096])]) is None
     # The rule is the bistability number, not dx/rho: where rho is long (low mu_T) a grid of 4.4 rho
     # with b = 0.8 resolves the cohesive zone better than the family's refinement grid (1.6 rho,
     # b = 1.66) and is extrapolated; one with b just above the bound is not.
     low = [grid(2048, 4.4, v[2048], b=0.8), grid(4096, 2.2, v[4096], b=0.4)]
-    got = common.own_refinement(low)
+    got = refinement.own_refinement(low)
     assert got is not None and abs(got["v_inf"] - 0.02) < 1e-12, got
-    assert common.own_refinement([grid(2048, 1.2, v[2048], b=common.REFINEMENT_BISTABILITY * 1.01),
-                                  grid(4096, 0.6, v[4096], b=0.5 * common.REFINEMENT_BISTABILITY * 1.01)]) is None
+    assert refinement.own_refinement([grid(2048, 1.2, v[2048], b=refinement.REFINEMENT_BISTABILITY * 1.01),
+                                  grid(4096, 0.6, v[4096], b=0.5 * refinement.REFINEMENT_BISTABILITY * 1.01)]) is None
 
     def summary(n, tabor, ar, gap):
         return {"case": {"case": {"name": "challenge-tabor-sweep"},

@@ -7,7 +7,7 @@ import sys
 import pytest
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
-from cmc.analysis import family, refinement  # noqa: E402
+from cmc.analysis import bands, family, refinement  # noqa: E402
 
 
 def test_observed_order_of_a_power_law():
@@ -69,3 +69,68 @@ def test_transferred_error_takes_the_members_nearest_s_1():
     assert got["error"] == pytest.approx(0.02)
     assert sorted({s for s, _, _, _ in got["members"]}) == [8, 16] and len(got["members"]) == 3
     assert family.transferred_error([far] + near, "shape", 9.0, "a_r") is None
+
+
+def test_refinement_matches_cmc_refine_on_its_unit_test_numbers():
+    # tests/test_validate.cpp Refinement.ChangesAndOrder: v(n) = 1 + 8/n^2 on n = 16, 32, 64, 128;
+    # `cmc refine` gives the change (v64 - v128) / v128 = (8/4096 - 8/16384) / (1 + 8/16384) and order 2.
+    v = {n: 1 + 8.0 / (n * n) for n in (16, 32, 64, 128)}
+    assert bands.relative_change(v[64], v[128]) == pytest.approx((8 / 4096 - 8 / 16384) / (1 + 8 / 16384), rel=1e-12)
+    assert refinement.observed_order(v[16], v[32], v[64]) == pytest.approx(2.0)
+    assert refinement.observed_order(v[32], v[64], v[128]) == pytest.approx(2.0)
+    # Richardson with that order recovers the limit 1: 1 + 8/16384 + (8/16384 - 8/4096) / 3 = 1
+    assert refinement.richardson(v[64], v[128], 2.0) == pytest.approx(1.0, abs=1e-15)
+
+
+def test_own_band_of_any_grid_of_the_sequence():
+    # v = 0.02 (1 + 0.14 x 2048 / n): first order, limit 0.02, every estimate 0.02 (spread 0); the band
+    # of the 4096² value is |v - 0.02| / v = 0.07 / 1.07, of the 2048² value 0.14 / 1.14
+    grids = [{"nx": n, "dx_over_rho": 0.44 * 2048 / n, "bistability": 0.44 * 2048 / n,
+              "value": 0.02 * (1 + 0.14 * 2048 / n), "corrected": None} for n in (2048, 4096, 8192)]
+    got = refinement.own_band(grids, 1)
+    assert got["v_inf"] == pytest.approx(0.02) and got["band"] == pytest.approx(0.07 / 1.07) and got["nx"] == 4096
+    assert refinement.own_band(grids, 0)["band"] == pytest.approx(0.14 / 1.14)
+    grids[2]["bistability"] = None
+    assert refinement.own_band(grids, 1) is None
+
+
+def full_member(s, a_r, gap, refinement_error=0.0, runs=()):
+    """A member with a reference of a_r (also a_rep) and the mean gap, or none where a_r is None."""
+    ref = {} if a_r is None else {q: {"value": v, "refinement_error": refinement_error * v}
+                                  for q, v in (("a_r", a_r), ("a_rep", a_r), ("mean_gap", gap))}
+    return {"s": s, "reference": ref, "runs": list(runs)}
+
+
+def test_member_reference_adhesionless_and_deviation():
+    res = {"a_r": 0.05, "a_rep": 0.04, "mean_gap": 3e-6, "n": 2048, "status": "converged"}
+    fine = {"a_r": 0.049, "a_rep": 0.0395, "mean_gap": 3.01e-6, "n": 1024}
+    ref = family.member_reference(res, fine)
+    # |0.05 - 0.049| = 0.001, |3e-6 - 3.01e-6| = 1e-8
+    assert ref["a_r"]["refinement_error"] == pytest.approx(0.001) and ref["mean_gap"]["refinement_error"] == pytest.approx(1e-8)
+    assert (ref["a_r"]["grid"], ref["a_r"]["coarser_grid"], ref["a_r"]["unit"]) == (2048, 1024, "1")
+    # 0.0475 / 0.05 - 1 = -5 %
+    assert family.deviation({"a_r": 0.0475}, ref, "a_r") == pytest.approx(-0.05)
+    hw = [{"role": "hardwall_resolved", "n": 2048, "status": "converged", "a_r_corrected": 0.03, "mean_gap": 2e-6},
+          {"role": "hardwall_refinement", "n": 1024, "status": "converged", "a_r_corrected": 0.0305, "mean_gap": 2.01e-6},
+          {"role": "plain_2rho", "n": 4096, "status": "converged", "a_r_corrected": None, "mean_gap": 1e-6}]
+    got = family.adhesionless(hw)
+    # the finest hard wall's corrected a_r 0.03 with |0.03 - 0.0305| = 0.0005, for a_r and a_rep alike
+    assert got["a_r"] == got["a_rep"] and got["a_r"]["value"] == 0.03
+    assert got["a_r"]["refinement_error"] == pytest.approx(0.0005) and got["mean_gap"]["refinement_error"] == pytest.approx(1e-8)
+    assert family.adhesionless(hw[:1]) == {}
+
+
+def test_challenge_estimates_take_the_family_error_at_the_same_spacing():
+    # s = 32's shape run at 12.5 rho is 5 % high, its reference 1 % uncertain: 6 % of s = 1's 0.030 = 0.0018
+    fam = full_member(32, 0.05, 3e-6, 0.01, [{"role": "shape_12rho", "n": 128, "dx_over_rho": 12.5, "a_r": 0.0525,
+                                              "a_rep": 0.0525, "mean_gap": 3e-6}])
+    fam["estimates"] = ["stale"]
+    challenge = full_member(1, None, None, runs=[{"role": "shape_n4096", "n": 4096, "dx_over_rho": 12.0, "a_r": 0.030,
+                                                  "a_rep": 0.030, "mean_gap": 1e-6},
+                                                 {"role": "plain_n4096", "n": 4096, "dx_over_rho": 12.0, "a_r": 0.029,
+                                                  "a_rep": 0.029, "mean_gap": 1e-6}])
+    family.challenge_estimates([fam, challenge])
+    assert "estimates" not in fam and len(challenge["estimates"]) == 1
+    est = challenge["estimates"][0]
+    assert est["role"] == "shape_n4096" and est["a_r"]["error"] == pytest.approx(0.0018)
+    assert est["measured_on"] == ["s = 32 at 128² (dx = 12.50 rho)"]

@@ -153,3 +153,56 @@ def transferred_error(members, strategy, dx_over_rho, short):
             "rule": (f"largest over the family's members nearest s = 1 (s = {', '.join(str(s) for s in s_used)}; "
                      f"{len(rows)} realizations) at dx = {dx_over_rho:.3g} rho, interpolated in log(dx/rho) between "
                      "their measured spacings, plus their references' refinement errors")}
+
+
+def deviation(r, ref, short):
+    """A run's signed relative deviation from a member's reference for `short`: r / reference - 1."""
+    return r[short] / ref[short]["value"] - 1
+
+
+def member_reference(resolved, refinement):
+    """A member's reference from its resolved run and the refinement run (the same case on half the
+    points), per quantity: the resolved value, with |resolved - refinement| as its refinement error
+    (it bounds the resolved grid's own error if the error falls at least linearly with dx)."""
+    return {short: {"value": resolved[short], "unit": unit, "refinement_error": abs(resolved[short] - refinement[short]),
+                    "grid": resolved["n"], "coarser_grid": refinement["n"], "status": resolved["status"]}
+            for _, short, unit in FAMILY_QUANTITIES}
+
+
+def adhesionless(runs):
+    """A member's hard-wall values from its two finest converged hard-wall runs (roles hardwall_*):
+    a_r (the perimeter-corrected contact fraction; the repulsive area is the whole contact without
+    adhesion) and the mean gap, each with |finest - next| as its refinement error. {} without two
+    such runs."""
+    hw = sorted((r for r in runs if r["role"].startswith("hardwall") and r["status"] == "converged"),
+                key=lambda r: -r["n"])
+    if len(hw) < 2 or hw[0]["a_r_corrected"] is None or hw[1]["a_r_corrected"] is None:
+        return {}
+    out = {}
+    for short, key in (("a_r", "a_r_corrected"), ("a_rep", "a_r_corrected"), ("mean_gap", "mean_gap")):
+        out[short] = {"value": hw[0][key], "refinement_error": abs(hw[0][key] - hw[1][key]),
+                      "grid": hw[0]["n"], "coarser_grid": hw[1]["n"]}
+    return out
+
+
+def challenge_estimates(members, realizations=()):
+    """Sets "estimates" on each member without a reference (the challenge, s = 1): each strategy
+    run's value with the strategy's error measured on the family at the same dx/rho (and, as
+    rho/lambda_s is the same for every s, the same dx/lambda_s), over the members and the other
+    realizations given; removes it from the members with a reference."""
+    measured = list(members) + list(realizations)
+    for m in members:
+        if m.get("reference", {}).get("a_r"):
+            m.pop("estimates", None)
+            continue
+        rows = []
+        for r in m["runs"]:
+            strategy = r["role"].split("_")[0]
+            if strategy not in STRATEGIES:
+                continue
+            err, used = strategy_errors(measured, strategy, r["dx_over_rho"])
+            row = {"role": r["role"], "n": r["n"], "dx_over_rho": r["dx_over_rho"], "measured_on": used}
+            for _, short, _ in FAMILY_QUANTITIES:
+                row[short] = {"value": r[short], "error": None if err is None else err[short] * abs(r[short])}
+            rows.append(row)
+        m["estimates"] = rows

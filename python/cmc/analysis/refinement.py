@@ -3,6 +3,13 @@ a value from the sequence of grids that made it.
 
 A sequence is the same case on grids of n, 2n, 4n ... points a side. Every function takes the
 values coarsest first and is pure (numbers in, numbers out).
+
+Its C++ twin is `cmc refine` (validation/Refine.cpp): the relative change between successive grids
+(bands.relative_change here) and the observed order, fitted by least squares over every change
+(validation/Validate.cpp fit_order) where observed_order takes the finest three grids; the two
+agree on a power law (tests/analysis/test_refinement_and_family.py feeds observed_order the
+numbers of tests/test_validate.cpp, Refinement.ChangesAndOrder). Richardson extrapolation and the
+bands built on it live here only.
 """
 import math
 
@@ -116,6 +123,20 @@ def own_refinement(grids):
     spread = max(abs(v - v_inf) for _, v in ests)
     return {"band": (abs(vals[0] - v_inf) + spread) / abs(vals[0]), "v_inf": v_inf, "spread": spread, "estimates": ests,
             "order": order, "grids": [g["nx"] for g in grids]}
+
+
+def own_band(grids, index):
+    """own_refinement of a sequence (grids as own_refinement takes them) with the band of grid
+    `index`'s value instead of the coarsest's: its distance from the estimated converged value
+    plus the other estimates' spread, relative to it; "nx" its grid. None where a grid lacks its
+    dx/rho or bistability number, own_refinement makes no band, or the value is 0."""
+    if not all(finite(g["dx_over_rho"]) and finite(g["bistability"]) for g in grids):
+        return None
+    got = own_refinement(grids)
+    v = grids[index]["value"]
+    if got is None or not v:
+        return None
+    return dict(got, band=(abs(v - got["v_inf"]) + got["spread"]) / abs(v), nx=grids[index]["nx"])
 
 
 def own_refinement_words(got, name, unit=""):

@@ -1,0 +1,156 @@
+"""Error bands from the same case on a finer grid: the change of a value or a curve under one
+refinement, the band of a cross-section profile, the bands of a hard-wall load sweep, and the
+interpolation in a quantity's representation that compares curves sampled on different grids.
+
+Every function is pure (numbers and arrays in, numbers and arrays out). A band is a half-width in
+the quantity's own unit unless its name says "relative". A load-sweep step is a dict with "p"
+(Pa), "ar", "gap" (m), "perimeter" and "converged", as the challenge report reads it.
+"""
+import numpy as np
+
+
+def relative_change(coarse, fine):
+    """|coarse - fine| / |fine|: the change of a value under one refinement, relative to the finer
+    grid's value, as `cmc refine` defines it (validation/Refine.cpp). None where either value is
+    missing or the finer one is 0."""
+    if coarse is None or not fine:
+        return None
+    return abs(coarse - fine) / abs(fine)
+
+
+def absolute_band(relative, values, floor=None):
+    """Per point the half-width relative x |value|, at least `floor` where one is given."""
+    if floor is None:
+        return [r * abs(v) for r, v in zip(relative, values)]
+    return [max(r * abs(v), floor) for r, v in zip(relative, values)]
+
+
+def interp_curve(x, xc, yc, logx, logy):
+    """The curve (xc, yc) at x, interpolated in the representation's axes (log where logx / logy);
+    NaN where x lies outside the curve's range, or where a value is not finite or a logged one not
+    positive."""
+    x, xc, yc = (np.asarray(a, dtype=float) for a in (x, xc, yc))
+    m = np.isfinite(xc) & np.isfinite(yc) & ((xc > 0) if logx else True) & ((yc > 0) if logy else True)
+    xc, yc = xc[m], yc[m]
+    out = np.full(len(x), np.nan)
+    if len(xc) < 2:
+        return out
+    o = np.argsort(xc)
+    xc, yc = xc[o], yc[o]
+    tx = np.log if logx else (lambda v: v)
+    ok = np.isfinite(x) & ((x > 0) if logx else True) & (x >= xc[0]) & (x <= xc[-1])
+    yi = np.interp(tx(x[ok]), tx(xc), np.log(yc) if logy else yc)
+    out[ok] = np.exp(yi) if logy else yi
+    return out
+
+
+def refinement_band(x, y, xf, yf, logx, logy):
+    """|y - y_f(x)|: how far a curve moves on the next finer grid (xf, yf), interpolated at x by
+    interp_curve. NaN where it has no value there."""
+    return np.abs(np.asarray(y, dtype=float) - interp_curve(x, xf, yf, logx, logy))
+
+
+def stored_band(x, y, xr, yr, br, logx):
+    """The band a curve (x, y) borrows from a stored reference (xr, yr) with band br: the
+    reference's band relative to its values, interpolated at x on the representation's abscissa
+    (log where logx), times |y|. NaN outside the reference's range or where its value is 0."""
+    ya = np.abs(np.asarray(yr, dtype=float))
+    rb = np.divide(br, ya, out=np.full(len(ya), np.nan), where=ya > 0)
+    return interp_curve(x, xr, rb, logx, False) * np.abs(y)
+
+
+def profile_floor(key, tolerance, rms_height, contact_modulus, rms_gradient):
+    """The least band of a cross-section profile: the solver's tolerance in the problem's scale,
+    times the rms height for the gap (key ending in "gap"), times E* times the rms slope for the
+    stress (the challenge's unit of pressure)."""
+    if key.endswith("gap"):
+        return tolerance * rms_height
+    return tolerance * contact_modulus * rms_gradient
+
+
+def profile_band(y, v, yf, vf, floor):
+    """The band of a cross-section profile v(y) against the same case's profile (yf, vf) on the
+    next finer grid, read as `cmc check` reads a curve (linear between its points): per point y_i
+    the largest |v(y') - v_f(y')| over the finer points y' between y_i's neighbours that are
+    nearest to it (on a grid twice as fine: y_i itself and the two midpoints beside it), so that
+    the band, interpolated as the checker does, holds the finer profile everywhere; at least
+    `floor` (profile_floor), which is the band where both grids agree exactly. None where the
+    finer profile does not cover the line, a value is not finite, or the floor is not positive."""
+    y, v, yf, vf = (np.asarray(a, dtype=float) for a in (y, v, yf, vf))
+    inside = (yf >= y[0]) & (yf <= y[-1])
+    yf, vf = yf[inside], vf[inside]
+    if len(y) < 2 or not np.isfinite(vf).all() or not np.isfinite(v).all() or len(yf) < len(y):
+        return None
+    d = np.abs(np.interp(yf, y, v) - vf)
+    b = np.zeros(len(y))
+    # A finer point on a coarse one counts for it alone; one between two counts for both.
+    np.maximum.at(b, np.searchsorted(y, yf, "right") - 1, d)
+    np.maximum.at(b, np.searchsorted(y, yf, "left"), d)
+    if not floor > 0:
+        return None
+    return np.maximum(b, floor)
+
+
+def sweep_floor(key, nx, ny, tolerance, rms_height):
+    """(least band, its words) of a load-sweep point, for key "ar" or "gap": one grid point
+    (1/N^2, the count's quantum) for a_r, the solver's tolerance times the rms height for the mean
+    gap (exact where the mean gap is 0, in full contact)."""
+    if key == "ar":
+        return 1.0 / (nx * ny), f"one grid point (1/{nx}^2)"
+    return tolerance * rms_height, "the solver's tolerance times the rms height"
+
+
+def measured_sweep_band(steps, finer_steps, key, n, nf):
+    """Band of a hard-wall load sweep on n^2 points from the same sweep on nf^2 points: at a load
+    both ran, the change between the grids. Elsewhere the change per unit of what it scales with,
+    interpolated linearly in log p between the loads both ran and held beyond them: for a_r the
+    contact perimeter (the counted area's grid error is a boundary effect: it vanishes at full
+    contact), for the mean gap the value itself. (None, "") with fewer than two shared loads."""
+    fine = {round(st["p"], 6): st[key] for st in finer_steps if st["converged"] and st.get(key) is not None}
+    per = key == "ar" and all(st.get("perimeter") is not None for st in steps)
+    scale = (lambda st: st["perimeter"]) if per else (lambda st: abs(st[key] or 0.0))
+    meas = [(st["p"], abs(st[key] - fine[round(st["p"], 6)]) / scale(st))
+            for st in steps if st.get(key) and round(st["p"], 6) in fine and scale(st) > 0]
+    if len(meas) < 2:
+        return None, ""
+    lp = np.log([m[0] for m in meas])
+    ratio = np.interp(np.log([st["p"] for st in steps]), lp, [m[1] for m in meas])
+    band = [b * scale(st) for b, st in zip(ratio, steps)]
+    return band, (f"the change from {n}^2 to {nf}^2 measured at {len(meas)} loads ("
+                  + ", ".join(f"{m[0] / 1e6:.4g}" for m in meas) + " MPa); between and beyond them the change per unit "
+                  + ("contact perimeter" if per else "of the value") + " interpolated linearly in log p and held")
+
+
+def hardwall_sweep_band(steps, key, n, floor, finer=None, reference=None):
+    """Per-step band of a hard-wall load sweep on n^2 points for key "ar" or "gap", with a sentence
+    saying how; (None, "") without one. floor: sweep_floor's (value, words), the least band.
+
+    Measured where the same sweep ran on a finer grid (finer = (nf, its steps)):
+    measured_sweep_band. Otherwise modelled from the grid change of the run at 250 kPa (reference =
+    (step on n0^2, step on n1^2, n0, n1), used where n0 = n). a_r: the counted area's grid error is
+    a boundary effect, first order in dx times the contact perimeter, so the change at 250 kPa is
+    scaled by each step's perimeter over that at 250 kPa. Mean gap: the relative change at 250 kPa
+    at every load (assumed)."""
+    least, least_words = floor
+    if finer is not None:
+        band, how = measured_sweep_band(steps, finer[1], key, n, finer[0])
+        if band:
+            return [max(b, least) for b in band], how + ", at least " + least_words
+    if reference is None:
+        return None, ""
+    a0, a1, n0, n1 = reference
+    change = relative_change(a0.get(key), a1.get(key))
+    if change is None or n0 != n:
+        return None, ""
+    if key == "ar":
+        p0 = a0.get("perimeter")
+        if not p0 or any(st.get("perimeter") is None for st in steps):
+            return None, ""
+        d0 = abs(a0["ar"] - a1["ar"])
+        band = [max(d0 * st["perimeter"] / p0, least) for st in steps]
+        return band, (f"the change of a_r at 250 kPa from {n0}^2 to {n1}^2 ({d0:.3g}) scaled by each load's "
+                      "contact perimeter over that at 250 kPa (the counted area's grid error is a boundary effect), "
+                      "at least " + least_words)
+    band = [max(change * abs(st["gap"]), least) for st in steps]
+    return band, (f"the relative change of the mean gap at 250 kPa from {n0}^2 to {n1}^2 "
+                  f"({100 * change:.2g} %) at every load (assumed), at least " + least_words)
