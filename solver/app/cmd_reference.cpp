@@ -2,6 +2,7 @@
 #include "commands.hpp"
 
 #include "References.hpp"
+#include "cmc/grid/FilePaths.hpp"
 
 #include <cstdio>
 #include <filesystem>
@@ -77,6 +78,7 @@ int cmd_reference(int argc, char** argv) {
     return kOk;
   }
   const std::filesystem::path dir = a.out.empty() ? reference::default_reference_dir() : a.out;
+  if (!check) check_output_folder(dir);
   if (check) {
     int bad = 0;
     for (const auto& n : names) {

@@ -92,7 +92,7 @@ RefinementGrid run_grid(const fs::path& dir, const Case& c, int n, bool quiet) {
   rec << toml::table{{"case", to_json(c.resolved)}, {"n", n},          {"status", status_name(run.status)},
                      {"dx_m", g.dx_m},             {"facts", g.facts}, {"last_step", g.last_step}}
       << "\n";
-  write_atomically(dir / kRecord, rec.str());
+  write_output_text(dir / kRecord, rec.str());
   return g;
 }
 
@@ -130,8 +130,8 @@ int cmd_refine(int argc, char** argv) {
   }
   const auto rows = refinement_rows(done);
   const std::string md = refinement_markdown(file, done, rows);
-  write_atomically(out / "refinement.md", md);
-  write_atomically(out / "refinement.json", to_json(refinement_record(file, done, rows)));
+  write_output_text(out / "refinement.md", md);
+  write_output_text(out / "refinement.json", to_json(refinement_record(file, done, rows)));
   std::fputs(md.c_str(), stdout);
   return all_converged ? kOk : kNotConverged;
 }

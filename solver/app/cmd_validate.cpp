@@ -4,6 +4,7 @@
 #include "Profiles.hpp"
 #include "Validate.hpp"
 #include "cmc/output/OutputLock.hpp"
+#include "cmc/output/RunFolder.hpp"
 
 #include <vector>
 #include "cmc/output/Writer.hpp"
@@ -46,7 +47,10 @@ int cmd_validate(int argc, char** argv) {
   // different cases may share one --out (ctest runs them in parallel into build/validation).
   std::vector<OutputLock> locks;
   if (!a.out.empty())
-    for (const Case& c : cases) locks.emplace_back(std::filesystem::path(a.out) / c.name);
+    for (const Case& c : cases) {
+      locks.emplace_back(std::filesystem::path(a.out) / c.name);
+      check_earlier_results(std::filesystem::path(a.out) / c.name);  // before the solves (exit 2)
+    }
   bool all_pass = true;
   std::printf("%-28s %-18s %12s %12s %6s %8s\n", "case", "quantity", "error", "tolerance", "result", "time_s");
   for (const Case& c : cases) {
@@ -97,8 +101,8 @@ int cmd_validate(int argc, char** argv) {
       for (std::size_t k = 0; k < sc.states.size(); ++k) w.add_step(sc.run.steps[k], sc.states[k]);
       w.finish(sc.run, toml::table{{"validation", json_checks}});
       if (has_profiles(c.validation->reference))
-        write_atomically(std::filesystem::path(a.out) / c.name / "profiles.csv",
-                         profiles_csv(c.validation->reference, sc.scene, sc.states));
+        write_output_text(std::filesystem::path(a.out) / c.name / "profiles.csv",
+                          profiles_csv(c.validation->reference, sc.scene, sc.states));
     }
   }
   return all_pass ? kOk : kValidationFailed;

@@ -94,6 +94,8 @@ int dispatch(int argc, char** argv) {
     return kNotConverged;
   } catch (const cmc::CaseError& e) {
     return fail(kUsage, e.what(), true);
+  } catch (const cmc::OutputPathError& e) {  // an output path cmc will not write (grid/FilePaths.hpp)
+    return fail(kUsage, e.what(), true);
   } catch (const std::bad_alloc&) {
     return fail(kFailed, cmc::ranks() > 1 ? "out of memory (reduce grid.n or use more ranks)" : "out of memory (reduce grid.n)",
                 false);

@@ -1,0 +1,25 @@
+# Reliability through the cmc program: each test is one reproduction of a defect or one
+# decided rule (cases/README.md "Output folders" and "Numbers", reference/README.md "Log
+# axes"), with the exit code it must give and what must be left on disk. Each works in its
+# own folder under build/cli-reliability/. cmc_cli_test: validation/validation.cmake.
+set(CMC_REL ${CMAKE_BINARY_DIR}/cli-reliability)
+set(CMC_BIN $<TARGET_FILE:cmc>)
+set(CMC_WAVY ${CMAKE_SOURCE_DIR}/cases/validation/westergaard.toml)
+set(CMC_HARDWALL ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load-hardwall.toml)
+set(CMC_ROUGH ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load.toml)
+set(CMC_SPHERE ${CMAKE_SOURCE_DIR}/cases/validation/hertz-free.toml)
+# A fresh folder for test NAME, as the shell variable D.
+function(cmc_rel_test name command)
+  cmc_cli_test(reliability.${name} "D=${CMC_REL}/${name}; rm -rf $D && mkdir -p $D && cd $D && ${command}")
+endfunction()
+
+# ---- every writer refuses special files and links as targets (grid/FilePaths.hpp): exit 2,
+# the target left as it was, no temporary file left beside it.
+cmc_rel_test(surface_write_fifo "mkfifo f && ${CMC_BIN} surface ${CMC_WAVY} --write f >/dev/null 2>err; test $? -eq 2 && test -p f && grep -q 'f: is a FIFO' err && test $(ls -A | wc -l) -eq 2")
+cmc_rel_test(surface_write_link "ln -s target.h5 l.h5 && ${CMC_BIN} surface ${CMC_WAVY} --write l.h5 >/dev/null 2>err; test $? -eq 2 && test -L l.h5 && test ! -e target.h5 && grep -q 'is a symbolic link (to target.h5)' err")
+cmc_rel_test(surface_write_folder "mkdir d && ${CMC_BIN} surface ${CMC_WAVY} --write d >/dev/null 2>err; test $? -eq 2 && test -d d && test -z \"$(ls -A d)\" && grep -q 'd: is a folder' err")
+cmc_rel_test(run_curve_fifo "mkfifo gap_distribution.csv && ${CMC_BIN} reference --run-curve ${CMAKE_SOURCE_DIR}/tests/data/run_curve_spec.toml --out gap_distribution.csv 2>err; test $? -eq 2 && test -p gap_distribution.csv && test $(ls -A | wc -l) -eq 2")
+cmc_rel_test(run_summary_fifo "mkdir o && mkfifo o/summary.json && ${CMC_BIN} run ${CMC_WAVY} --set grid.nx=64 --out o --quiet 2>err; test $? -eq 2 && test -p o/summary.json && test ! -e o/result.h5")
+cmc_rel_test(check_out_fifo "mkfifo f && ${CMC_BIN} check ${CMAKE_SOURCE_DIR}/reference/challenge/contact_area_vs_pressure.csv --quantity contact_area_vs_pressure --out f >/dev/null 2>err; test $? -eq 2 && test -p f && grep -q 'expected a folder' err")
+# Decided: cmc replaces only its own results; a foreign summary.json is left as it is.
+cmc_rel_test(foreign_summary "mkdir o && echo '{\"mine\": 1}' > o/summary.json && ${CMC_BIN} run ${CMC_WAVY} --set grid.nx=64 --out o --quiet 2>err; test $? -eq 2 && grep -q 'not a cmc run summary' err && grep -q mine o/summary.json")
