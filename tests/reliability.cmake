@@ -23,3 +23,6 @@ cmc_rel_test(run_summary_fifo "mkdir o && mkfifo o/summary.json && ${CMC_BIN} ru
 cmc_rel_test(check_out_fifo "mkfifo f && ${CMC_BIN} check ${CMAKE_SOURCE_DIR}/reference/challenge/contact_area_vs_pressure.csv --quantity contact_area_vs_pressure --out f >/dev/null 2>err; test $? -eq 2 && test -p f && grep -q 'expected a folder' err")
 # Decided: cmc replaces only its own results; a foreign summary.json is left as it is.
 cmc_rel_test(foreign_summary "mkdir o && echo '{\"mine\": 1}' > o/summary.json && ${CMC_BIN} run ${CMC_WAVY} --set grid.nx=64 --out o --quiet 2>err; test $? -eq 2 && grep -q 'not a cmc run summary' err && grep -q mine o/summary.json")
+
+# ---- cmc validate: two cases of one case.name would share DIR/<name>/ and a table label.
+cmc_rel_test(validate_same_name "${CMC_BIN} validate ${CMC_SPHERE} ${CMAKE_SOURCE_DIR}/cases/validation/hertz-periodic.toml --set case.name=same --set grid.n=32 --out o --quiet >/dev/null 2>err; test $? -eq 2 && grep -q \"name 'same' is also the name of ${CMC_SPHERE}\" err && test ! -e o")

@@ -25,6 +25,7 @@ DIR/<case name>/summary.json (with a "validation" entry: every check's error, an
 refinement study's errors, observed order and fitted line), the fields, and, for
 hertz, hertz_periodic and westergaard, DIR/<case name>/profiles.csv: the solved
 pressure and gap beside the analytic ones at every grid point near the contact.
+Each case needs a case.name of its own (two cases of one name are refused, exit 2).
 Exit code 5 when any check fails; 4 when DIR/<case name> is in use by another cmc
 process (one process at a time writes into a folder).
 )";
@@ -41,6 +42,13 @@ int cmd_validate(int argc, char** argv) {
     cases.push_back(load_case(file, a.overrides));
     require_backend(cases.back());
     if (!cases.back().validation) throw CaseError(file + ": no [validation] section: nothing to compare with");
+    // The name labels the table's rows and names the folder DIR/<case name>/: one case per name.
+    for (std::size_t k = 0; k + 1 < cases.size(); ++k)
+      if (cases[k].name == cases.back().name)
+        throw CaseError(file + ": [case] name '" + cases.back().name + "' is also the name of " + cases[k].file +
+                        ": expected a distinct case.name for each case validated together (it labels the table's "
+                        "rows and names the folder DIR/<case name>/); give one with --set case.name=... in a run "
+                        "of its own, or rename it");
   }
   // One owner per output folder, from the start (the results are written after the solves).
   // A validation writes only DIR/<case name>/, so that is what it locks: validations of
