@@ -26,3 +26,10 @@ cmc_rel_test(foreign_summary "mkdir o && echo '{\"mine\": 1}' > o/summary.json &
 
 # ---- cmc validate: two cases of one case.name would share DIR/<name>/ and a table label.
 cmc_rel_test(validate_same_name "${CMC_BIN} validate ${CMC_SPHERE} ${CMAKE_SOURCE_DIR}/cases/validation/hertz-periodic.toml --set case.name=same --set grid.n=32 --out o --quiet >/dev/null 2>err; test $? -eq 2 && grep -q \"name 'same' is also the name of ${CMC_SPHERE}\" err && test ! -e o")
+
+# ---- cmc check on log axes: a contact fraction of 0 (or -0.01) where the reference has a
+# positive one fails, naming the rows; it was left out and interpolated across, and passed.
+set(CMC_AREA_REF ${CMAKE_SOURCE_DIR}/reference/challenge/contact_area_vs_pressure.csv)
+set(CMC_AREA_ROWS "grep -v '^#' ${CMC_AREA_REF} | sed 1d")
+cmc_rel_test(check_zeros_on_log_axis "{ echo pressure_Pa,contact_fraction; ${CMC_AREA_ROWS} | awk -F, '{print $1 \",\" (NR % 2 == 0 && NR < 13 ? 0 : $2)}'; } > p.csv && ${CMC_BIN} check p.csv --quantity contact_area_vs_pressure >out; test $? -eq 5 && grep -q 'FAIL: 6 row(s) of the prediction give the relative contact area <= 0' out && grep -q 'lines 3, 5, 7, 9, 11, ...' out")
+cmc_rel_test(check_negative_on_log_axis "{ echo pressure_Pa,contact_fraction; ${CMC_AREA_ROWS} | awk -F, '{print $1 \",\" (NR == 7 ? -0.01 : $2)}'; } > p.csv && ${CMC_BIN} check p.csv --quantity contact_area_vs_pressure >out; test $? -eq 5 && grep -q '(line 8 of p.csv)' out")
