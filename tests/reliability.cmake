@@ -33,3 +33,8 @@ set(CMC_AREA_REF ${CMAKE_SOURCE_DIR}/reference/challenge/contact_area_vs_pressur
 set(CMC_AREA_ROWS "grep -v '^#' ${CMC_AREA_REF} | sed 1d")
 cmc_rel_test(check_zeros_on_log_axis "{ echo pressure_Pa,contact_fraction; ${CMC_AREA_ROWS} | awk -F, '{print $1 \",\" (NR % 2 == 0 && NR < 13 ? 0 : $2)}'; } > p.csv && ${CMC_BIN} check p.csv --quantity contact_area_vs_pressure >out; test $? -eq 5 && grep -q 'FAIL: 6 row(s) of the prediction give the relative contact area <= 0' out && grep -q 'lines 3, 5, 7, 9, 11, ...' out")
 cmc_rel_test(check_negative_on_log_axis "{ echo pressure_Pa,contact_fraction; ${CMC_AREA_ROWS} | awk -F, '{print $1 \",\" (NR == 7 ? -0.01 : $2)}'; } > p.csv && ${CMC_BIN} check p.csv --quantity contact_area_vs_pressure >out; test $? -eq 5 && grep -q '(line 8 of p.csv)' out")
+
+# ---- cmc refine: a --set of grid.n ran every grid at that size, labelled n16 and n32, and
+# reported a change of 0; a bad grid size was not named.
+cmc_rel_test(refine_grid_override "${CMC_BIN} refine ${CMC_HARDWALL} --grids 16 32 --set grid.n=999 --out o 2>err; test $? -eq 2 && grep -q -- '--set grid.n=999 overrides --grids 16 32' err && test ! -e o")
+cmc_rel_test(refine_bad_grid_named "${CMC_BIN} refine ${CMC_HARDWALL} --grids 32 abc --out o 2>err; test $? -eq 2 && grep -q \"'abc' is neither a whole number\" err && test ! -e o")
