@@ -38,3 +38,11 @@ cmc_rel_test(check_negative_on_log_axis "{ echo pressure_Pa,contact_fraction; ${
 # reported a change of 0; a bad grid size was not named.
 cmc_rel_test(refine_grid_override "${CMC_BIN} refine ${CMC_HARDWALL} --grids 16 32 --set grid.n=999 --out o 2>err; test $? -eq 2 && grep -q -- '--set grid.n=999 overrides --grids 16 32' err && test ! -e o")
 cmc_rel_test(refine_bad_grid_named "${CMC_BIN} refine ${CMC_HARDWALL} --grids 32 abc --out o 2>err; test $? -eq 2 && grep -q \"'abc' is neither a whole number\" err && test ! -e o")
+
+# ---- numbers that overflow in reduced units are bad input naming the key (scene/SceneChecks.hpp);
+# each used to end "converged" with Infinity, NaN or impossible numbers, exit 0.
+cmc_rel_test(overflow_grid_size "${CMC_BIN} run ${CMC_SPHERE} --set grid.n=32 --set grid.size=1e308 --set surface.radius=1e308 --out o --quiet 2>err; test $? -eq 2 && grep -q '\\[grid\\] size = 1e+308 m' err && test ! -e o")
+cmc_rel_test(overflow_rms_gradient "${CMC_BIN} surface ${CMC_ROUGH} --set grid.n=32 --set surface.rms_gradient=1e308 --write h.h5 >/dev/null 2>err; test $? -eq 2 && grep -q '\\[surface\\] rms_gradient: the surface.s heights are not finite' err && test ! -e h.h5")
+cmc_rel_test(underflow_radius "${CMC_BIN} run ${CMC_SPHERE} --set grid.n=32 --set surface.radius=1e-300 --out o --quiet 2>err; test $? -eq 2 && grep -q '\\[surface\\] radius = 1e-300 m, which is 1e-297 in reduced units' err && test ! -e o")
+cmc_rel_test(overflow_modulus "${CMC_BIN} run ${CMC_ROUGH} --set grid.n=32 --set material.contact_modulus=1e308 --out o --quiet 2>err; test $? -eq 2 && grep -q '\\[interaction\\] work_of_adhesion = 0.05 J/m^2, which is 5e-306' err && test ! -e o")
+cmc_rel_test(overflow_tabor "${CMC_BIN} run ${CMAKE_SOURCE_DIR}/cases/challenge/tabor-sweep.toml --set grid.n=32 --set interaction.tabor=1e308 --out o --quiet 2>err; test $? -eq 2 && grep -q '\\[interaction\\] tabor = 1e+308 sets the range rho' err && test ! -e o")
