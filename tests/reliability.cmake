@@ -46,3 +46,9 @@ cmc_rel_test(overflow_rms_gradient "${CMC_BIN} surface ${CMC_ROUGH} --set grid.n
 cmc_rel_test(underflow_radius "${CMC_BIN} run ${CMC_SPHERE} --set grid.n=32 --set surface.radius=1e-300 --out o --quiet 2>err; test $? -eq 2 && grep -q '\\[surface\\] radius = 1e-300 m, which is 1e-297 in reduced units' err && test ! -e o")
 cmc_rel_test(overflow_modulus "${CMC_BIN} run ${CMC_ROUGH} --set grid.n=32 --set material.contact_modulus=1e308 --out o --quiet 2>err; test $? -eq 2 && grep -q '\\[interaction\\] work_of_adhesion = 0.05 J/m^2, which is 5e-306' err && test ! -e o")
 cmc_rel_test(overflow_tabor "${CMC_BIN} run ${CMAKE_SOURCE_DIR}/cases/challenge/tabor-sweep.toml --set grid.n=32 --set interaction.tabor=1e308 --out o --quiet 2>err; test $? -eq 2 && grep -q '\\[interaction\\] tabor = 1e+308 sets the range rho' err && test ! -e o")
+
+# ---- a truncated step file of an interrupted run is refused on --resume like a missing one
+# (it was solved again, failed with exit 4, wrote a "failed" summary.json and left a
+# .result.h5.tmpPID per try): exit 2, nothing written, no temporary file.
+set(CMC_STEPS "${CMC_BIN} run ${CMC_HARDWALL} --set grid.n=64 --set loading.values=[1e4,2e4,4e4,8e4,16e4] --out o --quiet")
+cmc_rel_test(resume_truncated_step "CMC_TEST_KILL_AT=step:4 ${CMC_STEPS}; test -e o/.partial/step_0003.h5 && truncate -s 1000 o/.partial/step_0003.h5 && ${CMC_STEPS} --resume 2>err; test $? -eq 2 && grep -q 'step_0003.h5) are damaged: not a readable HDF5 file' err && test ! -e o/summary.json && test -z \"$(ls -A o o/.partial | grep tmp)\" && ${CMC_STEPS} && grep -q '\"status\" : \"converged\"' o/summary.json")

@@ -22,13 +22,14 @@ Solves every load step of CASE.toml and writes, atomically:
 (the value is TOML: numbers, "strings" or bare words, [arrays]).
 Progress goes to stderr when it is a terminal; --quiet silences it.
 Until the run finishes DIR holds no summary.json (an earlier run's results are removed
-when it starts) but a file DIR/INCOMPLETE, and checkpoints (DIR/.partial/): after every
+when it starts; a run that fails writes one with "status": "failed" and keeps its
+checkpoints) but a file DIR/INCOMPLETE, and checkpoints (DIR/.partial/): after every
 load step (but the last of a hard-wall or quasi-static run: only the output follows it)
 and every pull-off refinement solve, and inside a load step of the quasi-static
 solver between two of its outer steps, at most every SECONDS (--checkpoint-every, default
 600; 0: after every outer step): a step that takes hours loses at most that much.
 --resume continues an interrupted run of the same case (same file and --set values) from
-its last checkpoint, with the same results, bit for bit, as a run that was not
+its last checkpoint (a missing or damaged file in DIR/.partial/ is refused, exit 2), with the same results, bit for bit, as a run that was not
 interrupted (on the same machine and thread count). A run whose quasi-static solve stopped
 at solver.max_outer_steps keeps its checkpoint (summary.json "continue"): --resume with a
 larger --set solver.max_outer_steps=N goes on from the solve's last outer step and gives

@@ -482,7 +482,7 @@ void Writer::load_partial() {
       for (const StepRecord& r : resume_.done)
         if (missing.empty()) missing = step_file_problem(step_file(r.index), r.index);
     broadcast(missing);
-    if (!missing.empty()) throw damaged(missing);
+    if (!missing.empty()) throw CaseError(missing + ": the partial run cannot be finished; run without --resume");
   }
 }
 
