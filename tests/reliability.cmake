@@ -52,3 +52,11 @@ cmc_rel_test(overflow_tabor "${CMC_BIN} run ${CMAKE_SOURCE_DIR}/cases/challenge/
 # .result.h5.tmpPID per try): exit 2, nothing written, no temporary file.
 set(CMC_STEPS "${CMC_BIN} run ${CMC_HARDWALL} --set grid.n=64 --set loading.values=[1e4,2e4,4e4,8e4,16e4] --out o --quiet")
 cmc_rel_test(resume_truncated_step "CMC_TEST_KILL_AT=step:4 ${CMC_STEPS}; test -e o/.partial/step_0003.h5 && truncate -s 1000 o/.partial/step_0003.h5 && ${CMC_STEPS} --resume 2>err; test $? -eq 2 && grep -q 'step_0003.h5) are damaged: not a readable HDF5 file' err && test ! -e o/summary.json && test -z \"$(ls -A o o/.partial | grep tmp)\" && ${CMC_STEPS} && grep -q '\"status\" : \"converged\"' o/summary.json")
+
+# ---- input errors that were run failures (exit 4 after a solve, or with an internal name)
+# are exit 2 before any solve (the case read, its scene built, or cmc validate checking its
+# reference), naming the key and what is expected; nothing is made.
+cmc_rel_test(self_affine_one_point "${CMC_BIN} run ${CMC_ROUGH} --set grid.n=1 --out o 2>err; test $? -eq 2 && grep -q 'a grid of at least 2 x 2 points for a self-affine surface' err && test ! -e o")
+cmc_rel_test(tabor_without_curvature "${CMC_BIN} run ${CMAKE_SOURCE_DIR}/cases/challenge/tabor-sweep.toml --set grid.n=2 --out o 2>err; test $? -eq 2 && grep -q '\\[interaction\\] tabor: expected a surface with a radius of curvature' err && test ! -e o")
+cmc_rel_test(reference_on_wrong_surface "${CMC_BIN} validate ${CMC_SPHERE} --set validation.reference=westergaard --out o 2>err; test $? -eq 2 && grep -q '\\[validation\\] reference: \"westergaard\" compares a wavy1d surface' err && test ! -e o")
+cmc_rel_test(quantity_not_in_reference "${CMC_BIN} validate ${CMAKE_SOURCE_DIR}/cases/validation/jkr-tabor5.slow.toml --set 'validation.check=[{quantity=\"penetration\", tolerance=0.1}]' --out o 2>err; test $? -eq 2 && grep -q 'quantity: expected \"force\" or \"pulloff\" (what reference \"jkr\" has), got \"penetration\"' err && test ! -e o")

@@ -4,6 +4,7 @@
 #include "Profiles.hpp"
 #include "Validate.hpp"
 #include "cmc/output/OutputLock.hpp"
+#include "cmc/input/ValidationRules.hpp"
 #include "cmc/output/RunFolder.hpp"
 
 #include <vector>
@@ -42,6 +43,7 @@ int cmd_validate(int argc, char** argv) {
     cases.push_back(load_case(file, a.overrides));
     require_backend(cases.back());
     if (!cases.back().validation) throw CaseError(file + ": no [validation] section: nothing to compare with");
+    check_validation_fits(cases.back());  // the problem and quantities of its reference (exit 2)
     // The name labels the table's rows and names the folder DIR/<case name>/: one case per name.
     for (std::size_t k = 0; k + 1 < cases.size(); ++k)
       if (cases[k].name == cases.back().name)
