@@ -135,7 +135,7 @@ class Section {
     const toml::node* n = given(key, def, what);
     if (!n) return *def;
     auto i = n->as_integer();
-    if (!i) fail(key, what);
+    if (!i) fail(key, what + (n->is_floating_point() ? " (a whole number, written without a decimal point)" : ""));
     if (i->get() < min) fail(key, what + " (>= " + std::to_string(min) + ")");
     if (i->get() > max) fail(key, what + " (<= " + std::to_string(max) + ")");
     return i->get();
@@ -174,12 +174,19 @@ class Section {
   }
   void ignore(const std::string& key) { used_.insert(key); }
 
-  // Every key not read is a mistake (a typo, or a key of another kind).
-  void finish() const {
-    for (const auto& [k, v] : *t_)
-      if (!used_.count(std::string(k.str())))
-        throw CaseError(file_ + ": " + key_name(std::string(k.str())) + ": unknown key" + where(&v) +
-                        " (see cases/README.md for the keys of [" + name_ + "])");
+  // Every key not read is a mistake (a typo, or a key of another kind: `owners` says which
+  // kinds a documented key belongs to, e.g. {"radius", "kind = \"sphere\""}).
+  void finish(const std::vector<std::pair<std::string, std::string>>& owners = {}) const {
+    for (const auto& [k, v] : *t_) {
+      const std::string key(k.str());
+      if (used_.count(key)) continue;
+      for (const auto& [owned, kinds] : owners)
+        if (owned == key)
+          throw CaseError(file_ + ": " + key_name(key) + ": applies only with " + kinds + " (this case's kind is \"" +
+                          (*t_)["kind"].value_or(std::string("?")) + "\")" + where(&v) + ": remove it");
+      throw CaseError(file_ + ": " + key_name(key) + ": unknown key" + where(&v) + " (see cases/README.md for the keys of [" +
+                      name_ + "])");
+    }
   }
 
  private:
@@ -220,9 +227,12 @@ const std::set<std::string> kSections = {"case", "grid", "material", "surface", 
 
 void apply_override(toml::table& t, const std::string& a) {
   const auto eq = a.find('=');
-  if (eq == std::string::npos || eq == 0)
+  if (eq == std::string::npos || a.find_first_not_of(" \t") == eq)
     throw CaseError("--set " + a + ": expected section.key=value");
-  const std::string path = a.substr(0, eq), value = a.substr(eq + 1);
+  // Spaces around the key and the '=' are allowed, as in a TOML file: 'grid.n = 64'.
+  std::string path = a.substr(0, eq), value = a.substr(eq + 1);
+  path.erase(path.find_last_not_of(" \t") + 1).erase(0, std::min(path.find_first_not_of(" \t"), path.size()));
+  value.erase(0, std::min(value.find_first_not_of(" \t"), value.size()));
   const auto dot = path.rfind('.');
   if (dot == std::string::npos)
     throw CaseError("--set " + a + ": expected section.key=value (the key needs its section)");
@@ -327,7 +337,10 @@ void parse_surface(Section s, const GridSpec& grid, SurfaceSpec& sf) {
     case SurfaceKind::Flat:
       break;
   }
-  s.finish();
+  const std::string wavy = "kind = \"wavy1d\" or \"wavy2d\"", rough = "kind = \"self_affine\"", file = "kind = \"file\"";
+  s.finish({{"radius", "kind = \"sphere\""}, {"center", "kind = \"sphere\""}, {"amplitude", wavy}, {"wavelength", wavy},
+            {"hurst", rough}, {"rolloff_wavelength", rough}, {"cutoff_wavelength", rough}, {"rms_gradient", rough},
+            {"seed", rough}, {"path", file}, {"format", file}, {"dataset", file}, {"height_unit", file}});
 }
 
 void parse_interaction(Section s, SurfaceKind surface, InteractionSpec& in) {
@@ -355,7 +368,10 @@ void parse_interaction(Section s, SurfaceKind surface, InteractionSpec& in) {
       in.coarse_graining = s.choice<CoarseGraining>("coarse_graining", in.coarse_graining);
     }
   }
-  s.finish();
+  const std::string adhesive = "kind = \"exponential\" or \"dugdale\"";
+  s.finish({{"work_of_adhesion", adhesive}, {"range", adhesive}, {"tabor", "kind = \"exponential\""},
+            {"coarse_graining", "kind = \"exponential\""}, {"maugis_lambda", "kind = \"dugdale\""},
+            {"smoothing", "kind = \"dugdale\""}});
 }
 
 void parse_loading(Section s, bool adhesive, bool periodic, LoadingSpec& l) {
@@ -418,6 +434,9 @@ void parse_solver(Section s, const InteractionSpec& in, const LoadingSpec& l, So
   const bool pk = sv.kind == SolverKind::PolonskyKeer;
   sv.tolerance = s.number("tolerance", pk ? SolverSpec::kPolonskyKeerTolerance : SolverSpec::kAdhesiveTolerance,
                           "a relative residual", true);
+  if (sv.tolerance > CaseLimits::kMaxSolverTolerance)
+    s.fail("tolerance", "a relative residual of at most " + number_text(CaseLimits::kMaxSolverTolerance) +
+                            " (a looser one stops a solve after a few iterations, far from the answer)");
   sv.max_iterations =
       int(s.integer("max_iterations", sv.max_iterations, "a positive iteration cap", 1, CaseLimits::kMaxIterations));
   sv.recompute_every = int(
