@@ -37,6 +37,9 @@ the stored files byte for byte.
             written after the provenance (scripts/challenge_reference.py writes it);
             optional band = "COLUMN": the column holding y's uncertainty (a half-width
             > 0 in y's unit), which cmc check scores predictions against.
+            FILE must be named NAME.csv, and the curve must be one cmc check reads
+            as a reference (x strictly monotonic; positive values on log axes):
+            otherwise exit 2 and nothing is written.
 )";
 
 std::string slurp(const std::filesystem::path& p) {
