@@ -60,3 +60,22 @@ cmc_rel_test(self_affine_one_point "${CMC_BIN} run ${CMC_ROUGH} --set grid.n=1 -
 cmc_rel_test(tabor_without_curvature "${CMC_BIN} run ${CMAKE_SOURCE_DIR}/cases/challenge/tabor-sweep.toml --set grid.n=2 --out o 2>err; test $? -eq 2 && grep -q '\\[interaction\\] tabor: expected a surface with a radius of curvature' err && test ! -e o")
 cmc_rel_test(reference_on_wrong_surface "${CMC_BIN} validate ${CMC_SPHERE} --set validation.reference=westergaard --out o 2>err; test $? -eq 2 && grep -q '\\[validation\\] reference: \"westergaard\" compares a wavy1d surface' err && test ! -e o")
 cmc_rel_test(quantity_not_in_reference "${CMC_BIN} validate ${CMAKE_SOURCE_DIR}/cases/validation/jkr-tabor5.slow.toml --set 'validation.check=[{quantity=\"penetration\", tolerance=0.1}]' --out o 2>err; test $? -eq 2 && grep -q 'quantity: expected \"force\" or \"pulloff\" (what reference \"jkr\" has), got \"penetration\"' err && test ! -e o")
+
+# ---- decided: cmc reference --run-curve writes only curves cmc check reads as references
+# (named NAME.csv, x strictly monotonic, positive on log axes); it wrote ones check refused.
+set(CMC_SPEC ${CMAKE_SOURCE_DIR}/tests/data/run_curve_spec.toml)
+cmc_rel_test(run_curve_name "${CMC_BIN} reference --run-curve ${CMC_SPEC} --out x.csv 2>err; test $? -eq 2 && grep -q 'expected a file named gap_distribution.csv' err && test ! -e x.csv")
+cmc_rel_test(run_curve_log_axis "sed 's/^representation = .*/representation = \"log-log\"/' ${CMC_SPEC} > s.toml && ${CMC_BIN} reference --run-curve s.toml --out gap_distribution.csv 2>err; test $? -eq 2 && grep -q 'is not positive on the log axes' err && test ! -e gap_distribution.csv")
+cmc_rel_test(run_curve_unsorted "sed 's/values = \\[1e-09, 2.5e-09\\]/values = [2.5e-09, 1e-09, 3e-09]/; s/values = \\[3.0, -0.0\\]/values = [3.0, 1.0, 2.0]/' ${CMC_SPEC} > s.toml && ${CMC_BIN} reference --run-curve s.toml --out gap_distribution.csv 2>err; test $? -eq 2 && grep -q 'non-monotonic abscissa' err && test ! -e gap_distribution.csv")
+
+# ---- decided: files given to cmc check say what they are (they all read "no such file").
+cmc_rel_test(check_input_kinds "mkdir d && ln -s loop loop && for f in d loop /dev/zero; do ${CMC_BIN} check $f --quantity contact_area_vs_pressure 2>>err; test $? -eq 2 || exit 1; done; grep -q 'd: is a folder, expected a file' err && grep -q 'loop: is a symbolic link that cannot be resolved' err && grep -q '/dev/zero: is a character device, expected a file on disk' err")
+# ---- decided: .partial/ is cmc's working folder: a file put there goes with it.
+cmc_rel_test(partial_is_cmcs "${CMC_BIN} run ${CMC_WAVY} --set grid.nx=64 --out o --quiet && mkdir -p o/.partial && echo mine > o/.partial/mine.txt && ${CMC_BIN} run ${CMC_WAVY} --set grid.nx=64 --out o --quiet && test ! -e o/.partial")
+# ---- decided: --resume with nothing to resume starts afresh and says so; on a finished run
+# (another grid here) it is refused, the finished run left as it is.
+cmc_rel_test(resume_nothing "${CMC_BIN} run ${CMC_WAVY} --set grid.nx=64 --out o --resume 2>err >/dev/null; test $? -eq 0 && grep -q 'nothing to resume in o (no checkpoint): starting afresh' err && ${CMC_BIN} run ${CMC_WAVY} --set grid.nx=128 --out o --resume --quiet 2>err; test $? -eq 2 && grep -q 'o holds a finished run' err && grep -q '\"nx\" : 64' o/summary.json")
+# ---- decided: an option is not a value (run --out --quiet made a folder named --quiet).
+cmc_rel_test(option_as_value "${CMC_BIN} run ${CMC_WAVY} --out --quiet 2>err; test $? -eq 2 && grep -q -- '--out needs a value, got the option --quiet' err && test -z \"$(ls -A | grep -v err)\"")
+# ---- decided: CMC_THREADS must be a whole number from 1 (it was ignored when malformed).
+cmc_rel_test(threads_variable "for t in abc 0 -1; do CMC_THREADS=$t ${CMC_BIN} run ${CMC_WAVY} --out o 2>>err; test $? -eq 2 || exit 1; done; test $(grep -c 'environment variable CMC_THREADS' err) -eq 3 && test ! -e o")
