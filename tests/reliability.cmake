@@ -79,3 +79,6 @@ cmc_rel_test(resume_nothing "${CMC_BIN} run ${CMC_WAVY} --set grid.nx=64 --out o
 cmc_rel_test(option_as_value "${CMC_BIN} run ${CMC_WAVY} --out --quiet 2>err; test $? -eq 2 && grep -q -- '--out needs a value, got the option --quiet' err && test -z \"$(ls -A | grep -v err)\"")
 # ---- decided: CMC_THREADS must be a whole number from 1 (it was ignored when malformed).
 cmc_rel_test(threads_variable "for t in abc 0 -1; do CMC_THREADS=$t ${CMC_BIN} run ${CMC_WAVY} --out o 2>>err; test $? -eq 2 || exit 1; done; test $(grep -c 'environment variable CMC_THREADS' err) -eq 3 && test ! -e o")
+# The FFTW wisdom cache ($CMC_FFTW_WISDOM, kept by the measuring planners) follows the same
+# rule: a FIFO there is left as it is, with a warning, and the run goes on.
+cmc_rel_test(wisdom_fifo "mkfifo w && CMC_FFTW_PLANNER=measure CMC_FFTW_WISDOM=$D/w ${CMC_BIN} run ${CMC_WAVY} --set grid.nx=64 --out o --quiet 2>err; test $? -eq 0 && test -p w && grep -q 'FFTW wisdom not saved: .*w: is a FIFO' err")
