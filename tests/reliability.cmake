@@ -82,3 +82,7 @@ cmc_rel_test(threads_variable "for t in abc 0 -1; do CMC_THREADS=$t ${CMC_BIN} r
 # The FFTW wisdom cache ($CMC_FFTW_WISDOM, kept by the measuring planners) follows the same
 # rule: a FIFO there is left as it is, with a warning, and the run goes on.
 cmc_rel_test(wisdom_fifo "mkfifo w && CMC_FFTW_PLANNER=measure CMC_FFTW_WISDOM=$D/w ${CMC_BIN} run ${CMC_WAVY} --set grid.nx=64 --out o --quiet 2>err; test $? -eq 0 && test -p w && grep -q 'FFTW wisdom not saved: .*w: is a FIFO' err")
+# cmc refine checks every file it will write before the first grid runs.
+cmc_rel_test(refine_output_fifo "mkdir o && mkfifo o/refinement.md && ${CMC_BIN} refine ${CMC_HARDWALL} --grids 16 32 --out o 2>err; test $? -eq 2 && test -p o/refinement.md && test ! -e o/n16")
+# A Dugdale smoothing of 2 h0 or more was exit 4 with an internal name.
+cmc_rel_test(dugdale_smoothing "${CMC_BIN} run ${CMAKE_SOURCE_DIR}/cases/validation/maugis-dugdale-lambda1.toml --set grid.n=32 --set interaction.smoothing=1 --out o 2>err; test $? -eq 2 && grep -q '\\[interaction\\] smoothing = 1 m: expected a width below 2 h0' err && test ! -e o")

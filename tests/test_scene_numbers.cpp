@@ -56,6 +56,14 @@ TEST(SceneNumbers, OverflowIsBadInputNamingTheKey) {
                          "interaction.tabor=1e308", "solver.kind=\"adhesive_cg\""})
                 .find("[interaction] tabor = 1e+308 sets the range rho"),
             std::string::npos);
+  // Was exit 4 with an internal name ("DugdaleAdhesion: need a smoothing width ...").
+  EXPECT_NE(scene_error({"interaction.kind=\"dugdale\"", "interaction.work_of_adhesion=0.05",
+                         "interaction.range=1e-6", "interaction.smoothing=1"})
+                .find("[interaction] smoothing = 1 m: expected a width below 2 h0 = 2e-06 m"),
+            std::string::npos);
+  EXPECT_NE(scene_error({"surface.center=[1e308, 0]"}).find("[surface] center = 1e+308 m"), std::string::npos);
+  EXPECT_NE(scene_error({"observables.contact_gap_threshold=1e308"}).find("[observables] contact_gap_threshold"),
+            std::string::npos);
   std::string rough = kSphere;
   rough.replace(rough.find("kind = \"sphere\"\nradius = 1e-2"), 29, "kind = \"self_affine\"\nrms_gradient = 1e308");
   EXPECT_NE(scene_error({}, rough.c_str()).find("[surface] rms_gradient: the surface's heights are not finite"),

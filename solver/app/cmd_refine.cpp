@@ -139,6 +139,9 @@ int cmd_refine(int argc, char** argv) {
     require_backend(cases.back());
   }
   const OutputLock lock(out);  // one study per folder (each grid's run locks its own too)
+  // Every file the study writes, checked before the first grid runs (grid/FilePaths.hpp).
+  for (const char* f : {"refinement.md", "refinement.json"}) check_output_file(out / f);
+  for (int n : grids) check_output_file(out / ("n" + std::to_string(n)) / kRecord);
   std::vector<RefinementGrid> done;
   bool all_converged = true;
   for (std::size_t k = 0; k < grids.size(); ++k) {

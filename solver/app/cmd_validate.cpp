@@ -60,6 +60,7 @@ int cmd_validate(int argc, char** argv) {
     for (const Case& c : cases) {
       locks.emplace_back(std::filesystem::path(a.out) / c.name);
       check_earlier_results(std::filesystem::path(a.out) / c.name);  // before the solves (exit 2)
+      check_output_file(std::filesystem::path(a.out) / c.name / "profiles.csv");
     }
   bool all_pass = true;
   std::printf("%-28s %-18s %12s %12s %6s %8s\n", "case", "quantity", "error", "tolerance", "result", "time_s");

@@ -152,6 +152,8 @@ void build_interaction(const Case& c, Scene& s) {
                                                  : w / u.length(in.range);
     require_reduced(c, range_key + "the range h0", u.to_m(w / sigma0), "m", u.length_m, w / sigma0);
     const double eps = in.smoothing > 0.0 ? u.length(in.smoothing) : dugdale_min_smoothing(1.0, sigma0, s.grid.dx());
+    require_dugdale_smoothing(c, u.to_m(eps), u.to_m(2.0 * w / sigma0));
+    require_reduced(c, "[interaction] smoothing", u.to_m(eps), "m", u.length_m, eps);
     s.interaction = DugdaleAdhesion(w, w / sigma0, eps);
   }
   const double range = interaction_range(s.interaction);

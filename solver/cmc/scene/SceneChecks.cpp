@@ -65,10 +65,24 @@ void require_curvature_radius(const Case& c, double radius) {
                   " m; give [interaction] range instead, or a grid that resolves the surface's curvature");
 }
 
+void require_dugdale_smoothing(const Case& c, double smoothing, double twice_range) {
+  if (smoothing < twice_range) return;
+  if (c.interaction.smoothing > 0.0)
+    throw CaseError(c.file + ": [interaction] smoothing = " + num(smoothing) + " m: expected a width below 2 h0 = " +
+                    num(twice_range) + " m (twice the Dugdale range)");
+  throw CaseError(c.file + ": [grid] n: the grid is too coarse for this Dugdale law: the least smoothing that keeps its "
+                  "points stable, 2 sigma0 dx / (1.2 E*) = " + num(smoothing) + " m, is not below 2 h0 = " +
+                  num(twice_range) + " m; expected a finer grid (or give [interaction] smoothing below 2 h0)");
+}
+
 void check_surface_numbers(const Case& c, const Scene& s) {
   const double L = s.units.length_m;
   require_reduced(c, "[grid] size_y", c.grid.size_y, "m", L, s.grid.ly);
-  if (c.surface.kind == SurfaceKind::Sphere) require_reduced(c, "[surface] radius", c.surface.radius, "m", L, s.sphere_radius);
+  if (c.surface.kind == SurfaceKind::Sphere) {
+    require_reduced(c, "[surface] radius", c.surface.radius, "m", L, s.sphere_radius);
+    if (c.surface.center)
+      for (double x : *c.surface.center) require_reduced(c, "[surface] center", x, "m", L, x / L);
+  }
   if (c.surface.kind == SurfaceKind::Wavy1d || c.surface.kind == SurfaceKind::Wavy2d) {
     require_reduced(c, "[surface] amplitude", c.surface.amplitude, "m", L, s.wave_amplitude);
     require_reduced(c, "[surface] wavelength", c.surface.wavelength, "m", L, s.wavelength);
@@ -95,6 +109,9 @@ void check_load_numbers(const Case& c, const Scene& s) {
     require_reduced(c, key, v, unit, scale, v / scale);
     require_reduced(c, key, v, unit, scale, s.targets[k].value);
   }
+  require_reduced(c, "[loading] jump_pressure_floor", l.jump_pressure_floor, "Pa", E, l.jump_pressure_floor / E);
+  const double threshold = c.observables.contact_gap_threshold;
+  require_reduced(c, "[observables] contact_gap_threshold", threshold, "m", L, threshold / L);
 }
 
 }  // namespace cmc

@@ -36,6 +36,10 @@ void require_reduced(const Case& c, const std::string& key, double si, const std
 // reduced), which must be finite and positive: a grid of 2 x 2 points resolves no curvature.
 void require_curvature_radius(const Case& c, double radius);
 
+// A Dugdale law's smoothing width (the case's, or the least that keeps grid points stable
+// on this grid) must be below twice its range h0 (both in m).
+void require_dugdale_smoothing(const Case& c, double smoothing, double twice_range);
+
 // The heights (this rank's slab; collective in a distributed run) and the analytic
 // shape's parameters; then every load step's target.
 void check_surface_numbers(const Case& c, const Scene& s);
