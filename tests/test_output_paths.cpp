@@ -73,6 +73,8 @@ TEST(OutputPaths, WritesNewPathsAndReplacesRegularFiles) {
   write_output_text(d / "a.txt", "two");
   EXPECT_EQ(slurp(d / "a.txt"), "two");
   EXPECT_EQ(entries(d), 1u);
+  // A folder that does not exist is bad input (it was exit 4, "cannot create .x.tmpPID").
+  EXPECT_NE(refusal([&] { write_output_text(d / "absent" / "x.txt", "x"); }).find("its folder"), std::string::npos);
 }
 
 TEST(OutputPaths, AFailedWriteLeavesNoTemporaryFile) {

@@ -55,10 +55,12 @@ void check_output_folder(const fs::path& dir) {
 void write_output_file(const fs::path& path, const std::function<void(const fs::path&)>& fill) {
   check_output_file(path);
   const fs::path folder = path.parent_path();
+  std::error_code ec;
+  if (!folder.empty() && !fs::is_directory(folder, ec))
+    throw OutputPathError(path.string() + ": its folder " + folder.string() + " does not exist (or is not a folder)");
   std::string name(1, '.');  // (appended, not "." + ...: GCC 12 warns falsely of the latter)
   name.append(path.filename().string()).append(".tmp").append(std::to_string(::getpid()));
   const fs::path tmp = folder / name;
-  std::error_code ec;
   fs::remove(tmp, ec);  // one of an earlier process with this id, killed while writing
   try {
     fill(tmp);
