@@ -117,8 +117,14 @@ TEST(RunFolder, ReplacesOnlyItsOwnResults) {
   std::ofstream(d / "result.h5") << "user's";
   EXPECT_NE(refusal([&] { clear_earlier_results(d); }).find("holds no cmc run"), std::string::npos);
   std::ofstream(d / "summary.json") << "{\"cmc_version\": \"0.1.0\"}\n";
+  // What a process killed while writing leaves: removed; a user's file alike in name: kept.
+  fs::create_directory(d / ".partial");
+  std::ofstream(d / ".partial" / ".checkpoint.h5.tmp123") << "half";
+  std::ofstream(d / ".result.h5.tmp77") << "half";
+  std::ofstream(d / ".notes.tmp5") << "mine";
   EXPECT_EQ(refusal([&] { clear_earlier_results(d); }), "");
-  EXPECT_EQ(entries(d), 0u);
+  EXPECT_EQ(entries(d), 2u);  // .partial/ and .notes.tmp5
+  EXPECT_EQ(entries(d / ".partial"), 0u);
 }
 
 TEST(RunFolder, DamagedStepFilesAreNamed) {

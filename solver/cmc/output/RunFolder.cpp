@@ -5,6 +5,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <regex>
 #include <sstream>
 
 namespace cmc {
@@ -43,6 +44,14 @@ void check_earlier_results(const fs::path& dir) {
 void clear_earlier_results(const fs::path& dir) {
   check_earlier_results(dir);
   for (const char* f : {"summary.json", "result.h5", "result.xdmf"}) remove_output_file(dir / f);
+  // Temporary files of a process killed while writing (".NAME.tmpPID", grid/FilePaths.hpp):
+  // the folder is locked, so no other process is writing them now.
+  static const std::regex temporary(R"(\.(summary\.json|result\.h5|result\.xdmf|INCOMPLETE|checkpoint\.h5|)"
+                                    R"(step_[0-9]{4}\.h5|stopped\.toml)\.tmp[0-9]+)");
+  std::error_code ec;
+  for (const fs::path& folder : {dir, dir / ".partial"})
+    for (const auto& e : fs::directory_iterator(folder, ec))
+      if (e.is_regular_file(ec) && std::regex_match(e.path().filename().string(), temporary)) fs::remove(e.path(), ec);
 }
 
 std::string step_file_problem(const fs::path& file, int index) {

@@ -19,7 +19,9 @@ namespace cmc {
 
 // Checks what an earlier run left in `dir` against the rules above; throws
 // OutputPathError (exit 2) for anything cmc must not replace. clear_earlier_results also
-// removes the earlier results (summary.json, result.h5, result.xdmf).
+// removes the earlier results (summary.json, result.h5, result.xdmf) and the temporary
+// files of a process killed while writing them (".summary.json.tmpPID", in DIR and
+// DIR/.partial/).
 void check_earlier_results(const std::filesystem::path& dir);
 void clear_earlier_results(const std::filesystem::path& dir);
 
