@@ -11,27 +11,12 @@
 using namespace cmc;
 
 namespace {
-const char* kHardWall = R"(
-[case]
-name = "d"
-[grid]
-n = 32
-size = 1e-3
-[material]
-contact_modulus = 1e6
-[surface]
-kind = "sphere"
-radius = 1e-2
-[loading]
-control = "force"
-values = [1e-4]
-)";
-// The CaseError message of parsing kHardWall with `overrides` ("" if none).
+// The sphere of cases/validation/hertz-free.toml (a hard wall).
+const std::string kSphere = std::string(CMC_SOURCE_DIR) + "/cases/validation/hertz-free.toml";
+// The CaseError message of reading it with `overrides` ("" if none).
 std::string error_of(const std::vector<std::string>& overrides) {
-  toml::table t = toml::parse(kHardWall);
   try {
-    for (const auto& o : overrides) apply_override(t, o);
-    parse_case(t, "d.toml");
+    load_case(kSphere, overrides);
   } catch (const CaseError& e) {
     return e.what();
   }
@@ -62,8 +47,6 @@ TEST(DecidedInputs, AKeyOfAnotherKindNamesItsKind) {
 }
 
 TEST(DecidedInputs, SpacesAroundTheKeyOfASetAreAllowed) {
-  toml::table t = toml::parse(kHardWall);
-  apply_override(t, " grid.n = 64");
-  EXPECT_EQ(parse_case(t, "d.toml").grid.nx, 64);
+  EXPECT_EQ(load_case(kSphere, {" grid.n = 64"}).grid.nx, 64);
   EXPECT_HAS(error_of({" = 64"}), "expected section.key=value");
 }

@@ -10,23 +10,21 @@
 
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 
 using namespace cmc;
 namespace fs = std::filesystem;
 
 namespace {
+// An empty folder of this test's own (the process id keeps parallel runs apart).
 fs::path fresh_dir(const std::string& name) {
-  auto d = fs::temp_directory_path() / ("cmc_paths_" + std::to_string(::getpid()) + "_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  const fs::path d = fs::temp_directory_path() / ("cmc_paths_" + std::to_string(::getpid()) + "_" + name);
+  return fs::remove_all(d), fs::create_directories(d), d;
 }
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
+// The first line of a file.
+std::string line_of(const fs::path& p) {
+  std::string l;
+  std::getline(std::ifstream(p) >> std::ws, l);
+  return l;
 }
 // The message of the OutputPathError `f` throws ("" when it throws none).
 template <class F>
@@ -69,9 +67,9 @@ TEST(OutputPaths, RefusesSpecialFilesAndLeavesThemAsTheyAre) {
 TEST(OutputPaths, WritesNewPathsAndReplacesRegularFiles) {
   const fs::path d = fresh_dir("regular");
   write_output_text(d / "a.txt", "one");
-  EXPECT_EQ(slurp(d / "a.txt"), "one");
+  EXPECT_EQ(line_of(d / "a.txt"), "one");
   write_output_text(d / "a.txt", "two");
-  EXPECT_EQ(slurp(d / "a.txt"), "two");
+  EXPECT_EQ(line_of(d / "a.txt"), "two");
   EXPECT_EQ(entries(d), 1u);
   // A folder that does not exist is bad input (it was exit 4, "cannot create .x.tmpPID").
   EXPECT_NE(refusal([&] { write_output_text(d / "absent" / "x.txt", "x"); }).find("its folder"), std::string::npos);
@@ -87,7 +85,7 @@ TEST(OutputPaths, AFailedWriteLeavesNoTemporaryFile) {
                                    throw std::runtime_error("write failed (disk full?)");
                                  }),
                std::runtime_error);
-  EXPECT_EQ(slurp(d / "kept.txt"), "earlier");
+  EXPECT_EQ(line_of(d / "kept.txt"), "earlier");
   EXPECT_EQ(entries(d), 1u);
 }
 
@@ -112,7 +110,7 @@ TEST(RunFolder, ReplacesOnlyItsOwnResults) {
   const fs::path d = fresh_dir("foreign");
   std::ofstream(d / "summary.json") << "{\"mine\": 1}\n";
   EXPECT_NE(refusal([&] { clear_earlier_results(d); }).find("not a cmc run summary"), std::string::npos);
-  EXPECT_EQ(slurp(d / "summary.json"), "{\"mine\": 1}\n");
+  EXPECT_EQ(line_of(d / "summary.json"), "{\"mine\": 1}");
   fs::remove(d / "summary.json");
   std::ofstream(d / "result.h5") << "user's";
   EXPECT_NE(refusal([&] { clear_earlier_results(d); }).find("holds no cmc run"), std::string::npos);

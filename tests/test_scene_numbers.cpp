@@ -13,27 +13,14 @@
 using namespace cmc;
 
 namespace {
-const char* kSphere = R"(
-[case]
-name = "s"
-[grid]
-n = 32
-size = 1e-3
-[material]
-contact_modulus = 1e6
-[surface]
-kind = "sphere"
-radius = 1e-2
-[loading]
-control = "force"
-values = [1e-4, 2e-4]
-)";
-// The CaseError message of building the scene of kSphere with `overrides` ("" if none).
-std::string scene_error(const std::vector<std::string>& overrides, const char* text = kSphere) {
-  toml::table t = toml::parse(text);
-  for (const auto& o : overrides) apply_override(t, o);
+// The sphere of cases/validation/hertz-free.toml: 1 mm, E* = 1 MPa, R = 1 cm, 32².
+const std::string kSphere = std::string(CMC_SOURCE_DIR) + "/cases/validation/hertz-free.toml";
+const std::string kRough = std::string(CMC_SOURCE_DIR) + "/cases/challenge/reference-load-hardwall.toml";
+// The CaseError message of building the scene of `file` on 32² with `overrides` ("" if none).
+std::string scene_error(std::vector<std::string> overrides, const std::string& file = kSphere) {
+  overrides.insert(overrides.begin(), "grid.n=32");
   try {
-    build_scene(parse_case(t, "sphere.toml"));
+    build_scene(load_case(file, overrides));
   } catch (const CaseError& e) {
     return e.what();
   }
@@ -64,18 +51,16 @@ TEST(SceneNumbers, OverflowIsBadInputNamingTheKey) {
   EXPECT_NE(scene_error({"surface.center=[1e308, 0]"}).find("[surface] center = 1e+308 m"), std::string::npos);
   EXPECT_NE(scene_error({"observables.contact_gap_threshold=1e308"}).find("[observables] contact_gap_threshold"),
             std::string::npos);
-  std::string rough = kSphere;
-  rough.replace(rough.find("kind = \"sphere\"\nradius = 1e-2"), 29, "kind = \"self_affine\"\nrms_gradient = 1e308");
-  EXPECT_NE(scene_error({}, rough.c_str()).find("[surface] rms_gradient: the surface's heights are not finite"),
+  EXPECT_NE(scene_error({"surface.rms_gradient=1e308"}, kRough).find("[surface] rms_gradient: the surface's heights are not finite"),
             std::string::npos);
 }
 
 TEST(SceneNumbers, NonFiniteNumbersAreNeverConverged) {
-  const Case c = parse_case(toml::parse(kSphere), "sphere.toml");
+  const Case c = load_case(kSphere, {"grid.n=32"});
   Scene s = build_scene(c);
   s.units.length_m = 1e308;  // as if the check had let grid.size = 1e308 through: forces overflow
   const RunSummary run = run_scene(c, s, {});
-  ASSERT_EQ(run.steps.size(), 2u);
+  ASSERT_EQ(run.steps.size(), 3u);
   EXPECT_FALSE(std::isfinite(run.steps[0].force));
   EXPECT_FALSE(run.steps[0].result.converged);
   EXPECT_NE(run.steps[0].result.message.find("force is not finite"), std::string::npos);
