@@ -78,7 +78,7 @@ MemoryEstimate estimate_memory(const Case& c) {
   } else {
     // Polonsky-Keer, within a solve: the search direction (and the preconditioned gap, on
     // a periodic grid), the contact set (bytes); no spectrum of the pressure or the heights
-    // (contact/PolonskyKeerHost.hpp, since 2026-11-28; the direction's is the half-space's
+    // (contact/PolonskyKeerHost.hpp; the direction's is the half-space's
     // spectrum, counted above). A periodic grid held by one process runs the fused sweeps
     // (grid/RowColumnFourier.hpp): the compliance once more, in the transform's layout (its
     // row buffers are a few rows); that layout leaves kColumnPad = 8 modes unused after
