@@ -596,6 +596,29 @@ Verdict verdict(const Metrics& m, double tolerance, const std::string& metric, c
 }
 
 // ============================================================================ the check
+namespace {
+// Why rows with y <= 0 on a log y axis inside the reference's range fail the check ("": none).
+std::string nonpositive_reason(const Report& r) {
+  const NonPositive& np = r.metrics.nonpositive;
+  if (!np.count) return "";
+  std::string lines;
+  for (int l : np.lines) lines += (lines.empty() ? "" : ", ") + std::to_string(l);
+  return std::to_string(np.count) + " row(s) of the prediction give the " + r.spec.y.label +
+         " <= 0 inside the reference's range, where the log y axis (and the reference) has only positive values: a "
+         "wrong prediction (line" + (np.count > 1 ? "s " : " ") + lines + (np.count > 5 ? ", ..." : "") + " of " +
+         r.prediction_file + ")";
+}
+// Why the prediction covers too little of the reference's range.
+std::string coverage_reason(const Report& r) {
+  const Verdict& v = r.verdict;
+  return "the prediction covers " + fmt(100 * r.metrics.coverage) + "% of the reference's range of the " +
+         r.spec.x.label + " (" + fmt(r.metrics.x_lo) + " .. " + fmt(r.metrics.x_hi) + " of " + fmt(r.metrics.ref_lo) +
+         " .. " + fmt(r.metrics.ref_hi) + " " + axis_unit(r.spec, true) + ", in the " +
+         representation_name(r.spec.rep) + " representation); at least " + fmt(100 * v.min_coverage) +
+         "% is needed (" + v.coverage_source + ")";
+}
+}  // namespace
+
 Report run_check(const Options& o) {
   Report r;
   if (o.prediction.empty()) throw InputError("no prediction file given");
@@ -683,25 +706,9 @@ Report run_check(const Options& o) {
   v.min_coverage = min_coverage;
   v.coverage_source = coverage_source;
   v.covered = r.metrics.coverage >= min_coverage;
-  if (const NonPositive& np = r.metrics.nonpositive; np.count) {
-    v.pass = false;
-    std::string lines;
-    for (int l : np.lines) lines += (lines.empty() ? "" : ", ") + std::to_string(l);
-    v.reason = std::to_string(np.count) + " row(s) of the prediction give the " + r.spec.y.label +
-               " <= 0 inside the reference's range, where the log y axis (and the reference) has only positive "
-               "values: a wrong prediction (line" + (np.count > 1 ? "s " : " ") + lines + (np.count > 5 ? ", ..." : "") +
-               " of " + r.prediction_file + ")";
-  }
-  if (!v.covered) {
-    v.pass = false;
-    v.reason += v.reason.empty() ? "" : "; and ";
-    const std::string unit = axis_unit(r.spec, true);
-    v.reason += "the prediction covers " + fmt(100 * r.metrics.coverage) + "% of the reference's range of the " +
-               r.spec.x.label + " (" + fmt(r.metrics.x_lo) + " .. " + fmt(r.metrics.x_hi) + " of " +
-               fmt(r.metrics.ref_lo) + " .. " + fmt(r.metrics.ref_hi) + " " + unit + ", in the " +
-               representation_name(r.spec.rep) + " representation); at least " + fmt(100 * min_coverage) +
-               "% is needed (" + coverage_source + ")";
-  }
+  v.reason = nonpositive_reason(r);
+  v.pass = v.pass && v.reason.empty();
+  if (!v.covered) v.pass = false, v.reason += (v.reason.empty() ? "" : "; and ") + coverage_reason(r);
 
   if (!r.prediction.ignored_columns.empty()) {
     std::string s;

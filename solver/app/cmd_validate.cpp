@@ -31,13 +31,8 @@ Exit code 5 when any check fails; 4 when DIR/<case name> is in use by another cm
 process (one process at a time writes into a folder).
 )";
 
-}  // namespace
-
-int cmd_validate(int argc, char** argv) {
-  const Args a = parse_args(argc, argv, 2);
-  if (a.help) return std::fputs(kValidateHelp, stdout), kOk;
-  if (a.positional.empty()) throw CaseError("cmc validate needs at least one case file (see cmc validate --help)");
-  // Every case file is read (bad input stops the command) before anything is written.
+// Every case file, read and checked (bad input stops the command) before anything is written.
+std::vector<Case> read_cases(const Args& a) {
   std::vector<Case> cases;
   for (const auto& file : a.positional) {
     cases.push_back(load_case(file, a.overrides));
@@ -52,6 +47,16 @@ int cmd_validate(int argc, char** argv) {
                         "rows and names the folder DIR/<case name>/); give one with --set case.name=... in a run "
                         "of its own, or rename it");
   }
+  return cases;
+}
+
+}  // namespace
+
+int cmd_validate(int argc, char** argv) {
+  const Args a = parse_args(argc, argv, 2);
+  if (a.help) return std::fputs(kValidateHelp, stdout), kOk;
+  if (a.positional.empty()) throw CaseError("cmc validate needs at least one case file (see cmc validate --help)");
+  const std::vector<Case> cases = read_cases(a);
   // One owner per output folder, from the start (the results are written after the solves).
   // A validation writes only DIR/<case name>/, so that is what it locks: validations of
   // different cases may share one --out (ctest runs them in parallel into build/validation).
