@@ -602,7 +602,7 @@ std::string nonpositive_reason(const Report& r) {
   const NonPositive& np = r.metrics.nonpositive;
   if (!np.count) return "";
   std::string lines;
-  for (int l : np.lines) lines += (lines.empty() ? "" : ", ") + std::to_string(l);
+  for (int l : np.lines) lines.append(lines.empty() ? "" : ", ").append(std::to_string(l));
   return std::to_string(np.count) + " row(s) of the prediction give the " + r.spec.y.label +
          " <= 0 inside the reference's range, where the log y axis (and the reference) has only positive values: a "
          "wrong prediction (line" + (np.count > 1 ? "s " : " ") + lines + (np.count > 5 ? ", ..." : "") + " of " +

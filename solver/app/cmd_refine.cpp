@@ -72,7 +72,7 @@ std::vector<int> take_grids(int argc, char** argv, std::vector<char*>& rest) {
 // grids of --grids (a study of one grid): bad input naming both.
 void refuse_grid_overrides(const std::vector<std::string>& overrides, const std::vector<int>& grids) {
   std::string list;
-  for (int n : grids) list += " " + std::to_string(n);
+  for (int n : grids) list.append(" ").append(std::to_string(n));
   for (const auto& o : overrides) {
     std::string key = o.substr(0, o.find('='));
     key.erase(0, key.find_first_not_of(" \t"));
