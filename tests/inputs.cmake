@@ -16,3 +16,6 @@ cmc_cli_test(input.D11_case_from_pipe "rm -rf ${CMC_INPUTS}/d11p; cat ${CMC_HERT
 # size does not match grid"). It is a step that did not converge: exit 3, a summary that
 # says so, and its observables from where the solve stopped.
 cmc_cli_test(input.unconverged_first_adhesive_step "rm -rf ${CMC_INPUTS}/unconv; $<TARGET_FILE:cmc> run ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load.toml --quiet --set grid.n=64 --set solver.kind=\\\"adhesive_cg\\\" --set solver.max_iterations=5 --set loading.max_halvings=0 --set output.fields=false --out ${CMC_INPUTS}/unconv 2>${CMC_INPUTS}-unconv.err; test $? -eq 3 && grep -q '\"status\" : \"not_converged\"' ${CMC_INPUTS}/unconv/summary.json && grep -q 'contact_fraction' ${CMC_INPUTS}/unconv/summary.json")
+# Outputs that respect what they replace, a checker that log axes cannot fool, and input
+# errors refused before any solve: tests/reliability.cmake.
+include(${CMAKE_CURRENT_LIST_DIR}/reliability.cmake)

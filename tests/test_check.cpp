@@ -129,6 +129,29 @@ TEST(CheckScoring, MultiplicativePerturbationOnLogAxis) {
   }
 }
 
+// A value <= 0 on a log y axis where the reference has one is a wrong prediction: the
+// verdict fails naming its lines (it was left out, and the curve interpolated across it).
+TEST(CheckScoring, NonPositiveOnALogAxisFails) {
+  TempDir d;
+  const fs::path r = write_reference(d, "contact_area_vs_pressure");
+  const Synthetic s = synthetic();
+  for (const double bad : {0.0, -0.01}) {
+    std::string text = "pressure_Pa,contact_fraction\n";  // exact, but for every 6th point from the 3rd
+    for (std::size_t i = 0; i < s.p.size(); ++i) text += num(s.p[i]) + "," + num(i % 6 == 2 ? bad : s.ar[i]) + "\n";
+    text += "1e9,0\n";  // beyond the reference's range: only left out
+    const Report rep = check(d.write("pred.csv", text), "contact_area_vs_pressure", r);
+    EXPECT_FALSE(rep.verdict.pass);
+    EXPECT_EQ(rep.metrics.nonpositive.count, 7u);
+    EXPECT_NE(rep.verdict.reason.find("7 row(s)"), std::string::npos) << rep.verdict.reason;
+    EXPECT_NE(rep.verdict.reason.find("lines 4, 10, 16, 22, 28, ..."), std::string::npos) << rep.verdict.reason;
+  }
+  std::string text = "pressure_Pa,contact_fraction\n";
+  for (std::size_t i = 0; i < s.p.size(); ++i) text += num(s.p[i]) + "," + num(s.ar[i]) + "\n";
+  const Report ok = check(d.write("pred.csv", text + "1e9,0\n"), "contact_area_vs_pressure", r);
+  EXPECT_TRUE(ok.verdict.pass) << ok.verdict.reason;
+  EXPECT_EQ(ok.metrics.excluded_prediction, 1u);
+}
+
 TEST(CheckScoring, ExactMetricsOnTheReferencesPoints) {
   TempDir d;
   const fs::path r = write_reference(d, "contact_area_vs_pressure");

@@ -1,5 +1,6 @@
 // The prediction checker (see Check.hpp and reference/README.md).
 #include "Check.hpp"
+#include "Sampler.hpp"
 
 #include "cmc/output/Writer.hpp"
 
@@ -342,40 +343,6 @@ double interp(const std::vector<double>& X, const std::vector<double>& Y, double
 }
 double from_rep(double v, bool log) { return log ? std::pow(10.0, v) : v; }
 
-// Keeps at most `cap` items of a stream, evenly spaced: every stride-th one (the stride
-// doubles whenever more would be kept) and the last.
-template <class T>
-class Sampler {
- public:
-  explicit Sampler(std::size_t cap) : cap_(std::max<std::size_t>(cap, 2)) {}
-  void add(const T& v) {
-    last_in_ = count_++ % stride_ == 0;
-    if (last_in_) {
-      kept_.push_back(v);
-      if (kept_.size() >= cap_) {  // keep every other one, leaving room for the last
-        std::size_t j = 0;
-        for (std::size_t i = 0; i < kept_.size(); i += 2) kept_[j++] = kept_[i];
-        kept_.resize(j);
-        stride_ *= 2;
-        last_in_ = (count_ - 1) % stride_ == 0;
-      }
-    }
-    last_ = v;
-  }
-  std::vector<T> take() const {
-    std::vector<T> out = kept_;
-    if (count_ && !last_in_) out.push_back(last_);
-    return out;
-  }
-  std::size_t stride() const { return stride_; }
-
- private:
-  std::size_t cap_, stride_ = 1, count_ = 0;
-  std::vector<T> kept_;
-  T last_{};
-  bool last_in_ = false;
-};
-
 // Scores a prediction against the reference one point at a time, in the prediction's
 // order (increasing or decreasing): each segment between consecutive prediction points
 // (in the representation) is clipped to the reference's range and evaluated at its
@@ -558,6 +525,7 @@ std::pair<XY, Metrics> score_prediction(const std::string& path, const std::vect
   std::vector<double> v;
   int line = 0, prev_line = 0;
   std::size_t n = 0, excluded = 0;
+  NonPositive nonpositive;
   double first = 0, prev = 0;
   c.x_min = c.y_min = INFINITY, c.x_max = c.y_max = -INFINITY;
   while (reader.next(v, line)) {
@@ -577,8 +545,13 @@ std::pair<XY, Metrics> score_prediction(const std::string& path, const std::vect
     c.x_min = std::min(c.x_min, x), c.x_max = std::max(c.x_max, x);
     c.y_min = std::min(c.y_min, y), c.y_max = std::max(c.y_max, y);
     rows.add({x, y, line});
-    if ((rep.log_x && !(x > 0)) || (rep.log_y && !(y > 0))) ++excluded;
-    else scorer.add(rep.log_x ? std::log10(x) : x, rep.log_y ? std::log10(y) : y);
+    const bool x_off = rep.log_x && !(x > 0), y_off = rep.log_y && !(y > 0);
+    const double X = x_off ? -INFINITY : rep.log_x ? std::log10(x) : x;
+    if (x_off || y_off) ++excluded;
+    else scorer.add(X, rep.log_y ? std::log10(y) : y);
+    // A value a log y axis cannot hold where the reference has one: a wrong prediction.
+    if (y_off && !x_off && X >= r.X.front() && X <= r.X.back() && ++nonpositive.count <= 5)
+      nonpositive.lines.push_back(line);
   }
   if (n < 2) reader.fail_rows(n, 2);
   const bool increasing = prev >= first;
@@ -590,6 +563,7 @@ std::pair<XY, Metrics> score_prediction(const std::string& path, const std::vect
   Metrics m = scorer.finish(c, ref);
   m.excluded_prediction = excluded;
   m.excluded_reference = r.excluded;
+  m.nonpositive = nonpositive;
   std::vector<Row> kept = rows.take();
   if (!increasing) std::reverse(kept.begin(), kept.end());
   for (const Row& k : kept) c.x.push_back(k.x), c.y.push_back(k.y), c.line.push_back(k.line);
@@ -622,6 +596,29 @@ Verdict verdict(const Metrics& m, double tolerance, const std::string& metric, c
 }
 
 // ============================================================================ the check
+namespace {
+// Why rows with y <= 0 on a log y axis inside the reference's range fail the check ("": none).
+std::string nonpositive_reason(const Report& r) {
+  const NonPositive& np = r.metrics.nonpositive;
+  if (!np.count) return "";
+  std::string lines;
+  for (int l : np.lines) lines.append(lines.empty() ? "" : ", ").append(std::to_string(l));
+  return std::to_string(np.count) + " row(s) of the prediction give the " + r.spec.y.label +
+         " <= 0 inside the reference's range, where the log y axis (and the reference) has only positive values: a "
+         "wrong prediction (line" + (np.count > 1 ? "s " : " ") + lines + (np.count > 5 ? ", ..." : "") + " of " +
+         r.prediction_file + ")";
+}
+// Why the prediction covers too little of the reference's range.
+std::string coverage_reason(const Report& r) {
+  const Verdict& v = r.verdict;
+  return "the prediction covers " + fmt(100 * r.metrics.coverage) + "% of the reference's range of the " +
+         r.spec.x.label + " (" + fmt(r.metrics.x_lo) + " .. " + fmt(r.metrics.x_hi) + " of " + fmt(r.metrics.ref_lo) +
+         " .. " + fmt(r.metrics.ref_hi) + " " + axis_unit(r.spec, true) + ", in the " +
+         representation_name(r.spec.rep) + " representation); at least " + fmt(100 * v.min_coverage) +
+         "% is needed (" + v.coverage_source + ")";
+}
+}  // namespace
+
 Report run_check(const Options& o) {
   Report r;
   if (o.prediction.empty()) throw InputError("no prediction file given");
@@ -709,15 +706,9 @@ Report run_check(const Options& o) {
   v.min_coverage = min_coverage;
   v.coverage_source = coverage_source;
   v.covered = r.metrics.coverage >= min_coverage;
-  if (!v.covered) {
-    v.pass = false;
-    const std::string unit = axis_unit(r.spec, true);
-    v.reason = "the prediction covers " + fmt(100 * r.metrics.coverage) + "% of the reference's range of the " +
-               r.spec.x.label + " (" + fmt(r.metrics.x_lo) + " .. " + fmt(r.metrics.x_hi) + " of " +
-               fmt(r.metrics.ref_lo) + " .. " + fmt(r.metrics.ref_hi) + " " + unit + ", in the " +
-               representation_name(r.spec.rep) + " representation); at least " + fmt(100 * min_coverage) +
-               "% is needed (" + coverage_source + ")";
-  }
+  v.reason = nonpositive_reason(r);
+  v.pass = v.pass && v.reason.empty();
+  if (!v.covered) v.pass = false, v.reason += (v.reason.empty() ? "" : "; and ") + coverage_reason(r);
 
   if (!r.prediction.ignored_columns.empty()) {
     std::string s;
@@ -849,7 +840,7 @@ std::string report_text(const Report& r) {
   else
     s << "verdict         " << (v.pass ? "PASS" : "FAIL") << ": " << v.metric << " = " << fmt(v.value)
       << (within ? " <= " : " > ") << "tolerance " << fmt(v.tolerance) << " (" << v.source << ")\n";
-  if (!v.covered) s << "                FAIL: " << v.reason << "\n";
+  if (!v.reason.empty()) s << "                FAIL: " << v.reason << "\n";
   return s.str();
 }
 

@@ -5,7 +5,10 @@
 // Scoring (documented for users in reference/README.md):
 //   1. Both curves are converted to SI and transformed into the representation the
 //      challenge asks for: X = log10(x) on a log axis, else x; likewise Y.
-//      Points that are <= 0 on a log axis are left out (and counted).
+//      Points that are <= 0 on a log axis are left out (and counted). A prediction row
+//      with y <= 0 on a log y axis inside the reference's range is a wrong prediction:
+//      the verdict is a fail naming its lines (a row with x <= 0 on a log x axis lies
+//      outside every reference's range and is only left out).
 //   2. Common range: [max(first X), min(last X)] of the two curves (error if empty).
 //   3. Evaluation points: every abscissa of either curve inside the common range, plus
 //      its ends; both curves are interpolated piecewise-linearly in (X, Y).
@@ -118,6 +121,13 @@ XY extract(const Table& t, const QuantitySpec& spec, const std::string& band_col
 QuantitySpec generic_spec(const std::string& quantity, const std::string& x, const std::string& y,
                           Representation rep, double tolerance, const std::string& metric);
 
+// Prediction rows whose y is <= 0 on a log y axis at an abscissa inside the reference's
+// range: their number and the file lines of the first five. Any makes the verdict a fail.
+struct NonPositive {
+  std::size_t count = 0;
+  std::vector<int> lines;
+};
+
 struct Metrics {
   double max_abs = 0, rms_abs = 0, max_rel = 0, rms_rel = 0;
   double x_lo = 0, x_hi = 0;     // common range, SI
@@ -127,6 +137,7 @@ struct Metrics {
   double ref_lo = 0, ref_hi = 0;  // the reference's range (its points on the log axes), SI
   std::size_t points = 0;        // evaluation points
   std::size_t excluded_prediction = 0, excluded_reference = 0;  // <= 0 on a log axis
+  NonPositive nonpositive;  // prediction rows with y <= 0 on a log y axis inside the reference's range
   std::vector<double> eval_x, eval_pred, eval_ref;  // SI; a sample of the points when eval_echo_stride > 1
   std::vector<double> eval_lo, eval_hi;              // the reference's band there (SI), when it has one
   std::size_t eval_echo_stride = 1;
@@ -145,11 +156,11 @@ struct Verdict {
   double tolerance = 0;
   std::string metric, source;  // source: "--tolerance", "reference file", "default for <quantity>"
   double value = 0;
-  bool pass = false;  // the metric within the tolerance and the range covered
+  bool pass = false;  // the metric within the tolerance, the range covered, no y <= 0 on a log y axis
   // Coverage: the fraction of the reference's range required, where that came from,
   // and whether the prediction covers it (a fail otherwise, with `reason`).
   double min_coverage = 0;
-  std::string coverage_source, reason;
+  std::string coverage_source, reason;  // reason: why it fails besides the metric (coverage, y <= 0)
   bool covered = true;
 };
 Verdict verdict(const Metrics& m, double tolerance, const std::string& metric, const std::string& source);

@@ -283,8 +283,7 @@ Table parse_csv(const std::string& text, const std::string& file, std::size_t mi
 }
 
 std::ifstream open_csv(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": no such file");
+  if (const std::string why = input_file_problem(path); !why.empty()) throw InputError(path + ": " + why);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot be read");
   return in;
@@ -380,7 +379,7 @@ void write_curve(const std::string& path, const Curve& c) {
   const std::string text = format_curve(c);
   const std::filesystem::path p(path);
   if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path());
-  write_atomically(p, text);
+  write_output_text(p, text);
 }
 
 Curve curve_from_table(const Table& t) {

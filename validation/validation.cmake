@@ -98,8 +98,8 @@ set_tests_properties(challenge.adhesive_256 PROPERTIES FIXTURES_REQUIRED challen
 # cmc reference --run-curve (scripts/challenge_reference.py's formatter): a spec becomes a
 # curve in the reference format, metadata in make_run_curve's order, numbers "%.12e" (-0
 # written as 0), the extra keys after the provenance. A spec with a key missing is bad
-# input: exit 2, no file.
-set(CMC_RUN_CURVE_OUT ${CMAKE_BINARY_DIR}/cli-run-curve.csv)
+# input: exit 2, no file. (The file must be named after the curve: reference/README.md.)
+set(CMC_RUN_CURVE_OUT ${CMAKE_BINARY_DIR}/cli-run-curve/gap_distribution.csv)  # named after the curve
 cmc_cli_test(cli.reference_run_curve "rm -f ${CMC_RUN_CURVE_OUT} && $<TARGET_FILE:cmc> reference --run-curve ${CMAKE_SOURCE_DIR}/tests/data/run_curve_spec.toml --out ${CMC_RUN_CURVE_OUT} && grep -q '^# source: cmc run$' ${CMC_RUN_CURVE_OUT} && grep -A1 '^# cmc_version: 0.1.0$' ${CMC_RUN_CURVE_OUT} | grep -q '^# case_file: ' && grep -q '^# sampling: two points$' ${CMC_RUN_CURVE_OUT} && grep -q '^2.500000000000e-09,0.000000000000e+00$' ${CMC_RUN_CURVE_OUT}")
 cmc_cli_test(cli.reference_run_curve_bad_spec "printf 'name = \"x\"\\n' > ${CMAKE_BINARY_DIR}/bad-spec.toml; $<TARGET_FILE:cmc> reference --run-curve ${CMAKE_BINARY_DIR}/bad-spec.toml --out ${CMAKE_BINARY_DIR}/bad-curve.csv; test $? -eq 2 && test ! -e ${CMAKE_BINARY_DIR}/bad-curve.csv")
 

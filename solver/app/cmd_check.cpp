@@ -194,11 +194,13 @@ int cmd_check(int argc, char** argv) {
   std::fputs(check::report_text(r).c_str(), stdout);
   if (!a.out.empty()) {
     const std::filesystem::path dir(a.out);
+    check_output_folder(dir);
+    for (const char* f : {"check.json", "check.png"}) check_output_file(dir / f);  // before either is written
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     if (ec || !std::filesystem::is_directory(dir))
       throw std::runtime_error(dir.string() + ": cannot create the output folder");
-    write_atomically(dir / "check.json", check::report_json(r));
+    write_output_text(dir / "check.json", check::report_json(r));
     if (!a.quiet) std::printf("wrote           %s\n", (dir / "check.json").c_str());
     draw_figure(dir / "check.json", dir / "check.png", a.quiet);
   }

@@ -2,6 +2,7 @@
 #include "commands.hpp"
 
 #include "References.hpp"
+#include "cmc/grid/FilePaths.hpp"
 
 #include <cstdio>
 #include <filesystem>
@@ -36,6 +37,9 @@ the stored files byte for byte.
             written after the provenance (scripts/challenge_reference.py writes it);
             optional band = "COLUMN": the column holding y's uncertainty (a half-width
             > 0 in y's unit), which cmc check scores predictions against.
+            FILE must be named NAME.csv, and the curve must be one cmc check reads
+            as a reference (x strictly monotonic; positive values on log axes):
+            otherwise exit 2 and nothing is written.
 )";
 
 std::string slurp(const std::filesystem::path& p) {
@@ -77,6 +81,7 @@ int cmd_reference(int argc, char** argv) {
     return kOk;
   }
   const std::filesystem::path dir = a.out.empty() ? reference::default_reference_dir() : a.out;
+  if (!check) check_output_folder(dir);
   if (check) {
     int bad = 0;
     for (const auto& n : names) {

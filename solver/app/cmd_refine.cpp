@@ -21,6 +21,7 @@ namespace {
 const char* kRefineHelp = R"(usage: cmc refine CASE.toml --grids N1 N2 [N3 ...] [--out DIR] [--set section.key=value ...] [--quiet]
 
 Runs CASE.toml once per grid (--set grid.n=N, output.fields=false) into DIR/n<N>/
+(a --set of grid.n, grid.nx or grid.ny is refused: exit 2)
 (default DIR: results/refine/<case file stem>), exactly as `cmc run --resume` would:
 a grid whose earlier run was interrupted continues from its last finished step, and a
 grid whose run finished converged for the same case and --set values is not run again
@@ -49,7 +50,13 @@ std::vector<int> take_grids(int argc, char** argv, std::vector<char*>& rest) {
       char* end = nullptr;
       errno = 0;
       const long long n = std::strtoll(argv[i + 1], &end, 10);
-      if (end == argv[i + 1] || *end != '\0') break;
+      if (end == argv[i + 1] || *end != '\0') {
+        // What follows the sizes is an option or the case file: anything else is a bad size.
+        const std::string next = argv[i + 1];
+        if (next[0] != '-' && !fs::exists(next))
+          throw CaseError("--grids: '" + next + "' is neither a whole number (a grid size) nor an existing case file");
+        break;
+      }
       // Bounded before it is narrowed to int (CaseLimits, as grid.n in a case file).
       if (errno == ERANGE || n < 2 || n > CaseLimits::kMaxGridSide || (!grids.empty() && n <= grids.back()))
         throw CaseError(std::string("--grids: expected increasing grid sizes from 2 to ") +
@@ -59,6 +66,21 @@ std::vector<int> take_grids(int argc, char** argv, std::vector<char*>& rest) {
   }
   if (!seen || grids.size() < 2) throw CaseError("cmc refine needs --grids with at least two increasing grid sizes");
   return grids;
+}
+
+// A --set of the grid's points would run every grid at that one size, labelled as the
+// grids of --grids (a study of one grid): bad input naming both.
+void refuse_grid_overrides(const std::vector<std::string>& overrides, const std::vector<int>& grids) {
+  std::string list;
+  for (int n : grids) list.append(" ").append(std::to_string(n));
+  for (const auto& o : overrides) {
+    std::string key = o.substr(0, o.find('='));
+    key.erase(0, key.find_first_not_of(" \t"));
+    key.erase(key.find_last_not_of(" \t") + 1);
+    if (key == "grid.n" || key == "grid.nx" || key == "grid.ny")
+      throw CaseError("--set " + o + " overrides --grids" + list + ": cmc refine sets " + key +
+                      " for each grid itself; drop the --set, or give the grids with --grids");
+  }
 }
 
 const char* kRecord = "refinement-grid.toml";
@@ -92,7 +114,7 @@ RefinementGrid run_grid(const fs::path& dir, const Case& c, int n, bool quiet) {
   rec << toml::table{{"case", to_json(c.resolved)}, {"n", n},          {"status", status_name(run.status)},
                      {"dx_m", g.dx_m},             {"facts", g.facts}, {"last_step", g.last_step}}
       << "\n";
-  write_atomically(dir / kRecord, rec.str());
+  write_output_text(dir / kRecord, rec.str());
   return g;
 }
 
@@ -106,6 +128,7 @@ int cmd_refine(int argc, char** argv) {
   const Args a = parse_args(int(rest.size()), rest.data(), 2);
   if (a.positional.size() != 1) throw CaseError("cmc refine takes exactly one case file (see cmc refine --help)");
   const std::string file = a.positional[0];
+  refuse_grid_overrides(a.overrides, grids);
   const fs::path out = a.out.empty() ? fs::path("results") / "refine" / fs::path(file).stem() : fs::path(a.out);
   // Every grid's case is read and checked (sizes, memory) before the first one runs.
   std::vector<Case> cases;
@@ -116,6 +139,9 @@ int cmd_refine(int argc, char** argv) {
     require_backend(cases.back());
   }
   const OutputLock lock(out);  // one study per folder (each grid's run locks its own too)
+  // Every file the study writes, checked before the first grid runs (grid/FilePaths.hpp).
+  for (const char* f : {"refinement.md", "refinement.json"}) check_output_file(out / f);
+  for (int n : grids) check_output_file(out / ("n" + std::to_string(n)) / kRecord);
   std::vector<RefinementGrid> done;
   bool all_converged = true;
   for (std::size_t k = 0; k < grids.size(); ++k) {
@@ -130,8 +156,8 @@ int cmd_refine(int argc, char** argv) {
   }
   const auto rows = refinement_rows(done);
   const std::string md = refinement_markdown(file, done, rows);
-  write_atomically(out / "refinement.md", md);
-  write_atomically(out / "refinement.json", to_json(refinement_record(file, done, rows)));
+  write_output_text(out / "refinement.md", md);
+  write_output_text(out / "refinement.json", to_json(refinement_record(file, done, rows)));
   std::fputs(md.c_str(), stdout);
   return all_converged ? kOk : kNotConverged;
 }

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 
 namespace cmc::app {
 
@@ -22,13 +23,16 @@ Solves every load step of CASE.toml and writes, atomically:
 (the value is TOML: numbers, "strings" or bare words, [arrays]).
 Progress goes to stderr when it is a terminal; --quiet silences it.
 Until the run finishes DIR holds no summary.json (an earlier run's results are removed
-when it starts) but a file DIR/INCOMPLETE, and checkpoints (DIR/.partial/): after every
+when it starts; a run that fails writes one with "status": "failed" and keeps its
+checkpoints) but a file DIR/INCOMPLETE, and checkpoints (DIR/.partial/): after every
 load step (but the last of a hard-wall or quasi-static run: only the output follows it)
 and every pull-off refinement solve, and inside a load step of the quasi-static
 solver between two of its outer steps, at most every SECONDS (--checkpoint-every, default
 600; 0: after every outer step): a step that takes hours loses at most that much.
 --resume continues an interrupted run of the same case (same file and --set values) from
-its last checkpoint, with the same results, bit for bit, as a run that was not
+its last checkpoint (a missing or damaged file in DIR/.partial/ is refused, exit 2;
+where there is no checkpoint it starts afresh, saying so, unless DIR holds a finished
+run: that is refused, exit 2, rather than replaced), with the same results, bit for bit, as a run that was not
 interrupted (on the same machine and thread count). A run whose quasi-static solve stopped
 at solver.max_outer_steps keeps its checkpoint (summary.json "continue"): --resume with a
 larger --set solver.max_outer_steps=N goes on from the solve's last outer step and gives
@@ -44,6 +48,21 @@ naming the process that holds DIR/.cmc.lock.
 Exit codes: 0 converged, 2 bad input, 3 not converged (results are still written,
 with "status": "not_converged"), 4 failed (I/O, memory, DIR in use).
 )";
+
+// --resume where there is nothing to continue: a folder with a finished run and no
+// checkpoint is refused (its results would be replaced by a fresh run, perhaps of another
+// grid); a missing or empty one starts afresh, saying so (a batch job may always resume).
+void check_resumable(const std::string& out, bool quiet) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const bool checkpoint = is_root() && fs::exists(fs::path(out) / ".partial" / "checkpoint.h5", ec);
+  const bool finished = is_root() && !checkpoint && fs::exists(fs::path(out) / "summary.json", ec);
+  if (any_rank(finished))
+    throw CaseError(out + " holds a finished run (summary.json) and no partial run: --resume has nothing to continue; "
+                    "run without --resume to replace it, or choose another --out");
+  if (!any_rank(checkpoint) && is_root() && !quiet)
+    std::fprintf(stderr, "cmc run: nothing to resume in %s (no checkpoint): starting afresh\n", out.c_str());
+}
 
 }  // namespace
 
@@ -61,6 +80,7 @@ int cmd_run(int argc, char** argv) {
   }
   const Case c = load_case(a.positional[0], a.overrides);
   require_backend(c);
+  if (a.resume) check_resumable(a.out, a.quiet);
   // Before the scene is built: a second run on DIR stops at once (rank 0 holds the lock).
   const OutputLock lock = is_root() ? OutputLock(a.out) : OutputLock();
   print_memory_plan(c, a.quiet);

@@ -2,6 +2,7 @@
 // height map as a file (HDF5 dataset "surface" in metres, with lx/ly attributes).
 #include "commands.hpp"
 
+#include "cmc/grid/FilePaths.hpp"
 #include "cmc/scene/Scene.hpp"
 #include "cmc/surface/SurfaceIO.hpp"
 #include "cmc/surface/SurfaceStats.hpp"
@@ -17,7 +18,8 @@ Builds the case's surface on its grid and prints its statistics in SI units: mea
 min and max height, rms height, rms gradient, rms curvature and R_c (the inverse rms
 line-scan curvature), the Tabor parameter when the case has adhesion, and the grid
 spacing relative to the surface's short cutoff. --write saves the height map (metres)
-as HDF5 (dataset "surface", attributes lx and ly in metres), atomically.
+as HDF5 (dataset "surface", attributes lx and ly in metres), atomically: FILE.h5 must be a
+new path or a regular file (a folder, device, FIFO or symbolic link is refused, exit 2).
 )";
 }  // namespace
 
@@ -25,6 +27,8 @@ int cmd_surface(int argc, char** argv) {
   const Args a = parse_args(argc, argv, 2, {"--write"});
   if (a.help) return std::fputs(kSurfaceHelp, stdout), kOk;
   if (a.positional.size() != 1) throw CaseError("cmc surface takes exactly one case file (see cmc surface --help)");
+  const std::string out = a.option("--write");
+  if (!out.empty()) check_output_file(out);  // refused before the surface is made (grid/FilePaths.hpp)
   const Case c = load_case(a.positional[0], a.overrides);
   const Scene s = build_scene(c);
   const SurfaceStatistics st = surface_statistics(s.grid, s.topography.heights);
@@ -43,7 +47,6 @@ int cmd_surface(int argc, char** argv) {
                                 {"specified_range", f.specified_range}, {"law_head", f.law_head}})
     if (v) std::printf("  %-16s %.6g\n", name, *v);
   for (const auto& w : s.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-  const std::string out = a.option("--write");
   if (!out.empty()) {
     HeightMap m{Grid{s.grid.nx, s.grid.ny, s.grid.lx * L, s.grid.ly * L}, s.topography.heights};
     for (auto& h : m.heights) h *= L;

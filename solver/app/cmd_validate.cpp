@@ -4,6 +4,8 @@
 #include "Profiles.hpp"
 #include "Validate.hpp"
 #include "cmc/output/OutputLock.hpp"
+#include "cmc/input/ValidationRules.hpp"
+#include "cmc/output/RunFolder.hpp"
 
 #include <vector>
 #include "cmc/output/Writer.hpp"
@@ -24,9 +26,29 @@ DIR/<case name>/summary.json (with a "validation" entry: every check's error, an
 refinement study's errors, observed order and fitted line), the fields, and, for
 hertz, hertz_periodic and westergaard, DIR/<case name>/profiles.csv: the solved
 pressure and gap beside the analytic ones at every grid point near the contact.
+Each case needs a case.name of its own (two cases of one name are refused, exit 2).
 Exit code 5 when any check fails; 4 when DIR/<case name> is in use by another cmc
 process (one process at a time writes into a folder).
 )";
+
+// Every case file, read and checked (bad input stops the command) before anything is written.
+std::vector<Case> read_cases(const Args& a) {
+  std::vector<Case> cases;
+  for (const auto& file : a.positional) {
+    cases.push_back(load_case(file, a.overrides));
+    require_backend(cases.back());
+    if (!cases.back().validation) throw CaseError(file + ": no [validation] section: nothing to compare with");
+    check_validation_fits(cases.back());  // the problem and quantities of its reference (exit 2)
+    // The name labels the table's rows and names the folder DIR/<case name>/: one case per name.
+    for (std::size_t k = 0; k + 1 < cases.size(); ++k)
+      if (cases[k].name == cases.back().name)
+        throw CaseError(file + ": [case] name '" + cases.back().name + "' is also the name of " + cases[k].file +
+                        ": expected a distinct case.name for each case validated together (it labels the table's "
+                        "rows and names the folder DIR/<case name>/); give one with --set case.name=... in a run "
+                        "of its own, or rename it");
+  }
+  return cases;
+}
 
 }  // namespace
 
@@ -34,19 +56,17 @@ int cmd_validate(int argc, char** argv) {
   const Args a = parse_args(argc, argv, 2);
   if (a.help) return std::fputs(kValidateHelp, stdout), kOk;
   if (a.positional.empty()) throw CaseError("cmc validate needs at least one case file (see cmc validate --help)");
-  // Every case file is read (bad input stops the command) before anything is written.
-  std::vector<Case> cases;
-  for (const auto& file : a.positional) {
-    cases.push_back(load_case(file, a.overrides));
-    require_backend(cases.back());
-    if (!cases.back().validation) throw CaseError(file + ": no [validation] section: nothing to compare with");
-  }
+  const std::vector<Case> cases = read_cases(a);
   // One owner per output folder, from the start (the results are written after the solves).
   // A validation writes only DIR/<case name>/, so that is what it locks: validations of
   // different cases may share one --out (ctest runs them in parallel into build/validation).
   std::vector<OutputLock> locks;
   if (!a.out.empty())
-    for (const Case& c : cases) locks.emplace_back(std::filesystem::path(a.out) / c.name);
+    for (const Case& c : cases) {
+      locks.emplace_back(std::filesystem::path(a.out) / c.name);
+      check_earlier_results(std::filesystem::path(a.out) / c.name);  // before the solves (exit 2)
+      check_output_file(std::filesystem::path(a.out) / c.name / "profiles.csv");
+    }
   bool all_pass = true;
   std::printf("%-28s %-18s %12s %12s %6s %8s\n", "case", "quantity", "error", "tolerance", "result", "time_s");
   for (const Case& c : cases) {
@@ -97,8 +117,8 @@ int cmd_validate(int argc, char** argv) {
       for (std::size_t k = 0; k < sc.states.size(); ++k) w.add_step(sc.run.steps[k], sc.states[k]);
       w.finish(sc.run, toml::table{{"validation", json_checks}});
       if (has_profiles(c.validation->reference))
-        write_atomically(std::filesystem::path(a.out) / c.name / "profiles.csv",
-                         profiles_csv(c.validation->reference, sc.scene, sc.states));
+        write_output_text(std::filesystem::path(a.out) / c.name / "profiles.csv",
+                          profiles_csv(c.validation->reference, sc.scene, sc.states));
     }
   }
   return all_pass ? kOk : kValidationFailed;

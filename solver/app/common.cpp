@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -20,6 +21,7 @@ std::string Args::option(const std::string& name, const std::string& def) const 
 }
 
 namespace {
+constexpr long kMaxThreads = 65536;
 // Seconds between progress lines when stderr is a file or a pipe: CMC_PROGRESS_EVERY
 // (a number >= 0; 0 prints every line the solver reports), else 30.
 double progress_every() {
@@ -34,14 +36,31 @@ double progress_every() {
 }
 }  // namespace
 
+// CMC_THREADS: a positive whole number of threads (unset or empty: the machine's).
+void check_threads_variable() {
+  const char* v = std::getenv("CMC_THREADS");
+  if (!v || !*v) return;
+  char* end = nullptr;
+  errno = 0;
+  const long n = std::strtol(v, &end, 10);
+  if (end == v || *end != '\0' || errno == ERANGE || n < 1 || n > kMaxThreads)
+    throw CaseError(std::string("environment variable CMC_THREADS = '") + v + "': expected a whole number of threads from 1 to " +
+                    std::to_string(kMaxThreads) + " (unset: all of this machine's)");
+}
+
 Args parse_args(int argc, char** argv, int first, const std::vector<std::string>& valued) {
   progress_every();  // a malformed value is refused before anything is read or written
+  check_threads_variable();
   Args a;
   a.quiet = !is_root();  // in a distributed run rank 0 alone prints
   for (int i = first; i < argc; ++i) {
     const std::string s = argv[i];
     auto value = [&](const std::string& name) {
       if (i + 1 >= argc) throw CaseError(name + " needs a value");
+      // An option is not a value: `--out --quiet` would make a folder named --quiet.
+      if (std::string(argv[i + 1]).rfind("--", 0) == 0)
+        throw CaseError(name + " needs a value, got the option " + argv[i + 1] + " (write " + name + "=" + argv[i + 1] +
+                        " if that is meant)");
       return std::string(argv[++i]);
     };
     const auto eq = s.find('=');

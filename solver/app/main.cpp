@@ -42,6 +42,9 @@ exit codes: 0 ok, 2 bad input (case file or arguments), 3 a solve did not reach 
 tolerance, 4 run failed (I/O, memory, output folder in use by another cmc process),
 5 a validation check failed.
 Case files: see cases/README.md. Units: SI in case files and outputs.
+Output files: new paths or regular files only (a folder, device, FIFO or symbolic
+link as a target is refused, exit 2); rules in cases/README.md, "Output folders".
+Environment: CMC_THREADS=N threads (a whole number >= 1; unset: all of them).
 )";
 
 }  // namespace
@@ -93,6 +96,8 @@ int dispatch(int argc, char** argv) {
     if (cmc::is_root()) std::fprintf(stderr, "cmc run: %s\n", e.what());
     return kNotConverged;
   } catch (const cmc::CaseError& e) {
+    return fail(kUsage, e.what(), true);
+  } catch (const cmc::OutputPathError& e) {  // an output path cmc will not write (grid/FilePaths.hpp)
     return fail(kUsage, e.what(), true);
   } catch (const std::bad_alloc&) {
     return fail(kFailed, cmc::ranks() > 1 ? "out of memory (reduce grid.n or use more ranks)" : "out of memory (reduce grid.n)",

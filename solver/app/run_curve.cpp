@@ -4,7 +4,11 @@
 // there is one formatter of that format, in C++.
 #include "commands.hpp"
 
+#include "Check.hpp"
 #include "References.hpp"
+
+#include <cstdio>
+#include <filesystem>
 
 #include <toml++/toml.h>
 
@@ -33,6 +37,40 @@ reference::Column column_from(const toml::node& node, const std::string& file, s
     c.values.push_back(*x);
   }
   return c;
+}
+
+std::string g6(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+// A stored curve must be one that `cmc check` reads as a reference: the file is named after
+// the curve (NAME.csv, as cmc check --quantity and cmc reference --check find curves), its
+// text is read back as check reads a reference (x strictly monotonic, every value finite
+// in SI), and its points are positive on the log axes of its representation.
+void require_checkable(const reference::Curve& c, const std::string& text, const std::string& spec_file,
+                       const std::string& out) {
+  if (std::filesystem::path(out).filename() != c.name + ".csv")
+    throw CaseError("--out " + out + ": expected a file named " + c.name + ".csv, after the curve's name (key 'name' of " +
+                    spec_file + "), as stored curves are found by it");
+  try {
+    const reference::Table t = reference::parse_csv(text, spec_file, 2);
+    const reference::Curve back = reference::curve_from_table(t);
+    const reference::Representation rep = reference::parse_representation(back.representation);
+    check::QuantitySpec spec = check::generic_spec(back.quantity, back.x, back.y, rep, 1.0, "max_abs");
+    for (const auto& q : check::quantities())
+      if (q.id == back.quantity) spec = q;
+    const check::XY xy = check::extract(t, spec, back.band);
+    for (std::size_t i = 0; i < xy.x.size(); ++i)
+      if ((rep.log_x && !(xy.x[i] > 0)) || (rep.log_y && !(xy.y[i] > 0)))
+        throw CaseError(spec_file + ": point " + std::to_string(i) + " (" + back.x + " = " + g6(xy.x[i]) +
+                        ", " + back.y + " = " + g6(xy.y[i]) + ") is not positive on the log axes of the " +
+                        back.representation + " representation: expected positive values there (cmc check would "
+                        "leave the point out)");
+  } catch (const reference::InputError& e) {
+    throw CaseError(spec_file + ": the curve it would write is not one cmc check reads as a reference (lines of that curve): " + e.what());
+  }
 }
 
 }  // namespace
@@ -79,7 +117,7 @@ int write_run_curve(const std::string& spec_file, const std::string& out) {
         if (!k || !v) throw CaseError(spec_file + ": key 'extra': expected [[\"key\", \"value\"], ...]");
         c.extra.emplace_back(*k, *v);
       }
-    reference::format_curve(c);  // validates before anything is written
+    require_checkable(c, reference::format_curve(c), spec_file, out);  // before anything is written
   } catch (const std::invalid_argument& e) {
     throw CaseError(spec_file + ": " + e.what());
   }

@@ -1,4 +1,5 @@
 #include "cmc/grid/Grid.hpp"
+#include "cmc/grid/FilePaths.hpp"
 #include "cmc/grid/Ranks.hpp"
 
 #include <fftw3.h>
@@ -196,7 +197,7 @@ void init_fftw() {
     fftw_import_wisdom_from_string(detail::kBuiltinWisdom);
   } else if (keeps_wisdom_file(planner())) {
     const auto w = wisdom_path();
-    if (!w.empty() && std::filesystem::exists(w)) fftw_import_wisdom_from_filename(w.c_str());
+    if (!w.empty() && std::filesystem::is_regular_file(w)) fftw_import_wisdom_from_filename(w.c_str());
   }
   fftw_ready = true;
 }
@@ -222,9 +223,15 @@ void save_fftw_wisdom() {
   if (w.empty()) return;
   std::error_code ec;
   std::filesystem::create_directories(w.parent_path(), ec);
-  // Atomic: write beside, then rename, so a concurrent run never reads half a file.
-  const auto tmp = w.string() + ".tmp" + std::to_string(::getpid());
-  if (fftw_export_wisdom_to_filename(tmp.c_str())) std::filesystem::rename(tmp, w, ec);
+  // Atomic, so a concurrent run never reads half a file; only into a new path or a regular
+  // file (FilePaths.hpp). A cache: a target it refuses is left as it is, with a warning.
+  try {
+    write_output_file(w, [](const std::filesystem::path& tmp) {
+      if (!fftw_export_wisdom_to_filename(tmp.c_str())) throw std::runtime_error("FFTW could not write it");
+    });
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "cmc: warning: FFTW wisdom not saved: %s\n", e.what());
+  }
 }
 
 Fourier::Fourier(const Grid& g) : Fourier(g.nx, g.ny, g.split() ? &g : nullptr) {}

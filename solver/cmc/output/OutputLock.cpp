@@ -1,5 +1,7 @@
 #include "cmc/output/OutputLock.hpp"
 
+#include "cmc/grid/FilePaths.hpp"
+
 #include <fcntl.h>
 #include <sys/file.h>
 #include <sys/stat.h>
@@ -63,6 +65,7 @@ std::string holder_pid(int fd) {
 }  // namespace
 
 OutputLock::OutputLock(const fs::path& dir) {
+  check_output_folder(dir);  // not the root folder, nor a file (exit 2)
   std::error_code ec;
   const bool created = !fs::exists(dir, ec);
   fs::create_directories(dir, ec);

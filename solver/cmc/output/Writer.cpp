@@ -3,6 +3,7 @@
 #include "cmc/grid/Backend.hpp"
 
 #include "cmc/output/CaseDiff.hpp"
+#include "cmc/output/RunFolder.hpp"
 
 #include "cmc/grid/Ranks.hpp"
 #include "cmc/surface/H5Handle.hpp"
@@ -21,18 +22,6 @@
 namespace cmc {
 
 namespace fs = std::filesystem;
-
-void write_atomically(const fs::path& path, const std::string& text) {
-  const fs::path tmp = path.parent_path() / ("." + path.filename().string() + ".tmp" + std::to_string(::getpid()));
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(tmp.string() + ": cannot write (is the output folder writable?)");
-    out << text;
-    out.flush();
-    if (!out) throw std::runtime_error(tmp.string() + ": write failed (disk full?)");
-  }
-  fs::rename(tmp, path);
-}
 
 std::string to_json(const toml::table& t) {
   std::ostringstream s;
@@ -306,8 +295,7 @@ Writer::Writer(fs::path dir, const Case& c, const Scene& s, bool resume)
     }
   }
   if (!is_root()) return;
-  // An earlier run's results must not pass for this run's.
-  for (const char* f : {"summary.json", "result.h5", "result.xdmf"}) fs::remove(dir_ / f, ec);
+  clear_earlier_results(dir_);  // an earlier run's results must not pass for this run's
   // A run that stopped at its outer-step limit goes on now: it is unfinished again.
   if (resuming_) fs::remove(partial_ / "stopped.toml", ec);
   if (!resuming_) {
@@ -316,13 +304,7 @@ Writer::Writer(fs::path dir, const Case& c, const Scene& s, bool resume)
     fs::create_directories(partial_, ec);
     if (ec || !fs::is_directory(partial_)) throw std::runtime_error(partial_.string() + ": cannot create the folder");
   }
-  std::ostringstream m;
-  m << "This folder holds an unfinished cmc run of case '" << c.name << "' (" << c.file
-    << "): still running, interrupted or failed.\n"
-    << "Its results (summary.json, result.h5, result.xdmf) are written only when it finishes.\n"
-    << "To continue it from its last checkpoint (with the same --set options as the run that started it):\n"
-    << "  cmc run " << c.file << " --out " << dir_.string() << " --resume\n";
-  write_atomically(marker_, m.str());
+  write_output_text(marker_, incomplete_text(c, dir_));
 }
 
 fs::path Writer::step_file(int index) const {
@@ -498,10 +480,9 @@ void Writer::load_partial() {
     std::string missing;
     if (is_root())
       for (const StepRecord& r : resume_.done)
-        if (missing.empty() && !fs::exists(step_file(r.index)))
-          missing = "the fields of step " + std::to_string(r.index) + " (" + step_file(r.index).string() + ") are missing";
+        if (missing.empty()) missing = step_file_problem(step_file(r.index), r.index);
     broadcast(missing);
-    if (!missing.empty()) throw damaged(missing);
+    if (!missing.empty()) throw CaseError(missing + ": the partial run cannot be finished; run without --resume");
   }
 }
 
@@ -517,12 +498,11 @@ void Writer::add_step(const StepRecord& rec, const ContactState& st) {
   // last one before that stop, from which a larger limit continues (finish() keeps it).
   if (stopped_step_ < 0 && stopped_at_limit(rec)) stopped_step_ = rec.index;
   if (case_.write_fields) {
-    // The step's fields in a file of its own, renamed into place when complete: kept
-    // only when a checkpoint names the step (a step redone after an interruption
-    // replaces it).
-    const fs::path final_name = step_file(rec.index), tmp = final_name.string() + ".tmp";
+    // The step's fields in a file of its own, written atomically: kept only when a
+    // checkpoint names the step (a step redone after an interruption replaces it). In a
+    // distributed run every rank sends rank 0 its slabs (`tmp` is rank 0's).
     const bool root = is_root();
-    try {
+    auto fill = [&](const fs::path& tmp) {
       H5Handle file, grp;
       const Units& u = scene_.units;
       char name[32];
@@ -536,10 +516,7 @@ void Writer::add_step(const StepRecord& rec, const ContactState& st) {
       dataset(grp, "pressure", scene_.grid, st.pressure, u.pressure_pa, "Pa", "interfacial pressure, compressive > 0");
       dataset(grp, "displacement", scene_.grid, st.displacement, u.length_m, "m", "surface displacement into the solid");
       dataset(grp, "gap", scene_.grid, st.gap, u.length_m, "m", "interfacial gap g = h - penetration + u");
-      if (!root) {
-        records_.push_back(step_json(rec));
-        return;
-      }
+      if (!root) return;
       attr_double(grp, "mean_pressure", rec.mean_pressure);
       attr_double(grp, "penetration", rec.penetration);
       attr_double(grp, "mean_gap", rec.mean_gap);
@@ -551,12 +528,9 @@ void Writer::add_step(const StepRecord& rec, const ContactState& st) {
       }
       grp.reset();
       check(file.reset(), "closing " + tmp.string());
-    } catch (...) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw;
-    }
-    fs::rename(tmp, final_name);
+    };
+    if (root) write_output_file(step_file(rec.index), fill);
+    else fill({});
   }
   records_.push_back(step_json(rec));
 }
@@ -566,7 +540,6 @@ void Writer::checkpoint(const ContactState& st, const PathState* path, const Out
   // moment is continued from the last complete one. Inside a step, the step's solve
   // (`inside`) replaces the state it started from.
   if (stopped_step_ >= 0) return;  // kept for a larger limit (add_step)
-  const fs::path tmp = partial_ / "checkpoint.h5.tmp";
   if (inside && inside->fetch) inside->fetch();  // the solve's fields live on the GPU
   const bool with_state = !inside && !st.empty();
   auto fields = [&](hid_t f) {
@@ -579,7 +552,7 @@ void Writer::checkpoint(const ContactState& st, const PathState* path, const Out
     fields(-1);
     return;
   }
-  {
+  write_output_file(checkpoint_, [&](const fs::path& tmp) {
     H5Handle f(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
     if (!f.ok()) throw std::runtime_error(tmp.string() + ": cannot write the checkpoint");
     toml::table t{{"format", 1},
@@ -603,8 +576,7 @@ void Writer::checkpoint(const ContactState& st, const PathState* path, const Out
     text_dataset(f, "progress", p.str());
     fields(f);
     check(f.reset(), "closing the checkpoint " + tmp.string());
-  }
-  fs::rename(tmp, checkpoint_);
+  });
 }
 
 toml::table Writer::step_json(const StepRecord& r) {
@@ -726,8 +698,7 @@ void Writer::finish(const RunSummary& run, const toml::table& extra) {
   }
   if (case_.write_fields) {
     // result.h5: the heights, then every step's group copied from its file.
-    const fs::path tmp = dir_ / (".result.h5.tmp" + std::to_string(::getpid()));
-    {
+    write_output_file(dir_ / "result.h5", [&](const fs::path& tmp) {
       H5Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
       if (!file.ok()) throw std::runtime_error(tmp.string() + ": cannot create the HDF5 file");
       const Units& u = scene_.units;
@@ -752,8 +723,7 @@ void Writer::finish(const RunSummary& run, const toml::table& extra) {
         check(H5Ocopy(src, name, file, name, H5P_DEFAULT, H5P_DEFAULT), std::string("copying ") + name);
       }
       check(file.reset(), "closing " + tmp.string());  // a failed close may leave it incomplete
-    }
-    fs::rename(tmp, dir_ / "result.h5");
+    });
     // XDMF pointer for ParaView: one 2-D uniform grid per step.
     const Grid& g = scene_.grid;
     const Units& u = scene_.units;
@@ -775,7 +745,7 @@ void Writer::finish(const RunSummary& run, const toml::table& extra) {
       x << "</Grid>\n";
     }
     x << "</Grid>\n</Domain>\n</Xdmf>\n";
-    write_atomically(dir_ / "result.xdmf", x.str());
+    write_output_text(dir_ / "result.xdmf", x.str());
   }
   // Says which limit stopped it: a resume must raise that limit (load_partial). The fields
   // of the stopped step and those after it are in result.h5; a resume redoes them.
@@ -783,10 +753,10 @@ void Writer::finish(const RunSummary& run, const toml::table& extra) {
     std::error_code gone;
     for (const auto& r : run.steps)
       if (r.index >= stopped_step_) fs::remove(step_file(r.index), gone);
-    write_atomically(partial_ / "stopped.toml", "max_outer_steps = " + std::to_string(limit) +
+    write_output_text(partial_ / "stopped.toml", "max_outer_steps = " + std::to_string(limit) +
                                                     "\nstep = " + std::to_string(stopped_step_) + "\n");
   }
-  write_atomically(dir_ / "summary.json", to_json(s));
+  write_output_text(dir_ / "summary.json", to_json(s));
   // The run is complete: its partial files go, unless it can be continued.
   std::error_code ec;
   fs::remove(marker_, ec);
@@ -801,7 +771,7 @@ void Writer::fail(const std::string& message) {
   toml::table s = summary_base();
   s.insert("status", status_name(RunStatus::Failed));
   s.insert("message", message + (records_.empty() ? "" : " (the finished steps can be continued with --resume)"));
-  write_atomically(dir_ / "summary.json", to_json(s));
+  write_output_text(dir_ / "summary.json", to_json(s));
 }
 
 }  // namespace cmc

@@ -27,6 +27,7 @@
 // at its limit.
 #pragma once
 
+#include "cmc/grid/FilePaths.hpp"
 #include "cmc/output/OutputLock.hpp"
 #include "cmc/run/Driver.hpp"
 
@@ -103,8 +104,7 @@ class Writer {
   const Scene& scene_;
 };
 
-// Write `text` to `path` atomically (temporary file in the same folder, then rename).
-void write_atomically(const std::filesystem::path& path, const std::string& text);
+// Output files are written with write_output_file / write_output_text (grid/FilePaths.hpp).
 std::string to_json(const toml::table& t);
 
 }  // namespace cmc

@@ -25,6 +25,25 @@ const char* status_name(RunStatus s) {
 
 namespace {
 
+// A converged step whose numbers are not all finite did not converge: a run whose summary
+// holds Infinity or NaN is never "converged" (scene/SceneChecks.hpp refuses the inputs
+// that lead there; this is the last guard).
+void flag_non_finite(StepRecord& rec) {
+  if (!rec.result.converged) return;
+  std::string bad;
+  for (const auto& [name, v] : {std::pair<std::string, double>{"mean_pressure", rec.mean_pressure},
+                                {"force", rec.force}, {"penetration", rec.penetration}, {"mean_gap", rec.mean_gap},
+                                {"contact_fraction", rec.contact_fraction}, {"energy", rec.energy},
+                                {"residual", rec.result.residual}})
+    if (bad.empty() && !std::isfinite(v)) bad = name;
+  if (rec.observables)
+    for (const auto& [name, v] : rec.observables->scalars)
+      if (bad.empty() && !std::isfinite(v)) bad = "observables." + name;
+  if (bad.empty()) return;
+  rec.result.converged = false;
+  rec.result.message = "its " + bad + " is not finite (the numbers overflowed): not a result";
+}
+
 // One run in progress: the finished steps, and how to record and hand on a new one.
 class Run {
  public:
@@ -59,6 +78,7 @@ class Run {
     rec.energy = u.to_j(r.energy);
     if (s_.observables.enabled)
       rec.observables = to_record(measure_step(s_.grid, st, s_.contact_rule, s_.observables), u);
+    flag_non_finite(rec);
     return rec;
   }
   void keep(const StepRecord& rec, const ContactState& st) {

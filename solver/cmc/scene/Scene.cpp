@@ -1,6 +1,7 @@
 #include "cmc/scene/Scene.hpp"
 
 #include "cmc/grid/Ranks.hpp"
+#include "cmc/scene/SceneChecks.hpp"
 #include "cmc/surface/SelfAffine.hpp"
 #include "cmc/surface/SurfaceIO.hpp"
 #include "cmc/surface/SurfaceStats.hpp"
@@ -127,14 +128,23 @@ void build_topography(const Case& c, Scene& s, const std::span<const double>* gi
 
 // The interaction in reduced units (w in E* L, ranges in L), and what it means for the
 // resolution.
-void build_interaction(const InteractionSpec& in, Scene& s) {
+// Every value is checked in reduced units before a law is made of it (SceneChecks.hpp).
+void build_interaction(const Case& c, Scene& s) {
+  const InteractionSpec& in = c.interaction;
   if (in.kind == InteractionKind::HardWall) return;
   const Units& u = s.units;
   const double w = u.energy_per_area(in.work_of_adhesion);
+  require_reduced(c, "[interaction] work_of_adhesion", in.work_of_adhesion, "J/m^2", u.to_j_per_m2(1.0), w);
   // The radius behind mu_T / lambda: the sphere's, or the rough surface's R_c.
   const double R = s.surface_facts.curvature_radius ? u.length(*s.surface_facts.curvature_radius) : s.sphere_radius;
+  if (in.tabor > 0.0 || in.maugis_lambda > 0.0) require_curvature_radius(c, R);
+  const std::string range_key = in.tabor > 0.0           ? "[interaction] tabor = " + short_number(in.tabor) + " sets "
+                                : in.maugis_lambda > 0.0 ? "[interaction] maugis_lambda = " +
+                                                               short_number(in.maugis_lambda) + " sets "
+                                                         : "[interaction] range: ";
   if (in.kind == InteractionKind::Exponential) {
     const double rho = in.tabor > 0.0 ? exponential_range_from_tabor(1.0, R, w, in.tabor) : u.length(in.range);
+    require_reduced(c, range_key + "the range rho", u.to_m(rho), "m", u.length_m, rho);
     if (in.coarse_graining == CoarseGraining::Range) {
       const double rho_c = coarse_grained_range(w, rho, s.half_space->self_stiffness());
       if (rho_c > rho) s.surface_facts.specified_range = u.to_m(rho);
@@ -150,7 +160,10 @@ void build_interaction(const InteractionSpec& in, Scene& s) {
   } else {
     const double sigma0 = in.maugis_lambda > 0.0 ? dugdale_stress_from_lambda(1.0, R, w, in.maugis_lambda)
                                                  : w / u.length(in.range);
+    require_reduced(c, range_key + "the range h0", u.to_m(w / sigma0), "m", u.length_m, w / sigma0);
     const double eps = in.smoothing > 0.0 ? u.length(in.smoothing) : dugdale_min_smoothing(1.0, sigma0, s.grid.dx());
+    require_dugdale_smoothing(c, u.to_m(eps), u.to_m(2.0 * w / sigma0));
+    require_reduced(c, "[interaction] smoothing", u.to_m(eps), "m", u.length_m, eps);
     s.interaction = DugdaleAdhesion(w, w / sigma0, eps);
   }
   const double range = interaction_range(s.interaction);
@@ -159,7 +172,7 @@ void build_interaction(const InteractionSpec& in, Scene& s) {
   f.dx_over_range = s.grid.dx() / range;
   // w dx / (E* rho²) above ~1 makes single grid points bistable (shared/notes).
   f.bistability_number = w * s.grid.dx() / (range * range);
-  if (R > 0.0) f.tabor_parameter = tabor_parameter(1.0, R, w, range);
+  if (R > 0.0 && std::isfinite(R)) f.tabor_parameter = tabor_parameter(1.0, R, w, range);
 }
 
 // One target per load step (reduced): force and mean gap become the two controls the
@@ -205,6 +218,7 @@ std::vector<std::pair<std::string, double>> surface_fact_entries(const SurfaceFa
 namespace {
 // The scene of case `c`; `given`: the heights in metres in place of its surface (null: its own).
 Scene make_scene(const Case& c, const std::span<const double>* given) {
+  check_unit_scales(c);
   Scene s;
   s.units.length_m = c.grid.size_x;
   s.units.pressure_pa = c.contact_modulus;
@@ -233,18 +247,20 @@ Scene make_scene(const Case& c, const std::span<const double>* given) {
       s.topography.grid = slab;
     }
   }
+  check_surface_numbers(c, s, given ? "heights (given in place of the case's surface)" : nullptr);  // before anything is made of them
   try {
     s.half_space = make_half_space(s.grid, 1.0, c.grid.periodic);  // E* = 1 in reduced units
   } catch (const std::invalid_argument& e) {
     if (ranks() == 1) throw;
     throw CaseError(c.file + ": [grid]: " + e.what());
   }
-  build_interaction(c.interaction, s);
+  build_interaction(c, s);
   s.observables = c.observables;
   s.observables.cross_section_x = u.length(c.observables.cross_section_x);
   s.observables.contact_gap_threshold = u.length(c.observables.contact_gap_threshold);
   s.contact_rule = ContactRule::of(s.interaction, s.observables.contact_gap_threshold);
   build_targets(c.loading, s);
+  check_load_numbers(c, s);
   return s;
 }
 }  // namespace

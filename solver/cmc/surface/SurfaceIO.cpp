@@ -2,6 +2,7 @@
 
 #include "cmc/surface/SelfAffine.hpp"
 
+#include "cmc/grid/FilePaths.hpp"
 #include "cmc/surface/H5Handle.hpp"
 
 #include <algorithm>
@@ -103,19 +104,11 @@ void check_size(const fs::path& file, double lx, double ly) {
 }
 
 // ---------------------------------------------------------------- atomic writes
+// Through the one output-file helper (grid/FilePaths.hpp): a new path or a regular file,
+// replaced atomically; a folder, device, FIFO or link is refused before anything is written.
 template <class F>
 void write_atomic(const fs::path& file, F&& body) {
-  const fs::path tmp = file.string() + ".tmp" + std::to_string(::getpid());
-  try {
-    body(tmp);
-    std::error_code ec;
-    fs::rename(tmp, file, ec);
-    if (ec) throw SurfaceFileError(file, "cannot rename temporary file: " + ec.message());
-  } catch (...) {
-    std::error_code ec;
-    fs::remove(tmp, ec);
-    throw;
-  }
+  write_output_file(file, body);
 }
 
 void check_map(const fs::path& file, const HeightMap& map) {
