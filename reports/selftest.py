@@ -299,7 +299,7 @@ def transfer_checks():
 
 def realization_checks():
     """common.realization_rows: each run's a_r and mean gap against its own realization's reference,
-    the strategies' targets (issue 13: 3 % / 0.5 % at 2 rho, 6 % / 1 % at 4 rho) marked per cell and
+    the strategies' targets (3 % / 0.5 % at 2 rho, 6 % / 1 % at 4 rho) marked per cell and
     counted in the summary row, plain runs never marked."""
     sys.path.insert(0, HERE)
     from common import realization_rows

@@ -1,15 +1,15 @@
 #!/usr/bin/env bash
-# The main job (README, first command): install what is missing, build, then run the
+# The main job (README.md, first command): install what is missing, build, then run the
 # Contact Mechanics Challenge at the default grid (2048², the smallest that holds the whole
 # surface spectrum) and write the challenge report (reports/challenge/index.md):
 #   - the reference load (250 kPa) with and without adhesion (quantities 1, 3, 4, 5, 9);
 #   - with adhesion, the load sweep 12.5 kPa .. 100 MPa, to full contact (quantities 2 and
 #     8), and the Tabor sweep mu_T = 0.0562 .. 3 (quantities 6 and 7).
-# 12 to 14 min on 2 cores after the build (README). The hard-wall load sweep and the 4096²
-# runs that give the bands are scripts/sweeps.sh's (about an hour more); until they run the
-# report draws their stored reference curves (reference/challenge/) and says so.
+# 10 to 15 min on 2 cores after the build (docs/challenge/README.md). The hard-wall load
+# sweep and the 4096² runs that give the bands are scripts/sweeps.sh's (hours more); until
+# they run, the report draws their stored reference curves (reference/challenge/), saying so.
 #   scripts/main.sh            everything above
-#   scripts/main.sh --quick    only the two runs at the reference load (under a minute)
+#   scripts/main.sh --quick    only the two runs at the reference load (about two minutes)
 # Results: results/challenge-*/. A run interrupted half-way continues where it stopped
 # when this is run again; finished runs are kept.
 set -euo pipefail
