@@ -7,7 +7,8 @@
              `--benchmark_out=FILE --benchmark_out_format=json`); several files are merged, a later
              one's benchmark replacing an earlier one's of the same name
              (default reference/performance/cpu-benchmark.json)
-  --gpu      the CUDA backend's runs, reference/gpu/runs.json (scripts/gpu/store.py)
+  --gpu      the CUDA backend's runs: the run store reference/challenge/runs.json where it exists
+             (its records with backend "cuda"), else reference/gpu/runs.json (scripts/gpu/store.py)
   --cluster  the distributed runs' measurements, reference/cluster/measurements.json
              (scripts/cluster/measure.py); the cost model is scripts/cluster/cost_model.py's
   --out      where to write (default docs/performance-tables.md; '-': standard output)
@@ -25,7 +26,7 @@ import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DEFAULT_BENCH = "reference/performance/cpu-benchmark.json"
-DEFAULT_GPU = "reference/gpu/runs.json"
+GPU_STORES = ("reference/challenge/runs.json", "reference/gpu/runs.json")  # the run store, else the GPU runs' own
 DEFAULT_CLUSTER = "reference/cluster/measurements.json"
 DEFAULT_OUT = "docs/performance-tables.md"
 BENCH_COMMAND = ("CMC_THREADS=1 build/cmc_bench --benchmark_filter='(BM_FFTPair|BM_RowColumnPair|BM_PolonskyKeerIteration"
@@ -166,25 +167,29 @@ def stored_section(path, heading, key, kind, missing):
     return lines, data, part
 
 
-# ------------------------------------------------------------------ GPU: reference/gpu/runs.json
+# ------------------------------------------------------------------ GPU: the stored runs with backend "cuda"
 def gpu_section(path):
+    shown = os.path.relpath(path, ROOT)
     lines, _, recs = stored_section(path, "GPU", "records", list,
-                                    f"No GPU runs stored (`{DEFAULT_GPU}`: scripts/gpu/check.sh, then scripts/gpu/store.py).")
+                                    f"No GPU runs stored (`{shown}`: scripts/gpu/check.sh, then scripts/gpu/store.py).")
     if recs is None:
         return lines
+    recs = [r for r in recs if r.get("backend", "cuda") == "cuda"]
     order = {"hardwall": 0, "adhesive": 1, "shape": 2}
-    recs = sorted(recs, key=lambda r: (order.get(r.get("kind"), 3), r.get("tabor") or 0, r.get("n", 0)))
+    is_tabor = lambda r: str(r.get("kind", "")).startswith("tabor")  # noqa: E731
+    recs = sorted(recs, key=lambda r: (order.get(r.get("kind"), 3), (r.get("tabor") or 0) if is_tabor(r) else 0,
+                                       r.get("n", 0)))
     rows = []
     for r in recs:
         per = f"{num(r.get('time_per_iteration'))} / {num(r.get('time_per_fft_pair'))}"
-        case = r.get("kind", "?") if r.get("tabor") is None else f"Tabor sweep, μ_T = {r['tabor']:g}"
+        case = f"Tabor sweep, μ_T = {r['tabor']:g}" if is_tabor(r) and r.get("tabor") else r.get("kind", "?")
         rows.append([device_name(r.get("device", "")), case, f"{r.get('n')}²", r.get("outer_steps") or "–",
                      r.get("iterations", "–"), num(r.get("fft_pairs"), 5), num(r.get("solve_s")),
                      num(1e3 * r["fft_pair_s"]) if r.get("fft_pair_s") else "–", per,
                      num(r.get("a_r"), 4), num(1e6 * r["mean_gap_m"], 6) if r.get("mean_gap_m") else "–",
                      num(r.get("gpu_peak_mib", 0) / 1024, 3), r.get("status", "?")])
     lines += ["The challenge at 250 kPa on one GPU (`grid.backend = \"cuda\"`), as stored with each run's command "
-              f"in `{DEFAULT_GPU}`; the pair is cuFFT's r2c + c2r of the grid timed in the same run, and the ratios "
+              f"in `{shown}`; the pair is cuFFT's r2c + c2r of the grid timed in the same run, and the ratios "
               "are the solve's time per iteration and per FFT pair in units of it.", ""]
     lines += table(["device", "case", "grid", "outer steps", "iterations", "FFT pairs", "solve s", "cuFFT pair ms",
                     "per iteration / per pair", "a_r", "mean gap µm", "GPU peak GiB", "status"], rows) + [""]
@@ -232,14 +237,15 @@ def render(bench, gpu, cluster):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--bench", nargs="+", default=[DEFAULT_BENCH])
-    ap.add_argument("--gpu", default=DEFAULT_GPU)
+    ap.add_argument("--gpu", default=None, help="default: the first of " + ", ".join(GPU_STORES) + " that exists")
     ap.add_argument("--cluster", default=DEFAULT_CLUSTER)
     ap.add_argument("--out", default=DEFAULT_OUT)
     ap.add_argument("--check", action="store_true")
     a = ap.parse_args(argv)
     at = lambda p: p if os.path.isabs(p) else os.path.join(ROOT, p)  # noqa: E731
+    gpu = a.gpu or next((p for p in GPU_STORES if os.path.exists(at(p))), GPU_STORES[-1])
     try:
-        text = render([at(p) for p in a.bench], at(a.gpu), at(a.cluster))
+        text = render([at(p) for p in a.bench], at(gpu), at(a.cluster))
     except (InputError, KeyError, TypeError) as e:
         print(f"performance_tables: {e}", file=sys.stderr)
         return 2
