@@ -1,15 +1,15 @@
 // What the iteration benchmarks share: the FFT pairs of the benchmark's own grid timed in
 // the same run, and the counters that put an iteration's time in units of them.
 //
-// Two pairs are timed: FFTW's 2-D r2c + c2r (Fourier; `fft_pair_ms`, the yardstick of
-// issue 11 since wave 1) and cmc's own row-column pair (RowColumnFourier, the transforms
+// Two pairs are timed: FFTW's 2-D r2c + c2r (Fourier; `fft_pair_ms`, the first yardstick)
+// and cmc's own row-column pair (RowColumnFourier, the transforms
 // the Polonsky-Keer iteration runs on a periodic grid; `row_column_pair_ms`). Which one is
 // faster depends on the grid and on the plan FFTW's timing picked when the build made its
 // wisdom; `floor_pair_ms` is the faster of the two, the strictest yardstick this run has,
 // and the `_floor_pair` ratios divide by it. (On the 2-core machine a single timing of
 // FFTW's 2-D pair at 2048² moved between 16.5 and 30.9 ms across runs of one build, which
 // moved the old ratios by as much; the row-column pair stayed within 13.7-15.7 ms in the
-// same runs, 2026-11-28.)
+// same runs.)
 #pragma once
 
 #include "cmc/contact/Solver.hpp"

@@ -50,9 +50,9 @@ static void BM_RowColumnPair(benchmark::State& state) {
 // converged state at a 10 % lower load (so the iterations are those of a solve, not of
 // PK's cold uniform guess); the counters are the 20 iterations between them, and the
 // shorter solve's time beyond its iterations is setup_ms (MarginalCost, bench_common.hpp).
-// Until 2026-11-28 this was one solve of 20 iterations over its iterations, setup and the
-// final pass included (setup_ms at 2048², plain, in the two runs of README "Performance":
-// 59.6 and 63.2 ms a solve, about 3 ms of each of the 20 iterations).
+// One solve of 20 iterations over its iterations would count the setup and the final pass
+// too (setup_ms at 2048², plain, measured 59.6 and 63.2 ms a solve: about 3 ms of each of
+// the 20 iterations).
 static void pk_iteration(benchmark::State& state, bool precondition, bool fused = true) {
   const int n = int(state.range(0));
   SelfAffineSpec spec;

@@ -71,7 +71,7 @@ _UNIT = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}
 # the FFT pair of its grid, and the iteration's time in units of it.
 _SAME_RUN = ("fft_pair_ms", "fft_pairs_per_iteration", "iteration_over_fft_pair", "time_per_fft_pair")
 # Against the faster of FFTW's pair and cmc's row-column pair, where the benchmark has them
-# (since 2026-11-28).
+# (benchmarks of builds before the floor pair do not).
 _FLOOR = ("floor_pair_ms", "iteration_over_floor_pair", "time_per_floor_pair")
 
 
@@ -185,8 +185,8 @@ def _gpu(reference_dir, notes):
     lines += ["The challenge at 250 kPa with `grid.backend = \"cuda\"` (the Tabor sweep's rows at their own μ_T; "
               "command, device and date of each run in the store). The FFT pair is cuFFT's r2c + c2r of the grid, timed in the same run; the ratios divide the "
               "steps' solve time by it (per iteration, per FFT pair); \"in FFTs\" is the share of the solve time "
-              "inside the transforms. The adhesive runs dated 2026-11-26 ran their outer steps on the host, those "
-              "from 2026-11-27 on the device (README, \"GPU\").", ""]
+              "inside the transforms. The adhesive runs on the H100 ran their outer steps on the host, those on "
+              "the H200 on the device (docs/user-guide/gpu.md).", ""]
     rows = []
     for r in recs:
         peak = r.get("gpu_peak_mib")
@@ -243,11 +243,11 @@ def build(perf_dir, bench_path, out_dir, notes, reference_dir="reference"):
         path, rows = _bench_plot(fam, same, out_dir)
         ctx = raw.get("context", {}) if isinstance(raw, dict) else {}
         lines += [f"From `{bench_path}` ({ctx.get('date', '')}, {ctx.get('num_cpus', '?')} CPUs, "
-                  f"{ctx.get('host_name', '')}). The target (shared/notes/performance-targets.md) is an iteration "
+                  f"{ctx.get('host_name', '')}). The target (docs/performance.md) is an iteration "
                   "costing at most 1.2–1.3 FFT pairs. \"Per iteration\" is an iteration's time over the FFT-pair "
                   "time measured in the same benchmark's run (FFTW's 2-D pair; else over `BM_FFTPair`'s); \"per FFT "
                   "pair\" divides that by the iteration's FFT pairs; \"floor\" is the faster of FFTW's pair and cmc's "
-                  "row-column pair, timed in the same run, and the last column divides by it. Since 2026-11-28 an "
+                  "row-column pair, timed in the same run, and the last column divides by it. An "
                   "iteration benchmark's iteration is the loop's (the difference of two solves of different lengths, "
                   "setup excluded: its `setup_ms` counter); `BM_QuasiStaticSolve` stays a whole solve over its "
                   "iterations.", ""]

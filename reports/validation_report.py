@@ -169,7 +169,7 @@ def _westergaard_profiles(case, summary, folder, ref_dir, out_dir, notes):
 
 
 def _adhesive_refinement(ref_dir, out_dir):
-    """Issue 13: the error of each adhesive quantity against dx/rho on the scaled challenge
+    """The error of each adhesive quantity against dx/rho on the scaled challenge
     family (reference/challenge-scaled/scaled_family.json, scripts/scaled_family.py), plain
     and with the resolution strategies, on log axes, with the observed order of the plain runs."""
     path = os.path.join(ref_dir, "challenge-scaled", "scaled_family.json")

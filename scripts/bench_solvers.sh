@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Whole-solve benchmark: the challenge surface at the reference load (250 kPa), with
-# adhesion (the quasi-static loading-branch solver, 'adhesive', beside the wave-1 adhesive
+# adhesion (the quasi-static loading-branch solver, 'adhesive', beside the adhesive
 # CG, 'adhesive-cg', kept runnable for this comparison) and without (Polonsky-Keer), on
 # several grids. Prints, per run,
 # what cmc measured in that run: iterations, FFT pairs, wall time of the solves, the time
@@ -17,7 +17,7 @@
 #   --label NAME  name of this set of runs in the table and under DIR (default: current)
 #   --out DIR     where the runs go (default: results/bench); finished runs are reused
 # Also runs the hard wall on the surface of the ContactMechanics timings in
-# ../shared/notes/performance-targets.md (short cutoff 4 grid spacings; 'hardwall-peer')
+# docs/performance.md (short cutoff 4 grid spacings; 'hardwall-peer')
 # and writes speed-against-error records to results/performance/bench-LABEL.json for
 # reports/performance/ (scripts/report.sh): per run, the relative error of a_r and of the
 # mean gap against the finest grid of the same kind (so the finest has none).
@@ -59,7 +59,8 @@ mkdir -p results/performance
 import json, os, sys
 top, label, runs = sys.argv[1], sys.argv[2], sys.argv[3:]
 # ContactMechanics (Pastewka group), Polonsky-Keer CG at its default tolerance, on the
-# 'hardwall-peer' surface: ../shared/notes/performance-targets.md (iterations, wall s).
+# 'hardwall-peer' surface, measured on a 2-core machine like ours (iterations, wall s;
+# docs/performance.md).
 PEER = {512: (43, 2.2), 1024: (75, 16.5), 2048: (132, 148.0)}
 def get(d, *keys):
     for k in keys:
@@ -110,7 +111,7 @@ for (kind, n), s in sorted(summ.items()):
         it, wall = PEER[n]
         records.append({"case": "ContactMechanics hardwall-peer (note)", "grid": f"{n}²", "wall_s": wall,
                         "iterations": it, "error": {},
-                        "source": "../shared/notes/performance-targets.md"})
+                        "source": "ContactMechanics on a 2-core machine (docs/performance.md)"})
 path = os.path.join("results", "performance", f"bench-{label}.json")
 tmp = path + ".tmp"
 with open(tmp, "w") as f:

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Fuzz cmc's input readers with libFuzzer (README "Tests"): the case parser with --set
+# Fuzz cmc's input readers with libFuzzer (docs/developer/testing.md): the case parser with --set
 # overrides (case), the ASCII and Fourier-list height readers (ascii_heights), the HDF5
 # height reader on well-formed files of every shape (hdf5_heights) and the reader and
 # scorer of `cmc check` (check_csv); on demand, the HDF5 reader on raw bytes (hdf5_bytes).

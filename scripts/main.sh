@@ -1,16 +1,16 @@
 #!/usr/bin/env bash
-# The main job (README, first command): install what is missing, build, then run the
+# The main job (README.md, first command): install what is missing, build, then run the
 # Contact Mechanics Challenge at the default grid (2048², the smallest that holds the whole
 # surface spectrum) and write the challenge report (reports/challenge/index.md):
 #   - the reference load (250 kPa) with and without adhesion (quantities 1, 3, 4, 5, 9);
 #   - with adhesion, the load sweep 12.5 kPa .. 100 MPa, to full contact (quantities 2 and
 #     8), and the Tabor sweep mu_T = 0.001 .. 3 (quantities 6 and 7, 15 values).
-# About 16 min on 2 cores after the build. The report opens with the stored best estimates
+# About 16 min on 2 cores after the build (docs/challenge/README.md). The report opens with the stored best estimates
 # (reference/challenge/best_estimates.json: the finest runs the project has, CPU or GPU) and
 # puts these runs beside them; scripts/sweeps.sh and scripts/gpu/reference_plan.py make the
 # runs behind the best estimates.
 #   scripts/main.sh            everything above
-#   scripts/main.sh --quick    only the two runs at the reference load (under a minute)
+#   scripts/main.sh --quick    only the two runs at the reference load (about two minutes)
 # Results: results/challenge-*/. A run interrupted half-way continues where it stopped
 # when this is run again; finished runs are kept.
 set -euo pipefail

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The distributed build and its tests (README "Running on a cluster"; scripts/test.sh
+# The distributed build and its tests (docs/user-guide/cluster.md; scripts/test.sh
 # runs this after the tests): configures and builds ./build-mpi with -DCMC_MPI=ON (the
 # program only; Open MPI and FFTW's MPI interface from Debian, installed by
 # scripts/setup.sh; the FFT wisdom is the main build's), then runs the tests labelled

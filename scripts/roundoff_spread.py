@@ -8,7 +8,7 @@ A rerun of one build at one thread count gives the same bits (ctest rerun.same_b
 builds may not: each plans its FFTs at build time (FFTW_MEASURE, timed), and plans that
 round differently, or another thread count (another summation order), move the adhesive
 solution where it is marginally stable (at dx = 24 rho every grid point is bistable). That
-spread is part of the error of every adhesive number (issue 11); this script measures it
+spread is part of the error of every adhesive number; this script measures it
 from pairs of finished runs of the same case (same loads, step by step) and writes, per
 pair and over all pairs, the largest relative difference of a_r, repulsive a_r and mean
 gap, with each run's thread count and built-in wisdom fingerprint (summary.json grid; older

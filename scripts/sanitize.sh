@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The unit tests and the quick validation cases built with AddressSanitizer and
-# UndefinedBehaviorSanitizer (README "Tests"; scripts/test.sh runs this after the tests).
+# UndefinedBehaviorSanitizer (docs/developer/testing.md; scripts/test.sh runs this after the tests).
 #
 # usage: scripts/sanitize.sh [ctest arguments]     default: -L 'quick|validation' -LE slow
 #

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The scaled challenge family (issue 13): converged adhesive references where they are
+"""The scaled challenge family: converged adhesive references where they are
 affordable, and plain coarse runs beside them.
 
     /usr/bin/python3 scripts/scaled_family.py [--s 32 16] [--coarse 2 4] [--grids N ...] [--no-resolved]
@@ -29,13 +29,13 @@ branch at 250 kPa:
 --start-from, solver/cmc/output/CoarseStart.hpp; the refinement run then writes its fields
 into n<N>-fields/): about 0.6 of a cold start's FFT pairs, with the same a_r where measured
 (s = 32 at 2048²; s = 16 at 4096²); its record says so ("start_from"). The s = 8 member's
-8192² run needs it, and still outlasts a session here (1503 iterations in 73 outer steps and
-2.4 h, unconverged: README, "s = 8, provisionally"); it resumes from its checkpoint.
+8192² run needs it, and still takes hours on 2 cores (1503 iterations in 73 outer steps and
+2.4 h, unconverged); it resumes from its checkpoint.
 --max-outer-resolved N caps the resolved run's outer steps (solver.max_outer_steps; cmc's
 default 1000). A resumed run may lower the cap to just above the outer steps it has made
-(README, "Resuming"): it then stops there, status not_converged, and the stored reference
-says so (its status and last tension change), for a run that creeps for hours towards its
-tension tolerance (s = 8).
+(docs/user-guide/command-line.md): it then stops there, status not_converged, and the
+stored reference says so (its status and last tension change), for a run that creeps for
+hours towards its tension tolerance (s = 8).
 rho(s) is read from `cmc surface` (dx_over_range), never assumed. Runs go to
 RESULTS/s<S>/n<N>/ with --resume: a finished run is kept, an interrupted one resumes.
 
@@ -82,7 +82,7 @@ CASE_HW = "cases/challenge/scaled-family-hardwall.toml"  # the same surfaces und
 L = 1.0e-4                 # m, the case's grid.size
 LAMBDA_S1, W1 = 0.1e-6, 0.05  # the challenge's cutoff (m) and work of adhesion (J/m²), s = 1
 # The resolution strategies' runs: the coarse grids with the range or the shape coarse-graining
-# (cases/README.md, [interaction] coarse_graining; solver/cmc/contact/Interaction.hpp,
+# (docs/user-guide/case-files.md, [interaction] coarse_graining; solver/cmc/contact/Interaction.hpp,
 # coarse_grained_range and shape_coarse_grained).
 STRATEGY = {"range": ['interaction.coarse_graining="range"'], "shape": ['interaction.coarse_graining="shape"']}
 
@@ -271,7 +271,7 @@ def readme(data, store_dir):
              "that leaves no point bistable, a linear head of slope K_ii/2 joined to an exponential tail, or where "
              "even that is bistable the triangle with a lower peak. Both with a margin of 2 in stiffness; "
              "derivations and citations in `solver/cmc/contact/Interaction.hpp`. "
-             "Issue 13's targets for a strategy: a_r within 3 % and 6 %, mean gap within 0.5 % and 1 % of the "
+             "The targets for a strategy: a_r within 3 % and 6 %, mean gap within 0.5 % and 1 % of the "
              "reference at dx = 2 ρ and 4 ρ; the table below says which each meets.", ""]
     for m in data["members"]:
         ref = m["reference"]
@@ -291,7 +291,7 @@ def readme(data, store_dir):
                           f"\"{res.get('message') or 'no message'}\". The loading-branch iteration is monotone (gaps "
                           "only fall, points only join the contact), so the converged a_r is at least the stored one and "
                           "the converged mean gap at most; how far the creep would still move them is not known from "
-                          "the run (README, \"s = 8\", gives what its checkpoints showed)."]
+                          "the run (docs/theory/coarse-graining.md gives what its checkpoints showed)."]
         lines += ["", "| run | grid | dx/ρ | a_r | repulsive a_r | mean gap (m) | iterations | FFT pairs | wall (s) | status |",
                   "|---|---|---|---|---|---|---|---|---|---|"]
         for r in m["runs"]:
@@ -398,14 +398,15 @@ def main():
     ap.add_argument("--no-resolved", action="store_true", help="skip the resolved and refinement grids")
     ap.add_argument("--refinement-only", action="store_true",
                     help="of the resolved and refinement grids, run only the refinement grid (and the hard wall on it "
-                         "and on half of it): a member whose resolved run does not fit the session (s = 8)")
+                         "and on half of it): a member whose resolved run takes too long for one sitting (s = 8)")
     ap.add_argument("--start-resolved", action="store_true",
                     help="start the resolved grid's run from the refinement grid's answer (cmc run --start-from; "
                          "the refinement run then writes its fields, into nN-fields): the resolved run takes about "
                          "0.6 of a cold start's FFT pairs")
     ap.add_argument("--max-outer-resolved", type=int, default=None, metavar="N",
                     help="the resolved run's cap on outer steps (solver.max_outer_steps): a resumed run may lower it "
-                         "to just above where it stands, and stops there unconverged (README, 'Resuming')")
+                         "to just above where it stands, and stops there unconverged "
+                         "(docs/user-guide/command-line.md)")
     ap.add_argument("--no-plain", action="store_true",
                     help="skip the plain runs of --coarse and --grids (e.g. to store a strategy's run on a grid whose "
                          "plain run is not made yet; --store keeps the stored plain runs)")

@@ -29,7 +29,7 @@ fi
 jobs=$(nproc 2>/dev/null || echo 2)
 # The FFT plans compiled into cmc are timed (FFTW_MEASURE) once per machine and kept in
 # this machine's cache, so that every build and every clone here plans alike and gives the
-# same bits (README "Reproducibility"). Keyed by FFTW's version, the CPU's model and flags
+# same bits (docs/developer/reproducibility.md). Keyed by FFTW's version, the CPU's model and flags
 # and the core count, and by the planning tool's sources (a build that plans other
 # transforms, e.g. RowColumnFourier's column blocks, does not take an older set);
 # CMC_WISDOM_CACHE=off plans anew for this build and keeps nothing.

@@ -46,15 +46,14 @@ scripts/tabor_sweep.sh
 # The Tabor sweep refined on the challenge itself where rho is long (a bistability number
 # w dx/(E* rho^2) <= 1.49 on the coarser grid of a pair, as on the family's refinement grids:
 # mu_T <= 0.562): the bands of items 6 and 7 there (python/cmc/analysis/refinement.py own_band). About 10
-# min for the five 4096² runs and 65 min for the five 8192² ones on 2 cores (2026-11-27).
+# min for the five 4096² runs and 65 min for the five 8192² ones on 2 cores.
 low="0.001 0.00178 0.00316 0.00562 0.01 0.0178 0.0316 0.0562 0.1 0.178 0.316 0.562"
 scripts/tabor_sweep.sh --grid 4096 --tabor "$low"
 scripts/tabor_sweep.sh --grid 8192 --tabor "$low"
 # mu_T = 1 on the same two grids (b = 1.26 and 0.63). On 4096² with inner solves to 1e-8: at the
 # case's 1e-6 that run's outer iteration is held up by the inner solves' error and stops at its
-# cap after 1000 outer steps (README, "Creep that is the inner solves' error"); 4 min on 2 cores.
-# On 8192² the same (at 1e-6 it crept for 156 outer steps and was stopped; README, the
-# Tabor sweep's mu_T = 1 bullet). The stored run was started from the 4096² one (--start-from) and
+# cap after 1000 outer steps (docs/theory/loading-branch.md, "Creep"); 4 min on 2 cores.
+# On 8192² the same (at 1e-6 it crept for 156 outer steps and was stopped). The stored run was started from the 4096² one (--start-from) and
 # took 66 min on 2 cores; this line starts from out of contact (not timed).
 scripts/tabor_sweep.sh --grid 4096 --tabor 1.0 --set solver.tolerance=1e-8
 scripts/tabor_sweep.sh --grid 8192 --tabor 1.0 --set solver.tolerance=1e-8

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The test command (README, second command; CI runs exactly this through .ci/run):
+# The test command (README.md, second command; CI runs exactly this through .ci/run):
 # install what is missing, build, and run
 #   1. every ctest test that is not labelled 'slow' (labels: quick = unit tests and CLI
 #      checks, validation = analytic checks, challenge = the challenge cases at 256², hard

@@ -1,6 +1,6 @@
-// cases/README.md documents every key with its default; the code's defaults are the spec
-// structs' initialisers, listed by case_defaults(). This test reads the README's tables
-// and fails when a documented default differs from the code's, or when a key is
+// docs/user-guide/case-files.md documents every key with its default; the code's defaults
+// are the spec structs' initialisers, listed by case_defaults(). This test reads that page's
+// tables and fails when a documented default differs from the code's, or when a key is
 // documented in one and missing from the other, so the two cannot drift apart again.
 #include "cmc/input/Case.hpp"
 
@@ -71,9 +71,9 @@ std::map<Key, std::string> documented_defaults(const std::string& path) {
 
 }  // namespace
 
-TEST(Defaults, CasesReadmeMatchesTheCode) {
-  const auto docs = documented_defaults(std::string(CMC_SOURCE_DIR) + "/cases/README.md");
-  ASSERT_GT(docs.size(), 40u) << "the README's key tables were not found";
+TEST(Defaults, CaseFilesPageMatchesTheCode) {
+  const auto docs = documented_defaults(std::string(CMC_SOURCE_DIR) + "/docs/user-guide/case-files.md");
+  ASSERT_GT(docs.size(), 40u) << "the key tables of docs/user-guide/case-files.md were not found";
   std::map<Key, std::string> code;
   for (const auto& d : case_defaults()) code[{d.section, d.key}] = d.text;
   for (const auto& [key, text] : docs) {
@@ -83,11 +83,11 @@ TEST(Defaults, CasesReadmeMatchesTheCode) {
       continue;
     }
     EXPECT_EQ(text, it->second) << "[" << key.first << "] " << key.second
-                                << ": cases/README.md documents the default on the left, the code uses the right";
+                                << ": docs/user-guide/case-files.md documents the default on the left, the code uses the right";
   }
   for (const auto& [key, text] : code)
     EXPECT_TRUE(docs.count(key)) << "[" << key.first << "] " << key.second << " (default " << text
-                                 << ") is not documented in cases/README.md";
+                                 << ") is not documented in docs/user-guide/case-files.md";
 }
 
 // The table states what the parser does: a case that gives only the required keys gets
@@ -118,7 +118,7 @@ values = [0.1]
   EXPECT_EQ(c.loading.max_halvings, LoadingSpec{}.max_halvings);
   EXPECT_EQ(c.observables.cross_section_x, ObservablesSpec::kCrossSectionFraction);
   EXPECT_EQ(c.observables.stress_bins, ObservablesSpec{}.stress_bins);
-  // And the resolved case shows them as cases/README.md does.
+  // And the resolved case shows them as docs/user-guide/case-files.md does.
   EXPECT_EQ(c.resolved["solver"]["recompute_every"].value<int64_t>(), 32);
   EXPECT_EQ(c.resolved["surface"]["hurst"].value<double>(), 0.8);
 }

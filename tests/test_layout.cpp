@@ -17,7 +17,8 @@
 namespace fs = std::filesystem;
 
 namespace {
-// What each folder may include (besides itself). Keep README.md's layout table in step.
+// What each folder may include (besides itself). Keep the table of
+// docs/developer/architecture.md in step.
 const std::map<std::string, std::set<std::string>> kAllowed = {
     {"grid", {}},
     {"analytic", {}},
@@ -43,7 +44,7 @@ TEST(Layout, FoldersIncludeOnlyUpstream) {
     seen.insert(folder);
     const auto it = kAllowed.find(folder);
     if (it == kAllowed.end()) {
-      bad << "\n  " << e.path().string() << ": folder '" << folder << "' is not in the layout (add it to kAllowed and README.md)";
+      bad << "\n  " << e.path().string() << ": folder '" << folder << "' is not in the layout (add it to kAllowed and docs/developer/architecture.md)";
       continue;
     }
     std::ifstream in(e.path());

@@ -68,7 +68,7 @@ TEST(Writer, WritesSummaryAndFieldsOnlyWhenFinished) {
   ASSERT_NE(st, std::string::npos);
   EXPECT_EQ(j.find("\"converged\"", st), j.find('"', j.find(':', st)));  // "status" : "converged"
   EXPECT_NE(j.find("\"steps\""), std::string::npos);
-  // What decides the round-off (README "Reproducibility"): the thread count and the
+  // What decides the round-off (docs/developer/reproducibility.md): the thread count and the
   // fingerprint of the build's FFT plans, 16 hex digits.
   EXPECT_NE(j.find("\"threads\" : " + std::to_string(thread_count())), std::string::npos);
   const std::string fp = builtin_wisdom_fingerprint();

@@ -25,7 +25,7 @@ endmacro()
 if(KIND STREQUAL "hardwall")
   # Hard wall, small load: a_r = kappa p / (E* g) with kappa close to 2 (e.g. Hyun, Pei,
   # Molinari & Robbins, PRE 70, 026117 (2004); Prodanov, Dapp & Müser, Tribol. Lett. 53,
-  # 433 (2014); cmc's own refinement study in the README: 2.01 at 2048², 2.00 at 4096²,
+  # 433 (2014); cmc's own refinement study (docs/validation.md): 2.01 at 2048², 2.00 at 4096²,
   # perimeter-corrected). Here p/E* = 0.01 and g = 0.626073 (rms gradient of the 256²
   # preview, `cmc surface ... --set grid.n=256`), so kappa in [1.7, 2.3] means a corrected
   # contact fraction in [0.02715, 0.03674]. Measured: 0.03357 (kappa = 2.10).

@@ -37,7 +37,7 @@ set_tests_properties(analysis.unit PROPERTIES LABELS "quick;python")
 # The report scripts on synthetic inputs (Debian's python3 with matplotlib/h5py).
 add_test(NAME reports.selftest COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/reports/selftest.py)
 set_tests_properties(reports.selftest PROPERTIES LABELS "quick;python")
-# scripts/scaled_family.py's realizations (issue 13): --seed, and error bars over every
+# scripts/scaled_family.py's realizations: --seed, and error bars over every
 # stored realization (tests/scaled_family_test.py says what each checks; no cmc run).
 foreach(t seed_flag reestimate conditions bands own_refinement)
   add_test(NAME scaled_family.${t} COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/tests/scaled_family_test.py ${t})
@@ -138,11 +138,11 @@ set_tests_properties(cli.progress_in_log_hardwall PROPERTIES LABELS quick
 add_test(NAME cli.progress_every_malformed
          COMMAND sh -c "rm -rf ${CMAKE_BINARY_DIR}/cli_progress_bad; CMC_PROGRESS_EVERY=-1 $<TARGET_FILE:cmc> run ${CMAKE_SOURCE_DIR}/cases/challenge/reference-load.toml --set grid.n=128 --out ${CMAKE_BINARY_DIR}/cli_progress_bad 2>${CMAKE_BINARY_DIR}/cli_progress_bad.err; rc=$?; grep -q CMC_PROGRESS_EVERY ${CMAKE_BINARY_DIR}/cli_progress_bad.err && test $rc -eq 2 && test ! -e ${CMAKE_BINARY_DIR}/cli_progress_bad")
 set_tests_properties(cli.progress_every_malformed PROPERTIES LABELS quick)
-# The GPU scripts' CPU half (issue 16): scripts/gpu/check.sh runs a case through a packed
+# The GPU scripts' CPU half: scripts/gpu/check.sh runs a case through a packed
 # build (here a pack of this build's cmc) and prints its line, and scripts/gpu/store.py
 # stores that run with its provenance; the stored record must carry the run's own answer.
 set(CMC_GPU_SCRIPTS ${CMAKE_BINARY_DIR}/gpu-scripts)
-cmc_cli_test(gpu_scripts.check_and_store "rm -rf ${CMC_GPU_SCRIPTS} && mkdir -p ${CMC_GPU_SCRIPTS}/pack/bin && ln -s $<TARGET_FILE:cmc> ${CMC_GPU_SCRIPTS}/pack/bin/cmc && : > ${CMC_GPU_SCRIPTS}/pack/env.sh && CMC_THREADS=1 ${CMAKE_SOURCE_DIR}/scripts/gpu/check.sh --pack ${CMC_GPU_SCRIPTS}/pack --out ${CMC_GPU_SCRIPTS}/out cpu-hardwall:64 | grep -Eq '^cpu-hardwall-64 +[0-9]+ .* converged$' && /usr/bin/python3 ${CMAKE_SOURCE_DIR}/scripts/gpu/store.py --device test --date 2026-01-01 --store ${CMC_GPU_SCRIPTS}/runs.json ${CMC_GPU_SCRIPTS}/out && /usr/bin/python3 -c \"import json; r = json.load(open('${CMC_GPU_SCRIPTS}/runs.json'))['records']; s = json.load(open('${CMC_GPU_SCRIPTS}/out/runs/cpu-hardwall-64/summary.json')); assert len(r) == 1 and r[0]['tag'] == 'cpu-hardwall-64' and r[0]['a_r'] == s['steps'][0]['contact_fraction'] and r[0]['iterations'] == s['timing']['iterations'], r\"")
+cmc_cli_test(gpu_scripts.check_and_store "rm -rf ${CMC_GPU_SCRIPTS} && mkdir -p ${CMC_GPU_SCRIPTS}/pack/bin && ln -s $<TARGET_FILE:cmc> ${CMC_GPU_SCRIPTS}/pack/bin/cmc && : > ${CMC_GPU_SCRIPTS}/pack/env.sh && CMC_THREADS=1 ${CMAKE_SOURCE_DIR}/scripts/gpu/check.sh --pack ${CMC_GPU_SCRIPTS}/pack --out ${CMC_GPU_SCRIPTS}/out cpu-hardwall:64 | grep -Eq '^cpu-hardwall-64 +[0-9]+ .* converged$' && /usr/bin/python3 ${CMAKE_SOURCE_DIR}/scripts/gpu/store.py --device test --date $(date -u +%F) --store ${CMC_GPU_SCRIPTS}/runs.json ${CMC_GPU_SCRIPTS}/out && /usr/bin/python3 -c \"import json; r = json.load(open('${CMC_GPU_SCRIPTS}/runs.json'))['records']; s = json.load(open('${CMC_GPU_SCRIPTS}/out/runs/cpu-hardwall-64/summary.json')); assert len(r) == 1 and r[0]['tag'] == 'cpu-hardwall-64' and r[0]['a_r'] == s['steps'][0]['contact_fraction'] and r[0]['iterations'] == s['timing']['iterations'], r\"")
 set_tests_properties(gpu_scripts.check_and_store PROPERTIES LABELS "quick;python")
 # check.sh's tabor:N:MU stage (one point of the Tabor sweep; here on the CPU): the run has
 # that mu_T, store.py keeps it as kind tabor_mu<MU> with its mu_T, and a mu_T that is not
@@ -150,7 +150,7 @@ set_tests_properties(gpu_scripts.check_and_store PROPERTIES LABELS "quick;python
 # solver.max_seconds below check.sh's cap (300 s by default), which its case records; one
 # given with --set is kept as given, and no second one is added.
 set(CMC_GPU_TABOR ${CMAKE_BINARY_DIR}/gpu-tabor)
-cmc_cli_test(gpu_scripts.tabor_stage "rm -rf ${CMC_GPU_TABOR} && mkdir -p ${CMC_GPU_TABOR}/pack/bin && ln -s $<TARGET_FILE:cmc> ${CMC_GPU_TABOR}/pack/bin/cmc && : > ${CMC_GPU_TABOR}/pack/env.sh && CMC_THREADS=1 ${CMAKE_SOURCE_DIR}/scripts/gpu/check.sh --pack ${CMC_GPU_TABOR}/pack --out ${CMC_GPU_TABOR}/out cpu-tabor:64:0.316 | grep -Eq '^cpu-tabor_mu0.316-64 +[0-9]+ .* converged$' && { CMC_THREADS=1 ${CMAKE_SOURCE_DIR}/scripts/gpu/check.sh --pack ${CMC_GPU_TABOR}/pack --out ${CMC_GPU_TABOR}/bad cpu-tabor:64:0.3 2>${CMC_GPU_TABOR}/bad.err; test $? -eq 2; } && grep -q '0.0562 0.1 0.178' ${CMC_GPU_TABOR}/bad.err && /usr/bin/python3 ${CMAKE_SOURCE_DIR}/scripts/gpu/store.py --device test --date 2026-01-01 --store ${CMC_GPU_TABOR}/runs.json ${CMC_GPU_TABOR}/out && /usr/bin/python3 -c \"import json; r = json.load(open('${CMC_GPU_TABOR}/runs.json'))['records']; s = json.load(open('${CMC_GPU_TABOR}/out/runs/cpu-tabor_mu0.316-64/summary.json')); assert len(r) == 1 and r[0]['kind'] == 'tabor_mu0.316' and r[0]['tabor'] == 0.316 == s['case']['interaction']['tabor'] and r[0]['a_r'] == s['steps'][0]['contact_fraction'], r; v = [float(a.split('=')[1]) for a in open('${CMC_GPU_TABOR}/out/cpu-tabor_mu0.316-64.command').read().split() if a.startswith('solver.max_seconds=')]; assert len(v) == 1 and 0 < v[0] < 300 and s['case']['solver']['max_seconds'] == v[0], v\" && CMC_THREADS=1 ${CMAKE_SOURCE_DIR}/scripts/gpu/check.sh --pack ${CMC_GPU_TABOR}/pack --out ${CMC_GPU_TABOR}/given --set solver.max_seconds=250 cpu-tabor:64:0.316 | grep -Eq '^cpu-tabor_mu0.316-64 +[0-9]+ .* converged$' && test \"$(grep -o 'solver.max_seconds=[0-9.]*' ${CMC_GPU_TABOR}/given/cpu-tabor_mu0.316-64.command)\" = solver.max_seconds=250")
+cmc_cli_test(gpu_scripts.tabor_stage "rm -rf ${CMC_GPU_TABOR} && mkdir -p ${CMC_GPU_TABOR}/pack/bin && ln -s $<TARGET_FILE:cmc> ${CMC_GPU_TABOR}/pack/bin/cmc && : > ${CMC_GPU_TABOR}/pack/env.sh && CMC_THREADS=1 ${CMAKE_SOURCE_DIR}/scripts/gpu/check.sh --pack ${CMC_GPU_TABOR}/pack --out ${CMC_GPU_TABOR}/out cpu-tabor:64:0.316 | grep -Eq '^cpu-tabor_mu0.316-64 +[0-9]+ .* converged$' && { CMC_THREADS=1 ${CMAKE_SOURCE_DIR}/scripts/gpu/check.sh --pack ${CMC_GPU_TABOR}/pack --out ${CMC_GPU_TABOR}/bad cpu-tabor:64:0.3 2>${CMC_GPU_TABOR}/bad.err; test $? -eq 2; } && grep -q '0.0562 0.1 0.178' ${CMC_GPU_TABOR}/bad.err && /usr/bin/python3 ${CMAKE_SOURCE_DIR}/scripts/gpu/store.py --device test --date $(date -u +%F) --store ${CMC_GPU_TABOR}/runs.json ${CMC_GPU_TABOR}/out && /usr/bin/python3 -c \"import json; r = json.load(open('${CMC_GPU_TABOR}/runs.json'))['records']; s = json.load(open('${CMC_GPU_TABOR}/out/runs/cpu-tabor_mu0.316-64/summary.json')); assert len(r) == 1 and r[0]['kind'] == 'tabor_mu0.316' and r[0]['tabor'] == 0.316 == s['case']['interaction']['tabor'] and r[0]['a_r'] == s['steps'][0]['contact_fraction'], r; v = [float(a.split('=')[1]) for a in open('${CMC_GPU_TABOR}/out/cpu-tabor_mu0.316-64.command').read().split() if a.startswith('solver.max_seconds=')]; assert len(v) == 1 and 0 < v[0] < 300 and s['case']['solver']['max_seconds'] == v[0], v\" && CMC_THREADS=1 ${CMAKE_SOURCE_DIR}/scripts/gpu/check.sh --pack ${CMC_GPU_TABOR}/pack --out ${CMC_GPU_TABOR}/given --set solver.max_seconds=250 cpu-tabor:64:0.316 | grep -Eq '^cpu-tabor_mu0.316-64 +[0-9]+ .* converged$' && test \"$(grep -o 'solver.max_seconds=[0-9.]*' ${CMC_GPU_TABOR}/given/cpu-tabor_mu0.316-64.command)\" = solver.max_seconds=250")
 set_tests_properties(gpu_scripts.tabor_stage PROPERTIES LABELS "quick;python")
 # scripts/gpu/batch.sh: a stage with its cap and a case override runs through check.sh, and
 # its results (the summary, the command with the override) come back in the tarball.
@@ -163,3 +163,20 @@ set_tests_properties(gpu_scripts.batch PROPERTIES LABELS "quick;python")
 add_test(NAME gpu_scripts.reference_plan
          COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/tests/reference_plan_test.py $<TARGET_FILE:cmc>)
 set_tests_properties(gpu_scripts.reference_plan PROPERTIES LABELS "quick;python" TIMEOUT 300)
+
+# The docs check (scripts/check_docs.py; docs/developer/testing.md): every relative link and
+# every repository path named in README.md and docs/ exists, and the README's quickstarts run
+# (on 64² grids, in a mirror of the repository, with this build's cmc). The checker fails on
+# what it is there to catch (tests/check_docs_test.py), and the stored performance tables are
+# what scripts/performance_tables.py makes from the stored measurements.
+add_test(NAME docs.links COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/scripts/check_docs.py --links-only)
+add_test(NAME docs.quickstarts
+         COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/scripts/check_docs.py --quickstarts-only --build ${CMAKE_BINARY_DIR})
+add_test(NAME docs.checker_fails_on_broken_links
+         COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/tests/check_docs_test.py ${CMAKE_BINARY_DIR})
+add_test(NAME docs.performance_tables COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/scripts/performance_tables.py --check)
+set_tests_properties(docs.links docs.quickstarts docs.checker_fails_on_broken_links docs.performance_tables
+                     PROPERTIES LABELS "quick;python" TIMEOUT 300)
+# The README's headline table is what scripts/headline_table.py makes of the stored best estimates.
+add_test(NAME docs.headline COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/scripts/headline_table.py --check)
+set_tests_properties(docs.headline PROPERTIES LABELS "quick;python")

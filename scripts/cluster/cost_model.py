@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The cost of the challenge at large grids on a cluster (README "Running on a cluster").
+"""The cost of the challenge at large grids on a cluster (docs/user-guide/cluster.md).
 
 usage: scripts/cluster/cost_model.py [--measurements reference/cluster/measurements.json]
                                      [--memory-per-rank-gb 3.5] [--efficiency 0.5]
@@ -44,7 +44,7 @@ def main():
     ap.add_argument("--efficiency", type=float, default=0.5)
     ap.add_argument("--hours", type=float, default=24.0, help="the longest run wanted (ranks are added until it fits)")
     ap.add_argument("--sizes", type=int, nargs="+", default=[16384, 32768, 65536])
-    ap.add_argument("--markdown", action="store_true", help="a Markdown table (as in the README)")
+    ap.add_argument("--markdown", action="store_true", help="a Markdown table (as in docs/performance-tables.md)")
     a = ap.parse_args()
     if not os.path.exists(a.measurements):
         sys.exit(f"cost_model.py: {a.measurements} not found: run scripts/cluster/measure.py first")

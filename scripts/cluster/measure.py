@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Measure what the cluster cost model needs, on this machine (README "Running on a cluster").
+"""Measure what the cluster cost model needs, on this machine (docs/user-guide/cluster.md).
 
 usage: scripts/cluster/measure.py [--out reference/cluster/measurements.json] [--sizes 1024 2048 4096]
                                   [--solvers polonsky_keer adhesive_cg quasi_static]
@@ -16,7 +16,7 @@ a process holds whatever the grid: libraries, MPI). The whole-solve counts (FFT 
 of a converged run at 512^2 .. 2048^2, and the run's time per FFT pair) are taken from
 the benchmark runs of scripts/bench_solvers.sh (results/bench/current) where present,
 else from the stored measurements. scripts/cluster/cost_model.py turns these into the
-table of the README.
+table of docs/performance-tables.md.
 """
 import argparse
 import datetime
@@ -92,7 +92,7 @@ def main():
                 runs[solver].append(r)
     baseline = run(1, SOLVERS["polonsky_keer"][0], [], 64, os.path.join(work, "baseline"))["peak_mb_largest_rank"]
     doc = {
-        "what": "measurements for scripts/cluster/cost_model.py (README 'Running on a cluster')",
+        "what": "measurements for scripts/cluster/cost_model.py (docs/user-guide/cluster.md)",
         "command": "scripts/cluster/measure.py --sizes " + " ".join(map(str, a.sizes))
                    + " --solvers " + " ".join(a.solvers),
         "date": datetime.date.today().isoformat(),

@@ -1,5 +1,5 @@
 // Shared pieces of the libFuzzer targets in tests/fuzz (built with -DCMC_FUZZ=ON, run by
-// scripts/fuzz.sh; README "Tests").
+// scripts/fuzz.sh; docs/developer/testing.md).
 //
 // cmc's readers take a path, so a fuzz input is handed to them as a file, rewritten for
 // every input: the readers run exactly as `cmc` runs them. The file lives in a private

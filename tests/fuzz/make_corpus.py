@@ -61,9 +61,9 @@ def case_corpus():
 
 def case_dictionary():
     """tests/fuzz/case.dict (libFuzzer -dict): the sections, keys and kind words of a case
-    file (cases/README.md's tables, input/Kinds.hpp's words) and some TOML, so that
+    file (docs/user-guide/case-files.md's tables, input/Kinds.hpp's words) and some TOML, so that
     mutations write keys the parser knows instead of guessing them letter by letter."""
-    readme = open(os.path.join(ROOT, "cases", "README.md"), encoding="utf-8").read()
+    readme = open(os.path.join(ROOT, "docs", "user-guide", "case-files.md"), encoding="utf-8").read()
     kinds = open(os.path.join(ROOT, "solver", "cmc", "input", "Kinds.hpp"), encoding="utf-8").read()
     sections = set(re.findall(r"^### `\[([a-z_.]+)\]`", readme, re.M))
     words = sections | {"[%s]" % s for s in sections} | {"[[validation.check]]", "[validation.refinement]"}

@@ -92,7 +92,7 @@ struct ExponentialAdhesion {
   double inv_ell_ = 0.0, cut_ = 0.0;
 };
 
-// Range coarse-graining of the exponential law (issue 13, `coarse_graining = "range"`).
+// Range coarse-graining of the exponential law (`coarse_graining = "range"`).
 // A grid point i, its neighbours held, has the energy k_ii u_i²/2 + φ(g_i) per area with
 // k_ii the diagonal of the discrete stiffness (HalfSpace::self_stiffness, ≈ 1.2 E*/Δx).
 // It has one equilibrium for every load iff k_ii + φ''(g) > 0 for all g ≥ 0; the least
@@ -120,7 +120,7 @@ inline double coarse_grained_range(double w, double rho, double k_self) {
   return std::max(rho, std::sqrt(w / (kCoarseGrainingMargin * k_self)));
 }
 
-// Shape coarse-graining of the exponential law (issue 13, `coarse_graining = "shape"`).
+// Shape coarse-graining of the exponential law (`coarse_graining = "shape"`).
 // The range coarse-graining above keeps w but lowers the peak tension w/ρ, and with it
 // the Tabor parameter μ_T ∝ w/ρ (at fixed w): on the sphere at Δx = 4 ρ, μ_T falls from 3
 // to 1.87 and the pull-off rises by 3.5 %, towards DMT's. Müser (Beilstein J. Nanotechnol.

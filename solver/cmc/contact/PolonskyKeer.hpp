@@ -66,9 +66,9 @@ class PolonskyKeer {
     // solved state is made from them on the host as on the CPU.
     Backend backend = Backend::Cpu;
     // CPU, periodic grid held by one process: run the iteration's passes inside the
-    // transforms' sweeps (grid/RowColumnFourier.hpp; issue 11). Off: the passes and the
-    // 2-D transforms one after the other (what a free boundary or a distributed grid does
-    // always). Both give the same iterates up to round-off.
+    // transforms' sweeps (grid/RowColumnFourier.hpp), where rows and blocks are in cache.
+    // Off: the passes and the 2-D transforms one after the other (what a free boundary or a
+    // distributed grid does always). Both give the same iterates up to round-off.
     bool fused_sweeps = true;
   };
 

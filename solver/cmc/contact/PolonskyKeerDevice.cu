@@ -1,4 +1,4 @@
-// Polonsky-Keer on one GPU (issue 16): the device backend of PolonskyKeerRun.hpp. The
+// Polonsky-Keer on one GPU: the device backend of PolonskyKeerRun.hpp. The
 // iteration is PolonskyKeerRun.hpp's, body for body; here are only where its fields live
 // (device buffers for the whole solve) and how its passes and transforms run (kernels
 // with fixed-order reductions and cuFFT, grid/CudaDevice.cuh). Periodic boundary, one
@@ -43,8 +43,8 @@ std::size_t pk::check_device_memory(const char* who, int nx, int ny, std::size_t
 // an anonymous namespace, one set per translation unit, while the lambda's wrapper type and
 // the templates that copy it are merged across units by the linker. A Run<Device> member
 // instantiated in two .cu files could then be copied by one unit's code with the other
-// unit's statics, never set: a call through a null pointer, as on the H200 on 2026-11-27
-// (every solve after QuasiStaticDevice.cu began to instantiate Run<Device> too).
+// unit's statics, never set: a call through a null pointer (every solve crashed once
+// QuasiStaticDevice.cu instantiated Run<Device> too).
 // scripts/gpu/pack.sh refuses a build whose .cu objects share such a wrapper.
 pk::End pk::run_on_device(PolonskyKeer::Device& d, const PolonskyKeer::Options& o, double h_scale,
                           const Target& target, const Start& start, SolveResult& res) {

@@ -11,9 +11,8 @@
 // is taken from it), and cuFFT's work area (cufftMakePlan2d reports it for the shape).
 // Counted by polonsky_keer_bytes (grid/Backend.hpp), with the work area taken as one real
 // field: 19.3 GiB at 16384² with the preconditioner, 77 GiB at 32768² (69 GiB without).
-// Before t̂ moved into the scratch and the stiffness into the compliance (2026-11-26, not
-// yet run on a GPU) the count was 22.3 GiB at 16384², and nvidia-smi's peak on an H100
-// was 22.8 GiB with the CUDA context.
+// With t̂ and the stiffness held as fields of their own the count was 22.3 GiB at 16384²,
+// and nvidia-smi's peak on an H100 was 22.8 GiB with the CUDA context.
 #include "cmc/contact/PolonskyKeerRun.hpp"
 #include "cmc/grid/CudaDevice.cuh"
 

@@ -37,7 +37,7 @@ namespace pk {
 // plain iteration read besides the transforms' own, three are gone: at 2048², 2 threads,
 // 46.3-47.4 -> 38.6-44.5 ms an iteration (plain) and 74.7-79.0 -> 60.1-60.5 ms
 // (preconditioned, whose z is now neither written whole nor read whole), the same bits.
-// (cmc_bench BM_PolonskyKeerIteration, 2026-11-28; README "Performance".)
+// (cmc_bench BM_PolonskyKeerIteration; docs/performance.md.)
 inline constexpr std::size_t kBlock = 8;
 inline bool any_set(const std::uint8_t* m) {
   std::uint64_t word;
@@ -135,9 +135,10 @@ namespace pk {
 //
 // On a periodic grid held by one process (and unless Options::fused_sweeps is off) the
 // transforms are RowColumnFourier's, and the combined operations run their passes inside
-// its sweeps: a pass over the points of a row next to that row's transform, a pass over
-// modes between a block's column transforms (issue 11). Elsewhere (a free boundary, a
-// distributed grid) they are the passes and HalfSpace's transforms one after the other.
+// its sweeps, while the row or block is in cache: a pass over the points of a row next to
+// that row's transform, a pass over modes between a block's column transforms. Elsewhere (a
+// free boundary, a distributed grid) they are the passes and HalfSpace's transforms one
+// after the other.
 template <class Visit>
 struct HostOf : Fields {
   HalfSpace& hs;
@@ -300,10 +301,9 @@ struct HostOf : Fields {
   // times s, and the inverse column transforms, all in the scratch spectrum, then row by
   // row the inverse into a buffer, w = h + that row, and the gap sums. No spectrum of p or
   // of h is held or streamed: the pass over the modes reads the compliance alone, and the
-  // sweep works in place. (Until 2026-11-28 the sweep transformed p into p̂, wrote s p̂
-  // back, and wrote G s p̂ + ĥ/N into a second spectrum: at 2048², 2 threads, that sweep
-  // alone took 27.3–27.9 ms against 26.2–26.7 ms in place, the bare pair 22.4–22.6 ms;
-  // README "Performance" has the whole iteration.)
+  // sweep works in place. (A sweep that transformed p into p̂, wrote s p̂ back, and wrote
+  // G s p̂ + ĥ/N into a second spectrum took 27.3–27.9 ms at 2048², 2 threads, against
+  // 26.2–26.7 ms in place and 22.4–22.6 ms for the bare pair.)
   template <class Acc, class F>
   Acc exact_and_gap_sums(double s, const std::uint8_t* mask, double level, F f) {
     if (!rc) {

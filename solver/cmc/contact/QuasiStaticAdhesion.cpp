@@ -31,8 +31,8 @@ namespace {
 // over the whole grid: the same kind of conservative prediction, so the same loading-branch
 // state within the outer tolerance, and the same sequence on every run and thread count.
 // A grid of fewer than twice cascade_slab_rows rows is one slab: the whole grid's queue.
-// Measured (2026-11-27, the challenge at 250 kPa, 2048², 2 threads): the single queue took
-// 1.66 s of an 11.9 s solve, 2,330,156 moves in the first outer step.
+// Measured (the challenge at 250 kPa, 2048², 2 threads): the single queue took 1.66 s of an
+// 11.9 s solve, 2,330,156 moves in the first outer step.
 //
 // The stencil is the 8 nearest points. Measured on the challenge at 250 kPa (2048², dx =
 // 24 ρ): within 4 points (80 neighbours) the queue took 24 s of a 59 s solve, 9 outer
@@ -316,7 +316,7 @@ QuasiStaticAdhesion::QuasiStaticAdhesion(HalfSpace& hs, const Field& heights, Ex
   // The diagonal of K: the pressure at a point that holds a unit displacement there and
   // zero everywhere else (the same at every point of a translation-invariant grid); and
   // K's entries to the cascade's neighbours. Only these numbers are kept, not the response
-  // (a field of the transform grid: 8.6 GB at 32768², issue 16).
+  // (a field of the transform grid: 8.6 GB at 32768², which a GPU run cannot spare).
   {
     const Field response = hs.unit_response();
     const int mx = hs.transform_nx(), my = hs.transform_ny();

@@ -16,8 +16,8 @@
 //    equilibrium at the target load. Sudden loading under overdamped relaxation ends in
 //    the same state. Inertia (FIRE, GFMD with little damping) or conjugate-gradient
 //    overshoot can end in another, smaller-gap, state: the answer of such a solver
-//    depends on its path, which is what made cmc's adhesive results differ between reruns
-//    (issue 11).
+//    depends on its path, which made the adhesive CG's results on the challenge differ
+//    between reruns that rounded differently.
 //
 // Algorithm (majorise-minimise on the concave adhesion, i.e. the concave-convex procedure
 // of A. L. Yuille & A. Rangarajan, Neural Comput. 15, 915 (2003), cited from memory):
@@ -29,7 +29,7 @@
 // whose gaps are nowhere smaller than the answer's (the hard-wall solution at the same
 // load, or the previous step of a loading path) the gaps decrease monotonically to the
 // maximal equilibrium: the loading-branch state, not another local minimum.
-// Measured (2026-11-27): the end state, yes; every outer step, no. With inner solves to
+// Measured: the end state, yes; every outer step, no. With inner solves to
 // 1e-10 on the 24 ρ patch of tests/test_quasi_static.cpp, tensions fall between outer
 // steps by up to 8.6e-5 of the peak during the jumps under mean-pressure control, and by
 // 3e-3 at the first step under penetration control (then 0.57 times less a step), and
@@ -42,7 +42,7 @@
 // penetration follows the mean tension), so there the falls are the jump prediction's: a
 // point is predicted lower than the next solve and the next prediction bear out (the
 // cascade counts its neighbours' predicted moves as made). A fall is therefore not by itself the inner
-// solves' error (the residual below; README, "Creep that is the inner solves' error").
+// solves' error (the residual below; docs/theory/loading-branch.md, "Creep").
 //
 // Jump prediction. Near a bistable point (the grid spacing of the challenge is 24 ρ: every
 // point is bistable) the plain iteration creeps: a point about to jump into contact
@@ -101,8 +101,8 @@
 namespace cmc {
 
 // Where a solve stands between two of its outer steps: enough to continue it bit for bit
-// in another process (a checkpoint inside a load step, for runs that outlast a session:
-// the challenge family's resolved members take hours on one machine). Polonsky–Keer's
+// in another process (a checkpoint inside a load step, for runs longer than a machine is
+// held: the challenge family's resolved members take hours on one machine). Polonsky–Keer's
 // next solve needs only its warm-start pressure and the penetration (it recomputes u from
 // p, and the gap at its end); the shifted heights are recomputed from the tension.
 struct OuterPoint {
@@ -133,9 +133,9 @@ class QuasiStaticAdhesion {
     // Seconds the solve may take in this process (0: no limit): reached, it stops at the end
     // of an outer step with the state it stands at (message kTimeLimitMessage...), or, where
     // an outer step's Polonsky-Keer solve is still running then (limit_inner), inside it, with
-    // that solve's last iterate (the message says so). Measured on an H200 (2026-11-27): a
-    // 16384² run with max_seconds = 142 and inner tolerance 1e-8 was still running at 180 s,
-    // where the lease's cap killed it and left nothing.
+    // that solve's last iterate (the message says so). Why inside: on an H200 a 16384² run
+    // with max_seconds = 142 and inner tolerance 1e-8 was still inside an inner solve at
+    // about 163 s, and a cap from outside at 180 s killed it with nothing written.
     double max_seconds = 0.0;
     // max_seconds also stops a Polonsky-Keer solve in flight (off: only at the ends of outer
     // steps, which a long inner solve can put far past the limit; tests).

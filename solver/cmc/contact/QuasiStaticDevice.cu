@@ -1,4 +1,4 @@
-// The quasi-static solver with its outer step on one GPU (issue 16): the device backend of
+// The quasi-static solver with its outer step on one GPU: the device backend of
 // QuasiStaticRun.hpp. Every field stays on the device from the first outer step to the
 // last: Polonsky-Keer's (PolonskyKeerDevice.cuh), the case's heights and the tension. The
 // outer step's other fields live in Polonsky-Keer's work arrays, which hold nothing
@@ -8,8 +8,8 @@
 // two kernels a round, over the frontier only, with a fixed-order count, so a rerun gives the same bits. The host sees
 // the state at the start (a warm start's tension and pressure go up), at a checkpoint (the
 // tension and the pressure come down, only when one is written: OuterPoint::fetch), and at
-// the end. Before this, the outer step ran on the host between device solves: at 8192²
-// on the GPU machine 151 s of host time against 227 s of the whole run (2026-11-26).
+// the end. With the outer step on the host between device solves, a run at 8192² spent
+// 151 s of its 227 s on the host.
 // Periodic boundary, one process (the case parser refuses the rest with backend = "cuda").
 // Device memory: grid/Backend.hpp quasi_static_bytes (93 GiB at 32768² with the
 // preconditioner, 85 GiB without: an H200, not an H100).

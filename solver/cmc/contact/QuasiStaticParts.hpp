@@ -114,8 +114,8 @@ constexpr double kNoiseMargin = 100.0;  // the floor over the inner solves' gap 
 // So: kNoiseMargin times that error, tolerance × h_scale (Polonsky-Keer's residual is the
 // rms gap error on the contact set over the rms height h_scale), between kMinMoveFloor ρ
 // and kMoveFloor ρ. At the challenge cases' inner tolerance 1e-6 (h_scale 750 nm, ρ =
-// 2.1 to 6.2 nm at mu_T = 3 to 1) that is kMoveFloor, as before this rule. Measured
-// (2026-11-27, 2 threads; mu_T = 1 at 250 kPa, inner tolerance 1e-8, this rule's 1.2e-4 ρ
+// 2.1 to 6.2 nm at mu_T = 3 to 1) that is kMoveFloor, the fixed floor it replaced. Measured
+// (2 threads; mu_T = 1 at 250 kPa, inner tolerance 1e-8, this rule's 1.2e-4 ρ
 // against 1e-3 ρ): 2048² 21 outer steps against 50, 4096² 39 against 74 (648 inner
 // iterations against 1084, 220 s against 428 s), a_r 0.0320333 against 0.0320330, mean gap
 // within 2e-7. The floor at the noise itself (1e-4 ρ at inner tolerance 1e-6, mu_T = 1,
@@ -192,7 +192,7 @@ struct RiseFall {
 // induction over the rounds), and the map is order-preserving. The queue and the rounds
 // pass moves on in another order, so they may stop a move below the floor apart; on the
 // challenge at 512² and 2048² they reach the same outer steps, iterations and contact set
-// (mean gaps within 1.2e-9 and 3.6e-10 relative, measured 2026-11-26); on the s = 32 member at 1.6 ρ
+// (mean gaps within 1.2e-9 and 3.6e-10 relative); on the s = 32 member at 1.6 ρ
 // (1024²) 92 outer steps against 90, the same a_r, the mean gap within 1e-8. Rounds there:
 // 40 to 330 an outer step (a move spreads by one stencil step a round); the solve took
 // 29.7 s on 2 CPU threads with the frontier below (84.5 s before the interior's flags were
@@ -276,7 +276,7 @@ struct Pull {  // x = min(x, gap(g, t, pull)) where a neighbour was told, pull =
 // Eight points at a time (a word of each flag array, one 8-byte load instead of eight byte
 // loads). Most points of a round are far from its frontier, where each pass only reads a
 // flag and writes one: on a GPU such byte passes are bound by the loads in flight, not by
-// the bytes (the H200 at 8192², 2026-11-27: 0.92 ms a round, two passes over 67 million
+// the bytes (an H200 at 8192²: 0.92 ms a round point by point, two passes over 67 million
 // points, where the bytes alone take about 0.1 ms). A word whose flags are all clear is
 // done with a word store; any other goes point by point through the same bodies, so the
 // result is the same, bit for bit. For rows of whole words (nx a multiple of 8), the flag

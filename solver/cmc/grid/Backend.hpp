@@ -1,4 +1,4 @@
-// Where a solve's fields live and its passes run (issue 16): "cpu" (FFTW and OpenMP, every
+// Where a solve's fields live and its passes run: "cpu" (FFTW and OpenMP, every
 // build) or "cuda" (cuFFT and kernels on one GPU, builds configured with -DCMC_CUDA=ON).
 //
 // One source for both: a solver's per-point work is written once, as bodies f(i) or

@@ -14,10 +14,10 @@ namespace cmc::detail {
 
 // Spectrum columns per block: a block of 8 columns of a 4096-row grid is 512 KiB, and the
 // passes that map one spectrum's block onto another's between the forward and the inverse
-// transforms (the Polonsky-Keer step, 2048²: two blocks of 256 KiB) keep both in a core's L2 (1 MiB on the 2-core CI machine). 16
-// columns, before 2026-11-28, put two 512 KiB blocks there at 2048² and filled it; 8 took
-// 2-4 % off an iteration at 2048² and 5 % at 4096², 4 was slower than 8 (issue 11; README,
-// "Performance").
+// transforms (the Polonsky-Keer step, 2048²: two blocks of 256 KiB) keep both in a core's
+// L2 (1 MiB on the 2-core CI machine). 16 columns put two 512 KiB blocks there at 2048² and
+// filled it; 8 took 2-4 % off an iteration at 2048² and 5 % at 4096², 4 was slower than 8
+// (docs/developer/decisions.md).
 inline constexpr int kColumnBlock = 8;
 
 // Modes left unused after each column (128 bytes). Without them the columns of a 2^k-row

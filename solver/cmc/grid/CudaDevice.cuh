@@ -1,4 +1,4 @@
-// The CUDA backend's grid layer (issue 16; grid/Backend.hpp): device buffers, cuFFT
+// The CUDA backend's grid layer (grid/Backend.hpp): device buffers, cuFFT
 // transforms, and the per-point passes and reductions that run a solver's bodies (written
 // once, CMC_HD) as kernels. Included by .cu files only; built with -DCMC_CUDA=ON.
 //

@@ -108,7 +108,7 @@ struct Grid {
   template <class Task>
   static void parallel_tasks(std::size_t k, Task&& task, std::size_t work);
   // Passes smaller than this many points of work run on one thread: OpenMP's fork/join
-  // costs more than it saves below it (measured on 2 cores, wave 1).
+  // costs more than it saves below it (measured on 2 cores).
   static constexpr std::size_t parallel_min = std::size_t(1) << 15;
 };
 

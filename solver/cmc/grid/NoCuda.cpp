@@ -8,7 +8,7 @@
 namespace cmc::cuda {
 
 namespace {
-const char* kNotBuilt = "this build of cmc has no CUDA backend (configure a build folder with -DCMC_CUDA=ON; README, \"GPU\")";
+const char* kNotBuilt = "this build of cmc has no CUDA backend (configure a build folder with -DCMC_CUDA=ON; docs/user-guide/gpu.md)";
 }
 
 bool built() { return false; }

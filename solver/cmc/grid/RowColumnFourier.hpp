@@ -1,6 +1,6 @@
 // A 2-D real transform of a whole periodic nx × ny grid made of FFTW's 1-D transforms, so
 // that a solver's per-point passes can run inside the transform's sweeps while the data
-// are in cache (issue 11): a pass over a row right before that row's r2c transform or right
+// are in cache: a pass over a row right before that row's r2c transform or right
 // after its c2r transform, and a pass over modes between a block's forward and inverse
 // column transforms.
 //
@@ -17,10 +17,9 @@
 // split into blocks of kColumnBlock (the last one narrower); block b holds its columns
 // [b kColumnBlock, b kColumnBlock + width) one after the other, each as ny contiguous
 // modes followed by kColumnPad unused ones (ColumnBlockPlans.hpp says why), so that a
-// column's transform is FFTW's contiguous one. (Until 2026-11-28 a block held ny rows of
-// width modes: FFTW then transformed strided columns through a buffer of its own, and a
-// block's column pair took 75 µs at 2048² against 62 µs contiguous, FFTW 3.3.10,
-// FFTW_MEASURE, this machine.) spectrum_size() is nq (ny + kColumnPad), more than
+// column's transform is FFTW's contiguous one. (With a block of ny rows of width modes
+// FFTW transformed strided columns through a buffer of its own, and a block's column pair
+// took 75 µs at 2048² against 62 µs contiguous, FFTW 3.3.10, FFTW_MEASURE, 2 cores.) spectrum_size() is nq (ny + kColumnPad), more than
 // Fourier's nq ny: a buffer for this layout is that long. The unused modes are neither
 // read nor written by the transforms, and passes reach the modes through Block::each().
 // index() finds a mode.
