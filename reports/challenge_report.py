@@ -138,7 +138,7 @@ class Run:
         self.nx, self.ny = g.get("nx"), g.get("ny")
         self.dx = g.get("dx")
         self.size = g.get("size_x")
-        # Where it ran (issue 13: the tables mark the grids that ran on a GPU, grid.backend = "cuda")
+        # Where it ran: the tables mark the grids that ran on a GPU (grid.backend = "cuda")
         self.gpu_mark = " (GPU)" if g.get("backend") == "cuda" else ""
         self.status = summary.get("status", "?")
         self.wall_s = get(summary, "timing", "wall_s")
@@ -398,8 +398,8 @@ def _stored(reference_dir, quantity, adhesive):
 
 
 def sweep_end_note(r, pts):
-    """Where a load sweep's curve ends and why (issue 14: 'as far as the solver goes, stating
-    where and why it stops'): at full contact, at a load its solver did not converge at, or
+    """Where a load sweep's curve ends and why (as far as the solver goes, stating where and
+    why it stops): at full contact, at a load its solver did not converge at, or
     at the last load the run was given."""
     last = pts[-1]
     where = f"The sweep {_problem(r)} on {r.nx}² ends at {last['p'] / 1e6:.4g} MPa (p/(E*ḡ) = {last['p'] / r.Estar:.3g})"
@@ -1085,7 +1085,7 @@ def _gpu_grids(reference_dir):
 
 
 def _adhesion_resolution(reference_dir, out_dir):
-    """Issue 13: the challenge's adhesive numbers with error bars, from the scaled-family store
+    """The challenge's adhesive numbers with error bars, from the scaled-family store
     (reference/challenge-scaled/scaled_family.json, written by scripts/scaled_family.py)."""
     path = os.path.join(reference_dir, "challenge-scaled", "scaled_family.json")
     cmd = "`/usr/bin/python3 scripts/scaled_family.py --s 1 --no-resolved --coarse --grids 2048 4096 8192 --store reference/challenge-scaled`"
@@ -1194,7 +1194,7 @@ def _case_seed(case_dir):
 
 
 def _realizations(reference_dir, case_dir, out_dir):
-    """Issue 13: the strategies' coarse-grid errors on several realizations of the surface (the
+    """The strategies' coarse-grid errors on several realizations of the surface (the
     family's members stored with scripts/scaled_family.py --seed N), beside the case file's."""
     by_s = realization_members(reference_dir, _case_seed(case_dir))
     lines = []
@@ -1209,7 +1209,7 @@ def _realizations(reference_dir, case_dir, out_dir):
                      "±1 % at 4 ρ) is met; the error bars above take the largest deviation over every realization "
                      f"({method_link(out_dir, 'other-realizations')}).", ""]
         header, rows = realization_rows(members)
-        lines += [f"s = {s}, at the spacings issue 13 sets targets for:", "", md_table(header, rows), ""]
+        lines += [f"s = {s}, at the spacings the strategies have targets for (3 % / 0.5 % at 2 ρ, 6 % / 1 % at 4 ρ):", "", md_table(header, rows), ""]
         header, rows = realization_rows(members, spacings=(6, 12, 24))
         if any(c != "–" for row in rows[:-1] for c in row[4:]):
             lines += [f"s = {s}, at the challenge's own spacings (its 8192², 4096² and 2048²; these runs set its error "

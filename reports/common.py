@@ -411,7 +411,7 @@ def gpu_section(reference_dir, title, notes=None):
     lines = [f"## {title}", ""]
     if not recs:
         lines += [f"No GPU runs stored in `{reference_dir}/challenge/runs.json` yet (scripts/gpu/check.sh on a GPU "
-                  "machine, then scripts/gpu/store.py; README, \"GPU\").", ""]
+                  "machine, then scripts/gpu/store.py; docs/user-guide/gpu.md).", ""]
     return recs, lines
 
 

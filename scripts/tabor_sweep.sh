@@ -11,7 +11,7 @@
 # sweep on the challenge itself: scripts/challenge_reference.py reads the 4096² and 8192²
 # sweeps for the bands at low mu_T, where those grids resolve the adhesion). Finished runs are kept, an
 # interrupted one resumes. Then scripts/report.sh draws the two figures.
-# Grids the CPU cannot hold (16384²) ran on a GPU: scripts/gpu/check.sh tabor:N:MU (README, "GPU"),
+# Grids the CPU cannot hold (16384²) ran on a GPU: scripts/gpu/check.sh tabor:N:MU (docs/user-guide/gpu.md),
 # its summary.json copied to results/challenge-tabor-sweep-n<N>/mu_T_<MU>/ (the report marks it GPU).
 set -euo pipefail
 cd "$(dirname "$0")/.."

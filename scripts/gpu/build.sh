@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The half of the GPU bring-up that runs on the GPU machine (issue 16): build cmc from the
+# The half of the GPU bring-up that runs on the GPU machine: build cmc from the
 # packages that scripts/gpu/fetch.sh unpacked on a Debian machine, with no network and none of
 # our packages installed (seen there: Ubuntu 24.04, g++ 13, CMake 4, CUDA 13), and run the
 # quick tests.
@@ -14,7 +14,7 @@
 # running cmc from BUILD by hand.
 #
 # It builds the CPU backend. The CUDA backend is built on the Debian machine with the CUDA
-# toolkit and carried with scripts/gpu/pack.sh (README, "GPU"): this script re-roots every
+# toolkit and carried with scripts/gpu/pack.sh (docs/user-guide/gpu.md): this script re-roots every
 # search in the bundle, where CMake would not find the machine's CUDA toolkit.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -34,7 +34,7 @@ export PKG_CONFIG_SYSROOT_DIR="$prefix"
 unset PKG_CONFIG_PATH
 
 if command -v nvcc >/dev/null; then
-  echo "scripts/gpu/build.sh: $(nvcc --version | tail -1) found; building the CPU backend (the CUDA one: scripts/gpu/pack.sh on the build machine; README, \"GPU\")" >&2
+  echo "scripts/gpu/build.sh: $(nvcc --version | tail -1) found; building the CPU backend (the CUDA one: scripts/gpu/pack.sh on the build machine; docs/user-guide/gpu.md)" >&2
 fi
 jobs=$(nproc 2>/dev/null || echo 2)
 mkdir -p "$build"

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# On a GPU machine, from a build packed by scripts/gpu/pack.sh (issue 16; README, "GPU"):
+# On a GPU machine, from a build packed by scripts/gpu/pack.sh (docs/user-guide/gpu.md):
 #   scripts/gpu/check.sh [--pack DIR] [--out DIR] [--cap SECONDS] [--set KEY=VALUE ...] STAGE...
 # --set: a case override added to every run of the stages (e.g. solver.tolerance=1e-8), and
 # to the command each run records.
@@ -12,7 +12,7 @@
 #                 false: one real field less on the device, for a grid that does not fit with it;
 #                 at 32768² the count is 77 GiB with it and 69 GiB without)
 #   adhesive:N    the adhesive challenge at 250 kPa (quasi-static solver), on the GPU
-#   shape:N       the same with the shape coarse-graining (issue 13), at most 170 outer steps
+#   shape:N       the same with the shape coarse-graining, at most 170 outer steps
 #   tabor:N:MU    the challenge's Tabor sweep at mu_T = MU (cases/challenge/tabor-sweep.toml, one of
 #                 the values in cases/challenge/tabor-values) on an N² grid, on the GPU: the sweep's
 #                 refinement beyond the grids the CPU runs (run tag cuda-tabor_muMU-N)
@@ -31,7 +31,7 @@
 # shape, tabor) also gets solver.max_seconds = cap - margin unless a --set names that key: the
 # solve then stops itself and the run still computes its observables and writes its summary
 # (not_converged, where it stood) inside the cap. The margin is what a run takes outside its
-# solve: 10 s + 20 s x (N/16384)² (measured on an H200, 2026-11-27, summary.json's run time
+# solve: 10 s + 20 s x (N/16384)² (measured on an H200, summary.json's run time
 # minus its solve time: 13-15 s at 16384², 3.5-4.5 s at 8192²; the set-up before the run's
 # clock adds a few seconds). A cap at or below the margin sets no limit.
 set -uo pipefail

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The half of the GPU bring-up that needs a network (issue 16): on a Debian 12 machine where
+# The half of the GPU bring-up that needs a network: on a Debian 12 machine where
 # scripts/setup.sh has built cmc, download the Debian packages that a build of cmc needs and
 # unpack them into one folder, to be copied to a GPU machine that has neither our packages nor
 # a network (seen: Ubuntu 24.04, g++ 13, CMake 4, CUDA 13). There, scripts/gpu/build.sh builds

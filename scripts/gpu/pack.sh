@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Pack a CUDA build made on this (Debian) machine for a GPU machine that has the CUDA
-# runtime and cuFFT but none of our packages and no network (issue 16; README, "GPU"):
+# runtime and cuFFT but none of our packages and no network (docs/user-guide/gpu.md):
 # the programs, and every shared library they load that is neither the C/C++ runtime nor
 # CUDA's, copied from this machine (ldd). Small enough (~30 MB) to travel with the checkout.
 #

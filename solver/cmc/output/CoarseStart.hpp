@@ -1,5 +1,5 @@
-// Starting a run from a coarser run of the same case (coarse-to-fine warm start, issue 11's
-// "solve on n/2, interpolate, finish on n"): `cmc run CASE --set grid.n=N --start-from DIR`,
+// Starting a run from a coarser run of the same case (a coarse-to-fine warm start: solve on
+// n/2, interpolate, finish on n): `cmc run CASE --set grid.n=N --start-from DIR`,
 // DIR a finished run of the same case on N/m points (m a whole number) with its fields
 // (output.fields = true).
 //
@@ -17,8 +17,8 @@
 // lowers every start tension by the factor exp(−lift/ρ) (exponential law); the caller
 // passes the interaction's range ρ (a factor e), chosen before measuring and kept because it
 // holds, not derived: the coarse and fine answers differ by less than ρ in gap except where
-// a contact front moves. Measured (2026-11-24, one thread; "cold": the same case from the
-// hard-wall start):
+// a contact front moves. Measured on one thread ("cold": the same case from the hard-wall
+// start):
 //  * s = 16 at 4096² (dx = 0.77 ρ) from 2048² (1.55 ρ; a 147 s run), raised by ρ: 149
 //    outer steps, 1211 iterations, 3313 FFT pairs, 1435 s beside another run, against the
 //    stored cold run's 1882 iterations, 4930 pairs, 2228 s; a_r 9 points of 16.8 million
