@@ -211,7 +211,10 @@ TEST(DeviceCode, QuasiStaticContinuesFromAnOuterStep) {
 // device's rounds' wrap) under displacement control, through the jump into contact
 // (cases/validation/johnson-alpha03-loading.toml; the gpu test JohnsonSinusoidLoading runs
 // it through the case on a GPU): every step converges, with the same points in contact as
-// the CPU's rounds and the mean pressure within 1e-9 of w/ρ (measured: 3.7e-12).
+// the CPU's rounds and the mean pressure within the solves' tolerance (1e-8) of w/ρ: two
+// solves each converged to it agree within it, and how closely depends on the FFT plans'
+// rounding (measured over five plan sets, CMC_FFTW_PLANNER builtin from two plannings,
+// estimate, measure, patient: 4.4e-10 to 1.9e-9).
 TEST(DeviceCode, QuasiStaticOnALineUnderDisplacementControl) {
   const Case c = load_case(std::string(CMC_SOURCE_DIR) + "/cases/validation/johnson-alpha03-loading.toml");
   ASSERT_EQ(c.grid.ny, 1);
@@ -237,6 +240,6 @@ TEST(DeviceCode, QuasiStaticOnALineUnderDisplacementControl) {
     jumped = jumped || contact(b.gap) > 0;
   }
   std::printf("    [device code] line: mean pressure, device vs host / (w/rho): %.3g\n", worst / adh.peak_tension());
-  EXPECT_LE(worst, 1e-9 * adh.peak_tension());
+  EXPECT_LE(worst, o.tolerance * adh.peak_tension());
   EXPECT_TRUE(jumped) << "the path should reach contact";
 }
