@@ -6,8 +6,8 @@
 Each case writes a small repository into a temporary folder and runs the checker on it:
   - a broken relative link, a path in code that does not exist, an anchor with no heading, and
     a link out of the repository each exit 1 and name the line;
-  - a file whose links, anchors and paths all exist (outputs under .gitignore's folders and the
-    paths still to come included) exits 0;
+  - a file whose links, anchors and paths all exist (outputs under .gitignore's folders
+    included) exits 0;
   - a README whose quickstart fails (a case file that does not exist), and one whose quickstart
     the checker does not know how to run, exit 1.
 """
@@ -71,8 +71,7 @@ def link_cases(tmp, failures):
     good = page(os.path.join(root, "docs"), "good.md",
                 "[README](../README.md) and [the guide](guide.md#building-by-hand).\n"
                 "`solver/cmc/grid/Grid.hpp`, `cases/validation/*.toml`, `cases/<folder>/hertz-free.toml`,\n"
-                "outputs `results/challenge-reference/summary.json` and `build/cmc`,\n"
-                "and a path still to come, `scripts/gpu/ingest.py`.\n\n"
+                "and outputs `results/challenge-reference/summary.json` and `build/cmc`.\n\n"
                 "```sh\nbuild/cmc run cases/validation/hertz-free.toml --out out/h\n```\n")
     expect("good_page", ["--links-only", "--root", root, good], 0, "check_docs: ok", failures)
     expect("whole_repository", ["--links-only", "--root", root], 0, "check_docs: ok", failures)
