@@ -118,6 +118,7 @@ std::vector<int> take_grids(int argc, char** argv, std::vector<char*>& rest) {
 
 void refuse_grid_overrides(const std::vector<std::string>& overrides, const std::vector<int>& grids,
                            const std::string& command) {
+  if (grids.empty()) return;
   std::string list;
   for (int n : grids) list.append(" ").append(std::to_string(n));
   for (const auto& o : overrides) {
