@@ -20,9 +20,10 @@ TEST is one of
   refusals      bad input exits 2 naming the argument before anything is written: an unknown
                 key, a malformed value, an empty list or value, a repeated value or key, a
                 --set of the swept key, grid.n beside --grids, a folder pattern that gives two
-                points one folder or leaves --out, a bad grid size; and a point folder holding
-                a run of another case, or a summary.json that is not cmc's, stops the sweep
-                before its first point runs, the folder left as it was
+                points one folder or leaves --out, a table name with a folder, a bad grid
+                size; and a point folder holding a run of another case, or a summary.json that
+                is not cmc's, stops the sweep before its first point runs, the folder left as
+                it was
 
 Runs use CMC_THREADS=1 (the same bits in every run). Exits 0 on success, 1 with the
 reasons on failure.
@@ -187,6 +188,7 @@ REFUSALS = [  # (arguments, what the message must name)
     (["--over", "interaction.tabor=1,2", "--folder", "x"], "share the folder x"),
     (["--over", "interaction.tabor=1", "--folder", "../x"], "expected a relative path below --out"),
     (["--over", "interaction.tabor=1", "--folder", "{foo}"], "{foo} is neither a swept key"),
+    (["--over", "interaction.tabor=1", "--table", "a/b"], "--table 'a/b': expected a file name"),
     (["--grids", "32", "abc"], "--grids: 'abc' is neither a whole number"),
     ([], "cmc sweep needs --over"),
 ]

@@ -20,8 +20,8 @@ namespace cmc::app {
 
 namespace {
 const char* kSweepHelp = R"(usage: cmc sweep CASE.toml --out DIR [--over section.key=V1,V2,... ...] [--grids N1 N2 ...]
-                 [--set section.key=value ...] [--folder PATTERN] [--checkpoint-every SECONDS]
-                 [--dry-run] [--quiet]
+                 [--set section.key=value ...] [--folder PATTERN] [--table NAME]
+                 [--checkpoint-every SECONDS] [--dry-run] [--quiet]
 
 Runs CASE.toml once per point: every combination of the values of each --over (several
 --over make a product, the first one outermost) and of the grids of --grids (innermost;
@@ -44,7 +44,9 @@ runs, and left as it is.
 Then writes, atomically, DIR/sweep.json (one record per point: the swept values, grid,
 status, folder, how it was reached, iterations and the steps' solve time summed over the
 steps, and the last step's contact fraction, repulsive fraction, mean gap in m and mean
-pressure in Pa) and DIR/sweep.md (the same as a Markdown table, also printed on stdout).
+pressure in Pa) and DIR/sweep.md (the same as a Markdown table, also printed on stdout):
+the points of this sweep (a later sweep into DIR replaces them; --table NAME writes
+DIR/NAME.json and DIR/NAME.md instead, for several sweeps that share DIR).
 Progress on stderr: a line per point; --quiet silences the runs' own progress lines.
 --dry-run prints what each point would do (run, resume, skip, keep) and runs nothing.
 --checkpoint-every: as cmc run's, for every point.
@@ -59,7 +61,7 @@ written, with the points not run as "not_run").
 )";
 
 struct SweepRequest {
-  std::string file, pattern;
+  std::string file, pattern, table;
   fs::path out;
   std::vector<SweepAxis> axes;
   std::vector<int> grids;
@@ -93,7 +95,7 @@ SweepRequest read_request(int argc, char** argv) {
   for (char* a : rest)
     if (std::string(a) == "--dry-run") r.dry_run = true;
     else args.push_back(a);
-  const Args a = parse_args(int(args.size()), args.data(), 2, {"--over", "--folder", "--checkpoint-every"});
+  const Args a = parse_args(int(args.size()), args.data(), 2, {"--over", "--folder", "--table", "--checkpoint-every"});
   if (a.positional.size() != 1) throw CaseError("cmc sweep takes exactly one case file (see cmc sweep --help)");
   if (a.out.empty()) throw CaseError("cmc sweep needs --out DIR (see cmc sweep --help)");
   r.file = a.positional[0];
@@ -107,6 +109,9 @@ SweepRequest read_request(int argc, char** argv) {
     throw CaseError("cmc sweep needs --over section.key=V1,V2,... or --grids N1 N2 ... (see cmc sweep --help)");
   check_axes(r);
   r.pattern = a.option("--folder", default_folder_pattern(r.axes, !r.grids.empty()));
+  r.table = a.option("--table", "sweep");
+  if (r.table.empty() || r.table.find('/') != std::string::npos || r.table == "." || r.table == "..")
+    throw CaseError("--table '" + r.table + "': expected a file name without a folder (the table is DIR/NAME.json)");
   return r;
 }
 
@@ -197,9 +202,9 @@ PointResult failed_result(const fs::path& dir, const std::string& what) {
 void write_tables(const SweepRequest& r, const std::vector<SweepPoint>& points, const std::vector<PointResult>& results,
                   bool print) {
   const SweepTable t{r.file, r.pattern, r.axes, r.grids, r.sets};
-  write_output_text(r.out / "sweep.json", sweep_json(t, points, results));
+  write_output_text(r.out / (r.table + ".json"), sweep_json(t, points, results));
   const std::string md = sweep_markdown(t, points, results);
-  write_output_text(r.out / "sweep.md", md);
+  write_output_text(r.out / (r.table + ".md"), md);
   if (print) std::fputs(md.c_str(), stdout);
 }
 
@@ -241,7 +246,7 @@ int cmd_sweep(int argc, char** argv) {
   sweep_folders(points, cases, r.pattern);
   // Every folder and file the sweep writes, checked before the first point runs.
   check_output_folder(r.out);
-  for (const char* f : {"sweep.json", "sweep.md"}) check_output_file(r.out / f);
+  for (const char* ext : {".json", ".md"}) check_output_file(r.out / (r.table + ext));
   std::vector<Todo> todo;
   for (std::size_t i = 0; i < points.size(); ++i) {
     check_output_folder(r.out / points[i].folder);
