@@ -24,6 +24,10 @@ TEST is one of
                 size; and a point folder holding a run of another case, or a summary.json that
                 is not cmc's, stops the sweep before its first point runs, the folder left as
                 it was
+  scaled_family scripts/scaled_family.py's runs go through cmc sweep: member s = 32 on 64² and
+                128², plain and with the range strategy, and under the hard wall (--store into
+                the work folder): every stored run's recorded command, `cmc run` into another
+                folder, gives its folder bit for bit; run again, the script runs nothing
 
 Runs use CMC_THREADS=1 (the same bits in every run). Exits 0 on success, 1 with the
 reasons on failure.
@@ -171,6 +175,35 @@ def test_skip(binary, work):
         table = json.load(f)
     check(table["status"] == "not_converged" and [r["how"] for r in table["points"]] == ["kept", "done earlier"],
           f"sweep.json of the sweep run again: {table['status']}, {[r['how'] for r in table['points']]}")
+
+
+def test_scaled_family(binary, work):
+    results, store = os.path.join(work, "results"), os.path.join(work, "store")
+    shutil.rmtree(results, ignore_errors=True)
+    args = ["/usr/bin/python3", os.path.join(ROOT, "scripts", "scaled_family.py"), "--s", "32", "--coarse", "--grids",
+            "64", "128", "--no-resolved", "--strategies", "range", "--results", results, "--store", store,
+            "--cmc", binary]
+    env = {k: v for k, v in os.environ.items() if not k.startswith("CMC_TEST_")}
+    env["CMC_THREADS"] = "1"
+    p = subprocess.run(args, env=env, capture_output=True, text=True, cwd=ROOT)
+    if not check(p.returncode == 0 and p.stderr.count("cmc sweep ") == 3,
+                 f"scaled_family.py: exit {p.returncode}, expected three cmc sweeps:\n{p.stderr}"):
+        return
+    with open(os.path.join(store, "scaled_family.json"), encoding="utf-8") as f:
+        runs = json.load(f)["members"][0]["runs"]
+    check(len(runs) == 6, f"the store holds {len(runs)} runs, expected 6")
+    for r in runs:
+        command = r["command"].split()
+        out = command.index("--out") + 1
+        again = os.path.join(work, "again", os.path.basename(command[out]))
+        shutil.rmtree(again, ignore_errors=True)
+        command[out] = again
+        q = cmc(binary, *command[1:], "--quiet")
+        if check(q.returncode == 0, f"{r['role']}: its command exited {q.returncode}:\n{q.stderr}"):
+            same(r["output"], again, f"{r['role']}: the script's folder against its recorded command")
+    p = subprocess.run(args, env=env, capture_output=True, text=True, cwd=ROOT)
+    check(p.returncode == 0 and "cmc sweep " not in p.stderr and p.stderr.count(": done (") == 6,
+          f"scaled_family.py run again: exit {p.returncode}, expected no sweep and six runs done:\n{p.stderr}")
 
 
 REFUSALS = [  # (arguments, what the message must name)
