@@ -41,21 +41,13 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
+sys.path.insert(0, HERE)
+from resume_test import COMPARE, check, failures  # noqa: E402  (the interruption tests' helpers)
+
 TABOR = os.path.join(ROOT, "cases", "challenge", "tabor-sweep.toml")    # quasi-static, one step
 FAMILY = os.path.join(ROOT, "cases", "challenge", "scaled-family.toml")  # 7 outer steps at 128²
-COMPARE = os.path.join(ROOT, "scripts", "compare_runs.py")
 SWEEP = ["--over", "interaction.tabor=1.0,3.0", "--grids", "32", "64", "--set", "output.fields=true"]
 POINTS = [("1.0", 32), ("1.0", 64), ("3.0", 32), ("3.0", 64)]
-
-failures = []
-
-
-def check(ok, message):
-    if not ok:
-        failures.append(message)
-        print("FAIL: " + message, flush=True)
-    return ok
-
 
 def cmc(binary, *args, **extra):
     env = {k: v for k, v in os.environ.items() if not k.startswith("CMC_TEST_")}
@@ -256,22 +248,15 @@ def test_refusals(binary, work):
 
 
 def main(argv):
-    if len(argv) != 3 or argv[0] in ("-h", "--help"):
-        print(__doc__)
+    tests = {name[len("test_"):]: fn for name, fn in globals().items() if name.startswith("test_")}
+    if len(argv) != 3 or argv[2] not in tests:
+        print(__doc__, file=sys.stderr)
         return 2
-    binary, work, test = os.path.abspath(argv[0]), os.path.abspath(argv[1]), argv[2]
-    fn = globals().get("test_" + test)
-    if fn is None:
-        print(f"sweep_test: unknown test {test!r} (see --help)", file=sys.stderr)
-        return 2
-    work = os.path.join(work, test)
+    work = os.path.join(os.path.abspath(argv[1]), argv[2])
     os.makedirs(work, exist_ok=True)
-    fn(binary, work)
-    if failures:
-        print(f"sweep_test {test}: {len(failures)} failure(s)", file=sys.stderr)
-        return 1
-    print(f"sweep_test {test}: ok")
-    return 0
+    tests[argv[2]](os.path.abspath(argv[0]), work)
+    print(f"sweep_test {argv[2]}: " + (f"{len(failures)} failure(s)" if failures else "passed"))
+    return 1 if failures else 0
 
 
 if __name__ == "__main__":

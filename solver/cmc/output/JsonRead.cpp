@@ -47,45 +47,38 @@ class JsonParser {
     return true;
   }
 
-  toml::table object(int depth) {
+  // The members of an object or the elements of an array: between `open` and `close`,
+  // separated by commas, each read by `each`.
+  template <class Each>
+  void sequence(char open, char close, int depth, Each each) {
     if (depth > kMaxDepth) fail("nested too deeply");
-    expect('{');
-    toml::table t;
+    expect(open);
     skip_space();
-    if (peek() == '}') return ++i_, t;
+    if (peek() == close) return void(++i_);
     for (;;) {
+      each();
+      skip_space();
+      if (peek() != ',') break;
+      ++i_;
+    }
+    expect(close);
+  }
+  toml::table object(int depth) {
+    toml::table t;
+    sequence('{', '}', depth, [&] {
       skip_space();
       if (peek() != '"') fail("expected a key in quotes");
       const std::string key = string();
       expect(':');
       if (t.contains(key)) fail("key \"" + key + "\" twice");
-      insert(t, key, depth);
-      skip_space();
-      if (peek() == ',') {
-        ++i_;
-        continue;
-      }
-      expect('}');
-      return t;
-    }
+      value(depth, [&](auto&& v) { t.insert(key, std::forward<decltype(v)>(v)); });
+    });
+    return t;
   }
-
   toml::array array(int depth) {
-    if (depth > kMaxDepth) fail("nested too deeply");
-    expect('[');
     toml::array a;
-    skip_space();
-    if (peek() == ']') return ++i_, a;
-    for (;;) {
-      push(a, depth);
-      skip_space();
-      if (peek() == ',') {
-        ++i_;
-        continue;
-      }
-      expect(']');
-      return a;
-    }
+    sequence('[', ']', depth, [&] { value(depth, [&](auto&& v) { a.push_back(std::forward<decltype(v)>(v)); }); });
+    return a;
   }
 
   // One value, into a table under `key` or at the end of an array.
@@ -101,12 +94,6 @@ class JsonParser {
     else if (c == '-' || (c >= '0' && c <= '9')) number(put);
     else if (literal("null")) fail("null (cmc writes none)");
     else fail("expected a value");
-  }
-  void insert(toml::table& t, const std::string& key, int depth) {
-    value(depth, [&](auto&& v) { t.insert(key, std::forward<decltype(v)>(v)); });
-  }
-  void push(toml::array& a, int depth) {
-    value(depth, [&](auto&& v) { a.push_back(std::forward<decltype(v)>(v)); });
   }
 
   template <class Put>
