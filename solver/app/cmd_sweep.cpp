@@ -70,8 +70,6 @@ struct SweepRequest {
   bool quiet = false, dry_run = false;
 };
 
-bool is_grid_key(const std::string& key) { return key == "grid.n" || key == "grid.nx" || key == "grid.ny"; }
-
 // The axes: a key swept twice, fixed by a --set, or a grid key beside --grids is refused.
 void check_axes(const SweepRequest& r) {
   for (std::size_t i = 0; i < r.axes.size(); ++i) {

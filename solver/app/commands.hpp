@@ -69,6 +69,8 @@ RunSummary run_case_folder(const Case& c, const std::string& out, bool resume, b
 
 // The key of a --set assignment: "grid.n" of " grid.n = 64".
 std::string override_key(const std::string& assignment);
+// Whether `key` sets the grid's points (grid.n, grid.nx, grid.ny).
+bool is_grid_key(const std::string& key);
 // --grids N1 N2 ...: the increasing whole numbers (2 .. CaseLimits::kMaxGridSide) after
 // --grids; every other argument goes to `rest` (for parse_args). Empty without --grids.
 std::vector<int> take_grids(int argc, char** argv, std::vector<char*>& rest);

@@ -86,6 +86,8 @@ std::string override_key(const std::string& assignment) {
   return key;
 }
 
+bool is_grid_key(const std::string& key) { return key == "grid.n" || key == "grid.nx" || key == "grid.ny"; }
+
 std::vector<int> take_grids(int argc, char** argv, std::vector<char*>& rest) {
   std::vector<int> grids;
   for (int i = 0; i < argc; ++i) {
@@ -123,7 +125,7 @@ void refuse_grid_overrides(const std::vector<std::string>& overrides, const std:
   for (int n : grids) list.append(" ").append(std::to_string(n));
   for (const auto& o : overrides) {
     const std::string key = override_key(o);
-    if (key == "grid.n" || key == "grid.nx" || key == "grid.ny")
+    if (is_grid_key(key))
       throw CaseError("--set " + o + " overrides --grids" + list + ": " + command + " sets " + key +
                       " for each grid itself; drop the --set, or give the grids with --grids");
   }
