@@ -37,7 +37,8 @@ default 1000). A resumed run may lower the cap to just above the outer steps it 
 stored reference says so (its status and last tension change), for a run that creeps for
 hours towards its tension tolerance (s = 8).
 rho(s) is read from `cmc surface` (dx_over_range), never assumed. Runs go to
-RESULTS/s<S>/n<N>/ with --resume: a finished run is kept, an interrupted one resumes.
+RESULTS/s<S>/n<N>/ through `cmc sweep`, one per case and set of overrides over its grids (its
+table RESULTS/s<S>/sweep-<first role>.json): a finished run is kept, an interrupted one resumes.
 
 --tabor MU and --pressure PA run the family at another condition than the challenge's
 (mu_T = 3, 250 kPa): the Tabor sweep's and the load sweep's points (challenge items 2, 6, 7
@@ -182,24 +183,80 @@ def summary_ok(path):
         return False
 
 
-def run(cmc, s, n, out, extra, dry, case=CASE, options=()):
+def job(role, n, suffix, extra, case=CASE, options=()):
+    """One run: `case` as member s on the grid n into RESULTS/s<S>/n<N><suffix>, with the --set
+    overrides `extra` and cmc run's `options` (--start-from)."""
+    return {"role": role, "n": n, "suffix": suffix, "extra": extra, "case": case, "options": list(options)}
+
+
+def job_folder(results, s, j):
+    return os.path.join(results, f"s{s}", f"n{j['n']}{j['suffix']}")
+
+
+def job_sets(s, j, grid=True):
     # The case files name the s = 32 member; each run is named for its own s.
-    name = f"challenge-scaled-s{s}" if case == CASE else f"challenge-scaled-hardwall-s{s}"
-    sets = [f"case.name={name}"] + member_sets(s, adhesion=case == CASE) + [f"grid.n={n}"] + extra
-    cmd = [cmc, "run", case, "--out", out, "--resume"] + sum((["--set", x] for x in sets), []) + list(options)
-    shown = " ".join(["cmc"] + cmd[1:])
-    if summary_ok(os.path.join(ROOT, out, "summary.json")):
-        with open(os.path.join(ROOT, out, "summary.json"), encoding="utf-8") as f:
-            status = json.load(f)["status"]
-        print(f"scaled_family: s = {s}, {n}²: done ({out}" + ("" if status == "converged" else f", {status}") + ")",
-              file=sys.stderr)
-        return shown
-    print(f"scaled_family: s = {s}, {n}²: {shown}", file=sys.stderr, flush=True)
-    if not dry:
-        rc = subprocess.run(cmd, cwd=ROOT).returncode
-        if rc not in (0, 3):  # 3: not converged, stated in the summary
-            sys.exit(f"scaled_family: cmc run exited {rc} (s = {s}, n = {n}); rerun to resume")
-    return shown
+    name = f"challenge-scaled-s{s}" if j["case"] == CASE else f"challenge-scaled-hardwall-s{s}"
+    return ([f"case.name={name}"] + member_sets(s, adhesion=j["case"] == CASE) + ([f"grid.n={j['n']}"] if grid else [])
+            + j["extra"])
+
+
+def run_command(cmc, results, s, j):
+    """The `cmc run` that makes the job's folder (as a cmc sweep point makes it, bit for bit)."""
+    return ([cmc, "run", j["case"], "--out", job_folder(results, s, j), "--resume"]
+            + sum((["--set", x] for x in job_sets(s, j)), []) + j["options"])
+
+
+def shown(cmd):
+    return " ".join(["cmc"] + cmd[1:])
+
+
+def finished(results, s, j):
+    """Whether the job's folder holds a finished run (summary_ok); said on stderr."""
+    out = job_folder(results, s, j)
+    if not summary_ok(os.path.join(ROOT, out, "summary.json")):
+        return False
+    with open(os.path.join(ROOT, out, "summary.json"), encoding="utf-8") as f:
+        status = json.load(f)["status"]
+    print(f"scaled_family: s = {s}, {j['n']}²: done ({out}" + ("" if status == "converged" else f", {status}") + ")",
+          file=sys.stderr)
+    return True
+
+
+def sweep_command(cmc, results, s, jobs):
+    """One `cmc sweep` over the grids of `jobs` (one case, one set of overrides, one folder suffix):
+    RESULTS/s<S>/n<N><suffix> per grid, its table RESULTS/s<S>/sweep-<first role>.json and .md."""
+    first = jobs[0]
+    grids = [str(n) for n in sorted({j["n"] for j in jobs})]
+    return ([cmc, "sweep", first["case"], "--out", os.path.join(results, f"s{s}"), "--grids", *grids,
+             "--folder", "n{n}" + first["suffix"], "--table", "sweep-" + first["role"]]
+            + sum((["--set", x] for x in job_sets(s, first, grid=False)), []))
+
+
+def run_jobs(cmc, results, s, jobs, dry):
+    """Makes every job's folder, in the order of the jobs: those of one case and one set of
+    overrides (not started from another run) as one `cmc sweep` over their grids, refinement and
+    resolved grids apart from the coarse ones (cheapest first); a run started from another with
+    `cmc run`. A sweep whose runs have all finished is not started (a finished run is kept, an
+    interrupted one resumes). Returns each job's command as the store records it: the `cmc run`
+    that makes its folder."""
+    steps = {}
+    for i, j in enumerate(jobs):
+        fine = j["role"] in ("refinement", "resolved")
+        key = ("run", i) if j["options"] else ("sweep", j["case"], tuple(j["extra"]), j["suffix"], fine)
+        steps.setdefault(key, []).append(j)
+    for key, group in steps.items():
+        todo = [j for j in group if not finished(results, s, j)]
+        for j in todo:
+            print(f"scaled_family: s = {s}, {j['n']}²: {shown(run_command(cmc, results, s, j))}", file=sys.stderr)
+        if not todo:
+            continue
+        cmd = run_command(cmc, results, s, group[0]) if key[0] == "run" else sweep_command(cmc, results, s, group)
+        print(f"scaled_family: s = {s}: {shown(cmd)}", file=sys.stderr, flush=True)
+        if not dry:
+            rc = subprocess.run(cmd, cwd=ROOT, stdout=sys.stderr).returncode  # a sweep's table: a log line
+            if rc not in (0, 3):  # 3: not converged, stated in the summary
+                sys.exit(f"scaled_family: cmc {cmd[1]} exited {rc} (s = {s}); rerun to resume")
+    return [shown(run_command(cmc, results, s, j)) for j in jobs]
 
 
 def record(out, role, n, rho, command):
@@ -473,21 +530,18 @@ def main():
             g.pop("resolved", None)
         print(f"scaled_family: s = {s}: rho = {rho * 1e9:.4g} nm, grids "
               + ", ".join(f"{k} {v}² (dx = {L / v / rho:.2f} rho)" for k, v in g.items()), file=sys.stderr)
-        runs = []
-        start = None  # the refinement run's folder, when the resolved run starts from it
+        jobs = []
         for role in g:
             strategy = role.split("_")[0] if role.split("_")[0] in STRATEGY else None
-            out = os.path.join(a.results, f"s{s}", f"n{g[role]}" + (f"-{strategy}" if strategy else ""))
+            suffix = f"-{strategy}" if strategy else ""
             extra, options = adhesive_set + a.set + (STRATEGY[strategy] if strategy else []), []
             if a.start_resolved and role == "refinement":
-                out, extra, start = out + "-fields", extra + ["output.fields=true"], out + "-fields"
-            if a.start_resolved and role == "resolved":
-                options = ["--start-from", start]
+                suffix, extra = suffix + "-fields", extra + ["output.fields=true"]
+            if a.start_resolved and role == "resolved":  # from the refinement run's answer
+                options = ["--start-from", os.path.join(a.results, f"s{s}", f"n{g['refinement']}-fields")]
             if a.max_outer_resolved is not None and role == "resolved":
                 extra = extra + [f"solver.max_outer_steps={a.max_outer_resolved}"]
-            cmd = run(a.cmc, s, g[role], out, extra, a.dry_run, options=options)
-            if not a.dry_run:
-                runs.append(record(out, role, g[role], rho, cmd))
+            jobs.append(job(role, g[role], suffix, extra, options=options))
         # The same surface under the hard wall on the two finest grids (the second route's
         # denominator; a hard-wall solve costs little beside the adhesive one).
         if not a.no_hardwall:
@@ -495,11 +549,10 @@ def main():
                         if "resolved" in g else
                         {f"hardwall_n{g['refinement'] // 2}": g["refinement"] // 2, "hardwall_refinement": g["refinement"]}
                         if "refinement" in g else {f"hardwall_n{n}": n for n in sorted(a.grids)[-2:]})
-            for role, n in hw_grids.items():
-                out = os.path.join(a.results, f"s{s}", f"n{n}-hardwall")
-                cmd = run(a.cmc, s, n, out, hardwall_set, a.dry_run, case=CASE_HW)
-                if not a.dry_run:
-                    runs.append(record(out, role, n, rho, cmd))
+            jobs += [job(role, n, "-hardwall", hardwall_set, case=CASE_HW) for role, n in hw_grids.items()]
+        commands = run_jobs(a.cmc, a.results, s, jobs, a.dry_run)
+        runs = [] if a.dry_run else [record(job_folder(a.results, s, j), j["role"], j["n"], rho, cmd)
+                                     for j, cmd in zip(jobs, commands)]
         m = {"s": s, "lambda_s_m": s * LAMBDA_S1, "w_J_m2": s * W1, "rho_m": rho, "runs": runs, "reference": {},
              "adhesionless": adhesionless(runs)}
         if a.seed is not None:

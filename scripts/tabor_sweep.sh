@@ -2,7 +2,7 @@
 # The challenge's Tabor sweep (quantities 6 and 7): the reference load with every
 # parameter fixed but the adhesion range, mu_T = 0.001 .. 3 on a log grid (15 values, 10^(1/4)
 # apart, listed in cases/challenge/tabor-values; 3 is the challenge's), one run each.
-#   scripts/tabor_sweep.sh [--grid N] [--tabor "MU MU ..."] [--set key=value ...]   (the rest goes to cmc run)
+#   scripts/tabor_sweep.sh [--grid N] [--tabor "MU MU ..."] [--set key=value ...]   (the rest goes to cmc sweep)
 #   --tabor: these mu_T only (any positive numbers, e.g. points between the sweep's near the
 #   mean gap's minimum); CMC=path: another cmc binary (e.g. a build
 #   with -DCMC_WISDOM_MAX_N=8192 for --grid 8192, whose FFTs the default build plans by estimate).
@@ -44,12 +44,8 @@ scripts/setup.sh
 # FFT plans come from the wisdom built into cmc (the same bits on every run); with
 # CMC_FFTW_PLANNER=measure they are timed at run time and kept in this wisdom file.
 export CMC_FFTW_WISDOM="${CMC_FFTW_WISDOM:-$PWD/build/fftw-wisdom}"
-for mu in $mus; do
-  out="$root/mu_T_$mu"
-  if [ -f "$out/summary.json" ] && grep -q '"status" : "converged"' "$out/summary.json"; then
-    echo "tabor_sweep: mu_T = $mu done ($out)" >&2
-    continue
-  fi
-  echo "tabor_sweep: mu_T = $mu -> $out" >&2
-  "$cmc" run cases/challenge/tabor-sweep.toml --out "$out" --resume --set interaction.tabor="$mu" ${extra[@]+"${extra[@]}"} "$@" || [ $? -eq 3 ]
-done
+# One cmc sweep over the values (docs/user-guide/sweep.md): a finished run is kept, an
+# interrupted one resumes, one not converged is reported (exit 3) and the sweep goes on.
+values=$(echo $mus | tr ' ' ',')
+"$cmc" sweep cases/challenge/tabor-sweep.toml --out "$root" --over "interaction.tabor=$values" \
+  --folder 'mu_T_{interaction.tabor}' ${extra[@]+"${extra[@]}"} "$@" || [ $? -eq 3 ]

@@ -6,9 +6,7 @@
 #include "cmc/output/OutputLock.hpp"
 #include "cmc/output/Writer.hpp"
 
-#include <cerrno>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <sstream>
 #include <string>
@@ -35,53 +33,6 @@ Exit codes: 0 every grid converged, 2 bad input, 3 a grid did not converge (the
 table is still written), 4 failed (I/O, memory, or DIR in use by another cmc process:
 one process at a time writes into a folder).
 )";
-
-// --grids takes every following whole number; the rest goes to parse_args.
-std::vector<int> take_grids(int argc, char** argv, std::vector<char*>& rest) {
-  std::vector<int> grids;
-  bool seen = false;
-  for (int i = 0; i < argc; ++i) {
-    if (std::string(argv[i]) != "--grids") {
-      rest.push_back(argv[i]);
-      continue;
-    }
-    seen = true;
-    while (i + 1 < argc) {
-      char* end = nullptr;
-      errno = 0;
-      const long long n = std::strtoll(argv[i + 1], &end, 10);
-      if (end == argv[i + 1] || *end != '\0') {
-        // What follows the sizes is an option or the case file: anything else is a bad size.
-        const std::string next = argv[i + 1];
-        if (next[0] != '-' && !fs::exists(next))
-          throw CaseError("--grids: '" + next + "' is neither a whole number (a grid size) nor an existing case file");
-        break;
-      }
-      // Bounded before it is narrowed to int (CaseLimits, as grid.n in a case file).
-      if (errno == ERANGE || n < 2 || n > CaseLimits::kMaxGridSide || (!grids.empty() && n <= grids.back()))
-        throw CaseError(std::string("--grids: expected increasing grid sizes from 2 to ") +
-                        std::to_string(CaseLimits::kMaxGridSide) + ", got " + argv[i + 1]);
-      grids.push_back(int(n)), ++i;
-    }
-  }
-  if (!seen || grids.size() < 2) throw CaseError("cmc refine needs --grids with at least two increasing grid sizes");
-  return grids;
-}
-
-// A --set of the grid's points would run every grid at that one size, labelled as the
-// grids of --grids (a study of one grid): bad input naming both.
-void refuse_grid_overrides(const std::vector<std::string>& overrides, const std::vector<int>& grids) {
-  std::string list;
-  for (int n : grids) list.append(" ").append(std::to_string(n));
-  for (const auto& o : overrides) {
-    std::string key = o.substr(0, o.find('='));
-    key.erase(0, key.find_first_not_of(" \t"));
-    key.erase(key.find_last_not_of(" \t") + 1);
-    if (key == "grid.n" || key == "grid.nx" || key == "grid.ny")
-      throw CaseError("--set " + o + " overrides --grids" + list + ": cmc refine sets " + key +
-                      " for each grid itself; drop the --set, or give the grids with --grids");
-  }
-}
 
 const char* kRecord = "refinement-grid.toml";
 
@@ -125,10 +76,11 @@ int cmd_refine(int argc, char** argv) {
   for (int i = 1; i < argc; ++i)
     if (std::string(argv[i]) == "-h" || std::string(argv[i]) == "--help") return std::fputs(kRefineHelp, stdout), kOk;
   const std::vector<int> grids = take_grids(argc, argv, rest);
+  if (grids.size() < 2) throw CaseError("cmc refine needs --grids with at least two increasing grid sizes");
   const Args a = parse_args(int(rest.size()), rest.data(), 2);
   if (a.positional.size() != 1) throw CaseError("cmc refine takes exactly one case file (see cmc refine --help)");
   const std::string file = a.positional[0];
-  refuse_grid_overrides(a.overrides, grids);
+  refuse_grid_overrides(a.overrides, grids, "cmc refine");
   const fs::path out = a.out.empty() ? fs::path("results") / "refine" / fs::path(file).stem() : fs::path(a.out);
   // Every grid's case is read and checked (sizes, memory) before the first one runs.
   std::vector<Case> cases;

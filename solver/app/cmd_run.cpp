@@ -66,26 +66,35 @@ void check_resumable(const std::string& out, bool quiet) {
 
 }  // namespace
 
+double checkpoint_every(const Args& a) {
+  const std::string e = a.option("--checkpoint-every");
+  if (e.empty()) return kCheckpointEverySeconds;
+  char* end = nullptr;
+  const double every = std::strtod(e.c_str(), &end);
+  if (end == e.c_str() || *end != '\0' || !(every >= 0.0) || !std::isfinite(every))
+    throw CaseError("--checkpoint-every '" + e + "': expected seconds, a number >= 0");
+  return every;
+}
+
+RunSummary run_case_folder(const Case& c, const std::string& out, bool resume, bool quiet, double checkpoint_every_s,
+                           const std::string& start_from) {
+  require_backend(c);
+  if (resume) check_resumable(out, quiet);
+  // Before the scene is built: a second run on DIR stops at once (rank 0 holds the lock).
+  const OutputLock lock = is_root() ? OutputLock(out) : OutputLock();
+  print_memory_plan(c, quiet);
+  Scene scene = build_scene(c);
+  return run_case_to(c, scene, out, resume, quiet, checkpoint_every_s, start_from);
+}
+
 int cmd_run(int argc, char** argv) {
   const Args a = parse_args(argc, argv, 2, {"--checkpoint-every", "--start-from"});
   if (a.help) return std::fputs(kRunHelp, stdout), kOk;
   if (a.positional.size() != 1) throw CaseError("cmc run takes exactly one case file (see cmc run --help)");
   if (a.out.empty()) throw CaseError("cmc run needs --out DIR (see cmc run --help)");
-  double every = kCheckpointEverySeconds;
-  if (const std::string e = a.option("--checkpoint-every"); !e.empty()) {
-    char* end = nullptr;
-    every = std::strtod(e.c_str(), &end);
-    if (end == e.c_str() || *end != '\0' || !(every >= 0.0) || !std::isfinite(every))
-      throw CaseError("--checkpoint-every '" + e + "': expected seconds, a number >= 0");
-  }
+  const double every = checkpoint_every(a);
   const Case c = load_case(a.positional[0], a.overrides);
-  require_backend(c);
-  if (a.resume) check_resumable(a.out, a.quiet);
-  // Before the scene is built: a second run on DIR stops at once (rank 0 holds the lock).
-  const OutputLock lock = is_root() ? OutputLock(a.out) : OutputLock();
-  print_memory_plan(c, a.quiet);
-  Scene scene = build_scene(c);
-  const RunSummary run = run_case_to(c, scene, a.out, a.resume, a.quiet, every, a.option("--start-from"));
+  const RunSummary run = run_case_folder(c, a.out, a.resume, a.quiet, every, a.option("--start-from"));
   if (run.status != RunStatus::Converged) {
     if (is_root()) std::fprintf(stderr, "cmc run: %s\n", run.message.c_str());
     return kNotConverged;

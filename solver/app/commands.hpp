@@ -57,6 +57,28 @@ constexpr double kCheckpointEverySeconds = 600.0;
 RunSummary run_case_to(const Case& c, Scene& scene, const std::string& out, bool resume, bool quiet,
                        double checkpoint_every_s = kCheckpointEverySeconds, const std::string& start_from = "");
 
+// --checkpoint-every SECONDS (a number >= 0; absent: kCheckpointEverySeconds), CaseError
+// naming the option when malformed.
+double checkpoint_every(const Args& a);
+// What `cmc run CASE --out OUT [--resume]` does once its arguments are read: checks the
+// backend (and, with `resume`, that OUT holds no finished run without a checkpoint), locks
+// OUT, prints the memory plan, builds the scene and runs it with run_case_to (cmd_run.cpp;
+// `cmc sweep` runs each point through it, so a point's folder is what `cmc run` writes).
+RunSummary run_case_folder(const Case& c, const std::string& out, bool resume, bool quiet,
+                           double checkpoint_every_s = kCheckpointEverySeconds, const std::string& start_from = "");
+
+// The key of a --set assignment: "grid.n" of " grid.n = 64".
+std::string override_key(const std::string& assignment);
+// Whether `key` sets the grid's points (grid.n, grid.nx, grid.ny).
+bool is_grid_key(const std::string& key);
+// --grids N1 N2 ...: the increasing whole numbers (2 .. CaseLimits::kMaxGridSide) after
+// --grids; every other argument goes to `rest` (for parse_args). Empty without --grids.
+std::vector<int> take_grids(int argc, char** argv, std::vector<char*>& rest);
+// A --set of grid.n, grid.nx or grid.ny beside --grids would run every grid at that one
+// size, labelled as the grids of --grids: bad input naming both (`command` sets the grid).
+void refuse_grid_overrides(const std::vector<std::string>& overrides, const std::vector<int>& grids,
+                           const std::string& command);
+
 int cmd_run(int argc, char** argv);
 int cmd_refine(int argc, char** argv);     // cmd_refine.cpp
 int cmd_validate(int argc, char** argv);
@@ -65,5 +87,6 @@ int cmd_reference(int argc, char** argv);  // cmd_reference.cpp
 int write_run_curve(const std::string& spec_file, const std::string& out);
 int cmd_check(int argc, char** argv);      // cmd_check.cpp
 int cmd_surface(int argc, char** argv);    // cmd_surface.cpp
+int cmd_sweep(int argc, char** argv);      // cmd_sweep.cpp
 
 }  // namespace cmc::app

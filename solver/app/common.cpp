@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <memory>
 
 namespace cmc::app {
@@ -76,6 +77,58 @@ Args parse_args(int argc, char** argv, int first, const std::vector<std::string>
     else a.positional.push_back(s);
   }
   return a;
+}
+
+std::string override_key(const std::string& assignment) {
+  std::string key = assignment.substr(0, assignment.find('='));
+  key.erase(0, std::min(key.find_first_not_of(" \t"), key.size()));
+  key.erase(key.find_last_not_of(" \t") + 1);
+  return key;
+}
+
+bool is_grid_key(const std::string& key) { return key == "grid.n" || key == "grid.nx" || key == "grid.ny"; }
+
+std::vector<int> take_grids(int argc, char** argv, std::vector<char*>& rest) {
+  std::vector<int> grids;
+  for (int i = 0; i < argc; ++i) {
+    if (std::string(argv[i]) != "--grids") {
+      rest.push_back(argv[i]);
+      continue;
+    }
+    const std::size_t before = grids.size();
+    while (i + 1 < argc) {
+      char* end = nullptr;
+      errno = 0;
+      const long long n = std::strtoll(argv[i + 1], &end, 10);
+      if (end == argv[i + 1] || *end != '\0') {
+        // What follows the sizes is an option or the case file: anything else is a bad size.
+        const std::string next = argv[i + 1];
+        if (next[0] != '-' && !std::filesystem::exists(next))
+          throw CaseError("--grids: '" + next + "' is neither a whole number (a grid size) nor an existing case file");
+        break;
+      }
+      // Bounded before it is narrowed to int (CaseLimits, as grid.n in a case file).
+      if (errno == ERANGE || n < 2 || n > CaseLimits::kMaxGridSide || (!grids.empty() && n <= grids.back()))
+        throw CaseError(std::string("--grids: expected increasing grid sizes from 2 to ") +
+                        std::to_string(CaseLimits::kMaxGridSide) + ", got " + argv[i + 1]);
+      grids.push_back(int(n)), ++i;
+    }
+    if (grids.size() == before) throw CaseError("--grids needs grid sizes, e.g. --grids 64 128");
+  }
+  return grids;
+}
+
+void refuse_grid_overrides(const std::vector<std::string>& overrides, const std::vector<int>& grids,
+                           const std::string& command) {
+  if (grids.empty()) return;
+  std::string list;
+  for (int n : grids) list.append(" ").append(std::to_string(n));
+  for (const auto& o : overrides) {
+    const std::string key = override_key(o);
+    if (is_grid_key(key))
+      throw CaseError("--set " + o + " overrides --grids" + list + ": " + command + " sets " + key +
+                      " for each grid itself; drop the --set, or give the grids with --grids");
+  }
 }
 
 void require_backend(const Case& c) {

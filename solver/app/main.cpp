@@ -27,6 +27,9 @@ commands:
   refine CASE.toml --grids N1 N2 [N3 ...] [--out DIR] [--set ...] [--quiet]
         grid-refinement study: the case on each grid (resumable), the change of
         every observable between grids and its observed order
+  sweep CASE.toml --out DIR --over section.key=V1,V2,... [--grids N1 N2 ...] [--set ...]
+        the case once per value (and grid), each point as `cmc run` would run it
+        into a folder of its own (resumable); then DIR/sweep.json and DIR/sweep.md
   surface CASE.toml [--write FILE.h5]
         the case's surface: statistics (rms height, gradient, R_c, Tabor) and the map
   reference [NAME ...] [--out DIR] [--list]
@@ -87,6 +90,7 @@ int dispatch(int argc, char** argv) {
     if (cmd == "run") return cmd_run(argc, argv);
     if (cmd == "validate") return cmd_validate(argc, argv);
     if (cmd == "refine") return cmd_refine(argc, argv);
+    if (cmd == "sweep") return cmd_sweep(argc, argv);
     if (cmd == "reference") return cmd_reference(argc, argv);
     if (cmd == "check") return cmd_check(argc, argv);
     if (cmd == "surface") return cmd_surface(argc, argv);
