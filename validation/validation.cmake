@@ -177,6 +177,11 @@ add_test(NAME docs.checker_fails_on_broken_links
 add_test(NAME docs.performance_tables COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/scripts/performance_tables.py --check)
 set_tests_properties(docs.links docs.quickstarts docs.checker_fails_on_broken_links docs.performance_tables
                      PROPERTIES LABELS "quick;python" TIMEOUT 300)
+# Size limits (scripts/check_sizes.py): no function over 80 lines and no file over 600 lines in
+# solver/ and validation/; the checker fails on what it is there to catch (tests/check_sizes_test.py).
+add_test(NAME sizes.limits COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/scripts/check_sizes.py)
+add_test(NAME sizes.checker_fails_on_breaches COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/tests/check_sizes_test.py)
+set_tests_properties(sizes.limits sizes.checker_fails_on_breaches PROPERTIES LABELS "quick;python")
 # The README's headline table is what scripts/headline_table.py makes of the stored best estimates.
 add_test(NAME docs.headline COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/scripts/headline_table.py --check)
 set_tests_properties(docs.headline PROPERTIES LABELS "quick;python")
