@@ -33,6 +33,10 @@ set_tests_properties(tabor_sweep.refusals PROPERTIES LABELS quick)
 # extremum), each formula against a hand-computed case.
 add_test(NAME analysis.unit COMMAND /usr/bin/python3 -m pytest -q -p no:cacheprovider ${CMAKE_SOURCE_DIR}/tests/analysis)
 set_tests_properties(analysis.unit PROPERTIES LABELS "quick;python")
+# The case-file reader of the Python scripts (python/cmc/case_files.py): bases merged as the
+# program merges them, and the challenge cases read through theirs.
+add_test(NAME case_files.python COMMAND /usr/bin/python3 -m pytest -q -p no:cacheprovider ${CMAKE_SOURCE_DIR}/tests/case_files)
+set_tests_properties(case_files.python PROPERTIES LABELS "quick;python")
 
 # The report scripts on synthetic inputs (Debian's python3 with matplotlib/h5py).
 add_test(NAME reports.selftest COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/reports/selftest.py)
