@@ -10,6 +10,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 using namespace cmc;
 namespace fs = std::filesystem;
@@ -41,21 +42,14 @@ class Folder {
   fs::path dir_;
 };
 
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
 // A base holding everything but the case's name and its surface: grid, material, load.
-const char* kBaseNoSurface = R"(
-[grid]
-n = 16
-size = 1e-3
-[material]
-contact_modulus = 1e6
-[loading]
-control = "force"
-values = [1e-4, 2e-4]
-[solver]
-tolerance = 1e-9
-)";
+const std::string kBaseNoSurface = read_text(fs::path(CMC_SOURCE_DIR) / "tests/data/bases/common.toml");
 // The same with a sphere: a whole case but for its name.
-const std::string kBase = std::string(kBaseNoSurface) + "[surface]\nkind = \"sphere\"\nradius = 1e-2\n";
+const std::string kBase = kBaseNoSurface + "[surface]\nkind = \"sphere\"\nradius = 1e-2\n";
 
 // The message of the CaseError that loading `file` throws ("" and a failure if none).
 std::string error_of(const std::string& file) {
@@ -108,7 +102,7 @@ TEST(CaseBases, NestedBasesInOtherFolders) {
   // case -> sub/middle.toml -> ../common/root.toml; each base's path is relative to the
   // file that names it, and so is a relative [surface] path stated in a base.
   Folder d;
-  d.write("common/root.toml", std::string(kBaseNoSurface) + "[output]\nfields = false\n");
+  d.write("common/root.toml", kBaseNoSurface + "[output]\nfields = false\n");
   d.write("sub/middle.toml", R"(base = "../common/root.toml"
 [grid]
 n = 8

@@ -10,16 +10,9 @@ ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 sys.path.insert(0, os.path.join(ROOT, "python"))
 from cmc.case_files import MAX_BASE_DEPTH, read_case_file  # noqa: E402
 
-BASE = """
-[grid]
-n = 16
-size = 1e-3
-[material]
-contact_modulus = 1e6
-[loading]
-control = "force"
-values = [1e-4, 2e-4]
-"""
+# A whole case but for its name and its surface (shared with tests/test_case_bases.cpp).
+with open(os.path.join(ROOT, "tests", "data", "bases", "common.toml"), encoding="utf-8") as f:
+    BASE = f.read()
 
 
 def write(folder, name, text):
