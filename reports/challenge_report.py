@@ -1186,9 +1186,8 @@ def _adhesion_resolution(reference_dir, out_dir):
 def _case_seed(case_dir):
     """The surface seed of the family's case file (case_dir: cases/challenge), or None."""
     try:
-        import tomllib
-        with open(os.path.join(case_dir, "scaled-family.toml"), "rb") as f:
-            return tomllib.load(f)["surface"]["seed"]
+        from cmc.case_files import read_case_file  # with its base, challenge-base.toml
+        return read_case_file(os.path.join(case_dir, "scaled-family.toml"))["surface"]["seed"]
     except (OSError, KeyError, ValueError, ImportError):
         return None
 

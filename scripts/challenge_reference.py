@@ -176,12 +176,12 @@ def _toml_value(v):
 
 def _overrides(summary):
     """The --set options the run was given, as far as its resolved case shows them: every key of
-    the case file whose resolved value differs, and the strategy key when the file lacks it."""
+    the case file (with its bases) whose resolved value differs, and the strategy key when the
+    file lacks it."""
     path = summary.get("case_file")
     try:
-        import tomllib
-        with open(os.path.join(ROOT, path) if path and not os.path.isabs(path) else path, "rb") as f:
-            file = tomllib.load(f)
+        from cmc.case_files import read_case_file  # with the bases it names
+        file = read_case_file(os.path.join(ROOT, path) if path and not os.path.isabs(path) else path)
     except (OSError, TypeError, ValueError, ImportError):
         return ""
     case = summary.get("case") or {}

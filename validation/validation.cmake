@@ -33,6 +33,10 @@ set_tests_properties(tabor_sweep.refusals PROPERTIES LABELS quick)
 # extremum), each formula against a hand-computed case.
 add_test(NAME analysis.unit COMMAND /usr/bin/python3 -m pytest -q -p no:cacheprovider ${CMAKE_SOURCE_DIR}/tests/analysis)
 set_tests_properties(analysis.unit PROPERTIES LABELS "quick;python")
+# The case-file reader of the Python scripts (python/cmc/case_files.py): bases merged as the
+# program merges them, and the challenge cases read through theirs.
+add_test(NAME case_files.python COMMAND /usr/bin/python3 -m pytest -q -p no:cacheprovider ${CMAKE_SOURCE_DIR}/tests/case_files)
+set_tests_properties(case_files.python PROPERTIES LABELS "quick;python")
 
 # The report scripts on synthetic inputs (Debian's python3 with matplotlib/h5py).
 add_test(NAME reports.selftest COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/reports/selftest.py)
@@ -177,6 +181,11 @@ add_test(NAME docs.checker_fails_on_broken_links
 add_test(NAME docs.performance_tables COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/scripts/performance_tables.py --check)
 set_tests_properties(docs.links docs.quickstarts docs.checker_fails_on_broken_links docs.performance_tables
                      PROPERTIES LABELS "quick;python" TIMEOUT 300)
+# Size limits (scripts/check_sizes.py): no function over 80 lines and no file over 600 lines in
+# solver/ and validation/; the checker fails on what it is there to catch (tests/check_sizes_test.py).
+add_test(NAME sizes.limits COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/scripts/check_sizes.py)
+add_test(NAME sizes.checker_fails_on_breaches COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/tests/check_sizes_test.py)
+set_tests_properties(sizes.limits sizes.checker_fails_on_breaches PROPERTIES LABELS "quick;python")
 # The README's headline table is what scripts/headline_table.py makes of the stored best estimates.
 add_test(NAME docs.headline COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/scripts/headline_table.py --check)
 set_tests_properties(docs.headline PROPERTIES LABELS "quick;python")

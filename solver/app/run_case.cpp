@@ -12,6 +12,25 @@
 
 namespace cmc::app {
 
+namespace {
+
+// Where a resumed run stands, as its checkpoint says.
+void print_resuming(const Writer& writer, const Case& c, const Scene& scene) {
+  const RunPoint& rp = writer.resume_point();
+  std::fprintf(stderr, "resuming %s: %zu of %zu steps finished", c.name.c_str(), rp.done.size(), scene.targets.size());
+  if (rp.path.refinement != PathState::Refinement::NotStarted)
+    std::fprintf(stderr, ", %d pull-off refinement solves done", rp.path.refinement_solves);
+  if (rp.inside)
+    std::fprintf(stderr, ", step %zu inside: %d outer steps, %d iterations, %.0f FFT pairs, %.0f s done",
+                 rp.done.size(), rp.inside->outer, rp.inside->so_far.iterations, rp.inside->so_far.fft_pairs,
+                 rp.inside->so_far.wall_s);
+  if (!writer.start().empty())
+    std::fprintf(stderr, " (started from %s)", writer.start()["folder"].value_or(std::string("?")).c_str());
+  std::fputc('\n', stderr);
+}
+
+}  // namespace
+
 RunSummary run_case_to(const Case& c, Scene& scene, const std::string& out, bool resume, bool quiet,
                        double checkpoint_every_s, const std::string& start_from) {
   // A start from a coarser run, read and checked before the output folder is touched (a
@@ -22,18 +41,7 @@ RunSummary run_case_to(const Case& c, Scene& scene, const std::string& out, bool
   Writer writer(out, c, scene, resume);
   RunPoint& rp = writer.resume_point();
   if (!writer.notice().empty()) std::fprintf(stderr, "cmc: warning: %s\n", writer.notice().c_str());
-  if (writer.resuming() && !quiet) {
-    std::fprintf(stderr, "resuming %s: %zu of %zu steps finished", c.name.c_str(), rp.done.size(), scene.targets.size());
-    if (rp.path.refinement != PathState::Refinement::NotStarted)
-      std::fprintf(stderr, ", %d pull-off refinement solves done", rp.path.refinement_solves);
-    if (rp.inside)
-      std::fprintf(stderr, ", step %zu inside: %d outer steps, %d iterations, %.0f FFT pairs, %.0f s done",
-                   rp.done.size(), rp.inside->outer, rp.inside->so_far.iterations, rp.inside->so_far.fft_pairs,
-                   rp.inside->so_far.wall_s);
-    if (!writer.start().empty())
-      std::fprintf(stderr, " (started from %s)", writer.start()["folder"].value_or(std::string("?")).c_str());
-    std::fputc('\n', stderr);
-  }
+  if (writer.resuming() && !quiet) print_resuming(writer, c, scene);
   // A resumed run goes on from its checkpoint instead (which records how it started).
   bool started = false;
   if (start && writer.resuming()) {

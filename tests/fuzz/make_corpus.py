@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """Writes the seed corpora of the fuzz targets (tests/fuzz/corpus/<target>/) from the
-files cmc ships: case files (cases/**/*.toml, with and without --set overrides),
+files cmc ships: case files (cases/**/*.toml, with and without --set overrides; a case
+that names a base with its bases merged in, and one whose base is itself),
 reference curves (reference/*.csv, reference/challenge/*.csv, cut to their first rows),
 and small height files in every format the readers take (ASCII matrices and Fourier
 lists as the writers write them; HDF5 files as cmc's writer writes them plus the
@@ -10,14 +11,19 @@ format, wrong ranks). Deterministic: running it again rewrites the same bytes.
 usage: /usr/bin/python3 tests/fuzz/make_corpus.py   (from anywhere; needs h5py, numpy)
 """
 import glob
+import json
 import os
 import re
 import shutil
+import sys
+import tomllib
 
 import h5py
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "python"))
+from cmc.case_files import read_case_file  # noqa: E402
 CORPUS = os.path.join(ROOT, "tests", "fuzz", "corpus")
 MAX_ROWS = 40  # data rows kept from a reference curve: a small seed is a fast seed
 
@@ -34,11 +40,48 @@ def write(d, name, data):
         f.write(data if isinstance(data, bytes) else data.encode())
 
 
+def toml_value(v):
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, str):
+        return json.dumps(v, ensure_ascii=False)  # a JSON string is a TOML basic string
+    if isinstance(v, list):
+        return "[" + ", ".join(toml_value(x) for x in v) + "]"
+    return repr(v)
+
+
+def toml_text(table, prefix=""):
+    """A table (as tomllib reads it) written back as TOML: values, then sub-tables and arrays
+    of tables, each under its header."""
+    lines, subs = [], []
+    for k, v in table.items():
+        if isinstance(v, dict):
+            subs.append(f"\n[{prefix}{k}]\n" + toml_text(v, f"{prefix}{k}."))
+        elif isinstance(v, list) and v and all(isinstance(x, dict) for x in v):
+            subs += [f"\n[[{prefix}{k}]]\n" + toml_text(x, f"{prefix}{k}.") for x in v]
+        else:
+            lines.append(f"{k} = {toml_value(v)}\n")
+    return "".join(lines) + "".join(subs)
+
+
+def case_text(path):
+    """A case file's bytes; one that names a base, with its bases merged in (the fuzz target
+    writes one file, where a base could not be found), as the program merges them."""
+    data = open(path, "rb").read()
+    if "base" not in tomllib.loads(data.decode("utf-8")):
+        return data
+    return ("# " + os.path.relpath(path, ROOT) + " with its bases merged in (make_corpus.py)\n" +
+            toml_text(read_case_file(path))).encode("utf-8")
+
+
 def case_corpus():
     d = fresh("case")
     files = sorted(glob.glob(os.path.join(ROOT, "cases", "**", "*.toml"), recursive=True))
     for f in files:
-        write(d, os.path.basename(f), open(f, "rb").read())
+        write(d, os.path.basename(f), case_text(f))
+    # A base that is the file itself (the target's case.toml): the cycle check, and mutations
+    # of the base key from there.
+    write(d, "base-self.toml", 'base = "case.toml"\n\n[case]\nname = "base-self"\n')
     # --set strings follow the case text, each after a NUL byte (fuzz_case.cpp).
     overrides = {
         "hertz-free.toml": ["grid.n=64", "solver.tolerance=1e-8", "grid.boundary=periodic"],
@@ -56,7 +99,7 @@ def case_corpus():
     seeds = [(name.replace(".toml", ".set"), (name, sets)) for name, sets in overrides.items()]
     for out, (name, sets) in seeds + list(regressions.items()):
         (path,) = [f for f in files if os.path.basename(f) == name]
-        write(d, out, open(path, "rb").read() + b"".join(b"\0" + s.encode() for s in sets))
+        write(d, out, case_text(path) + b"".join(b"\0" + s.encode() for s in sets))
 
 
 def case_dictionary():

@@ -143,7 +143,7 @@ struct Case {
 };
 
 // The bounds of every size a case file sets, checked where the key is read
-// (input/Case.cpp) and listed in cases/README.md ("Limits"). A value beyond one is bad
+// (input/CaseSections.cpp) and listed in cases/README.md ("Limits"). A value beyond one is bad
 // input (CaseError naming the file, the key and the limit), never wrapped or clamped.
 struct CaseLimits {
   // Points per side: 2^20. FFT sizes and grid indices are ints; the free boundary pads
@@ -173,6 +173,8 @@ struct CaseLimits {
   static constexpr double kMaxBandRatio = 1e6;
   // A case file is a few kB; anything this large is not one.
   static constexpr std::uintmax_t kMaxCaseFileBytes = 16u << 20;
+  // base = "other.toml": a base may name a base of its own, this many deep (CaseFile.cpp).
+  static constexpr int kMaxBaseDepth = 8;
 };
 
 // The memory a run of a case holds at its peak: every field of the grid and of the
@@ -216,7 +218,12 @@ struct DocumentedDefault {
 };
 std::vector<DocumentedDefault> case_defaults();
 
-// Read, apply overrides, validate.
+// The table of the case file at `path` with the bases it names merged under it
+// (input/CaseFile.cpp; docs/user-guide/case-files.md, "Shared bases"): what load_case
+// applies the overrides to.
+toml::table read_case_file(const std::string& path);
+
+// Read (with its bases), apply overrides, validate.
 Case load_case(const std::string& path, const std::vector<std::string>& overrides = {});
 
 }  // namespace cmc

@@ -186,14 +186,11 @@ Patches label_patches(const Grid& grid, const Mask& mask, Connectivity c) {
 // perimeters are summed per merged patch, the same on every rank; each rank's labels
 // point at the merged patches.
 namespace {
-Patches label_slab_patches(const Grid& grid, const Mask& mask, Connectivity c) {
-  if (grid.size() >= std::size_t(std::numeric_limits<std::int32_t>::max()))
-    throw std::length_error("label_patches: slab too large for 32-bit labels");
+// The patches of a slab's own rows (wrapping in x only) into L, numbered 0.. in scan
+// order (-1 outside contact); returns their count.
+std::int32_t label_slab_rows(const Grid& grid, const Mask& mask, Connectivity c, std::int32_t* L) {
   const std::int32_t nx = grid.nx, rows = grid.rows();
   const std::size_t n = grid.size();
-  Patches local;
-  local.label.resize(n);
-  std::int32_t* L = local.label.data();
   for (std::int32_t k = 0; k < std::int32_t(n); ++k) L[k] = mask[k] ? k : -1;
   for (std::int32_t iy = 0; iy < rows; ++iy) {
     const std::int32_t row = iy * nx, down = (iy - 1) * nx;
@@ -215,6 +212,18 @@ Patches label_slab_patches(const Grid& grid, const Mask& mask, Connectivity c) {
   std::int32_t count = 0;
   for (std::int32_t k = 0; k < std::int32_t(n); ++k)
     if (L[k] >= 0) L[k] = (L[k] == k) ? count++ : L[L[k]];
+  return count;
+}
+
+Patches label_slab_patches(const Grid& grid, const Mask& mask, Connectivity c) {
+  if (grid.size() >= std::size_t(std::numeric_limits<std::int32_t>::max()))
+    throw std::length_error("label_patches: slab too large for 32-bit labels");
+  const std::int32_t nx = grid.nx, rows = grid.rows();
+  const std::size_t n = grid.size();
+  Patches local;
+  local.label.resize(n);
+  std::int32_t* L = local.label.data();
+  const std::int32_t count = label_slab_rows(grid, mask, c, L);
   std::vector<double> cells(std::size_t(count), 0.0), perim(std::size_t(count), 0.0);
   for (std::int32_t k = 0; k < std::int32_t(n); ++k)
     if (L[k] >= 0) cells[L[k]] += 1.0;

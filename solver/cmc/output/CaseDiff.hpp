@@ -11,7 +11,7 @@
 // A stopping limit (solver.max_outer_steps) may change: the path of a solve does not depend
 // on its limit until the limit is reached, so the resumed run is the run a fresh one with
 // the new limit makes, provided the checkpoint has not yet passed it. compare_cases cannot
-// see how far the checkpoint got: it lists the change, and the caller (Writer.cpp) refuses
+// see how far the checkpoint got: it lists the change, and the caller (Checkpoint.cpp) refuses
 // a limit that the checkpoint's outer steps have already reached. The way to end a run
 // that creeps towards its tolerance for hours: resume it with a limit just above where it
 // stands, and it stops there with status not_converged and its last tension change.

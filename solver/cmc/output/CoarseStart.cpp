@@ -56,10 +56,15 @@ Field prolong(const Field& coarse, int cnx, int cny, int m) {
   return fine;
 }
 
-CoarseStart read_coarse_start(const fs::path& dir, const Case& c, const Scene& s, double lift) {
-  const std::string where = "--start-from " + dir.string();
-  auto fail = [&](const std::string& what) { throw CaseError(where + ": " + what); };
-  if (!(lift >= 0.0) || !std::isfinite(lift)) throw std::invalid_argument("read_coarse_start: lift must be >= 0");
+namespace {
+
+[[noreturn]] void fail_start(const fs::path& dir, const std::string& what) {
+  throw CaseError("--start-from " + dir.string() + ": " + what);
+}
+
+// Whether a start from a coarser run serves this case, and `dir` holds a finished run with fields.
+void check_start_applies(const fs::path& dir, const Case& c, const Scene& s) {
+  auto fail = [&](const std::string& what) { fail_start(dir, what); };
   if (ranks() > 1) fail("not available in a distributed run yet (run the start on one process)");
   if (c.solver.kind != SolverKind::QuasiStatic && c.solver.kind != SolverKind::PolonskyKeer)
     fail("a start from a coarser run serves the quasi-static and Polonsky-Keer solvers only (this case's "
@@ -73,50 +78,49 @@ CoarseStart read_coarse_start(const fs::path& dir, const Case& c, const Scene& s
     fail("holds no finished run (no summary.json, or an INCOMPLETE marker): finish that run first");
   if (!fs::exists(file, ec))
     fail("holds a run without fields (no result.h5): run that case with --set output.fields=true");
+}
 
-  const Units& u = s.units;
-  const double lx_m = u.to_m(s.grid.lx), ly_m = u.to_m(s.grid.ly);
+// The last step of the coarse run's result.h5: its group's name and its load (SI).
+struct LastStep {
   std::string step;
   double mean_pressure_pa = NAN, penetration_m = NAN;
-  {
-    H5Quiet quiet;
-    H5Handle f(H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
-    if (!f.ok()) fail(file.string() + " is not a readable HDF5 file");
-    const double sx = attribute(f, "size_x"), sy = attribute(f, "size_y");
-    if (!nearly_equal(sx, lx_m, 1e-9) || !nearly_equal(sy, ly_m, 1e-9)) {
-      std::ostringstream m;
-      m << file.string() << " covers " << sx << " x " << sy << " m, this case " << lx_m << " x " << ly_m
-        << " m: a start needs the same box";
-      fail(m.str());
-    }
-    int last = -1;
-    while (H5Lexists(f, step_name(last + 1).c_str(), H5P_DEFAULT) > 0) ++last;
-    if (last < 0) fail(file.string() + " holds no step");
-    step = step_name(last);
-    for (const char* field : {"gap", "pressure", "displacement"})
-      if (H5Lexists(f, (step + "/" + field).c_str(), H5P_DEFAULT) <= 0)
-        fail(file.string() + " holds no fields (no " + step + "/" + field + "): run that case with --set "
-             "output.fields=true");
-    H5Handle g(H5Gopen2(f, step.c_str(), H5P_DEFAULT), H5Gclose);
-    mean_pressure_pa = g.ok() ? attribute(g, "mean_pressure") : NAN;
-    penetration_m = g.ok() ? attribute(g, "penetration") : NAN;
-    if (!std::isfinite(mean_pressure_pa) || !std::isfinite(penetration_m))
-      fail(file.string() + ": " + step + " lacks its attributes mean_pressure and penetration");
-  }
-  // The fields (SI), each checked for shape and finite values by the reader.
-  auto read = [&](const std::string& name) { return read_hdf5_heights(file, name, lx_m, ly_m); };
-  HeightMap gap = read(step + "/gap"), pressure = read(step + "/pressure"), displacement = read(step + "/displacement");
-  HeightMap heights = read("heights");
-  const int cnx = gap.grid.nx, cny = gap.grid.ny;
-  for (const HeightMap* m : {&pressure, &displacement, &heights})
-    if (m->grid.nx != cnx || m->grid.ny != cny) fail(file.string() + ": its fields differ in shape");
-  const int nx = s.grid.nx, ny = s.grid.ny;
-  if (nx % cnx != 0 || ny % cny != 0 || nx / cnx != ny / cny)
-    fail("its grid, " + std::to_string(cnx) + " x " + std::to_string(cny) + ", does not divide this case's " +
-         std::to_string(nx) + " x " + std::to_string(ny) + " by one whole factor");
-  const int m = nx / cnx;
+};
 
-  // The same surface: the heights at the points both grids share.
+LastStep read_last_step(const fs::path& dir, const fs::path& file, double lx_m, double ly_m) {
+  auto fail = [&](const std::string& what) { fail_start(dir, what); };
+  LastStep last_step;
+  H5Quiet quiet;
+  H5Handle f(H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  if (!f.ok()) fail(file.string() + " is not a readable HDF5 file");
+  const double sx = attribute(f, "size_x"), sy = attribute(f, "size_y");
+  if (!nearly_equal(sx, lx_m, 1e-9) || !nearly_equal(sy, ly_m, 1e-9)) {
+    std::ostringstream m;
+    m << file.string() << " covers " << sx << " x " << sy << " m, this case " << lx_m << " x " << ly_m
+      << " m: a start needs the same box";
+    fail(m.str());
+  }
+  int last = -1;
+  while (H5Lexists(f, step_name(last + 1).c_str(), H5P_DEFAULT) > 0) ++last;
+  if (last < 0) fail(file.string() + " holds no step");
+  const std::string step = step_name(last);
+  for (const char* field : {"gap", "pressure", "displacement"})
+    if (H5Lexists(f, (step + "/" + field).c_str(), H5P_DEFAULT) <= 0)
+      fail(file.string() + " holds no fields (no " + step + "/" + field + "): run that case with --set "
+           "output.fields=true");
+  H5Handle g(H5Gopen2(f, step.c_str(), H5P_DEFAULT), H5Gclose);
+  last_step.step = step;
+  last_step.mean_pressure_pa = g.ok() ? attribute(g, "mean_pressure") : NAN;
+  last_step.penetration_m = g.ok() ? attribute(g, "penetration") : NAN;
+  if (!std::isfinite(last_step.mean_pressure_pa) || !std::isfinite(last_step.penetration_m))
+    fail(file.string() + ": " + step + " lacks its attributes mean_pressure and penetration");
+  return last_step;
+}
+
+// How far the coarse run's heights (SI, cnx x cny) are from this case's at the points both
+// grids share (every m-th of this grid's), relative to the rms height.
+double surface_difference(const HeightMap& heights, const Scene& s, int cnx, int cny, int m) {
+  const Units& u = s.units;
+  const int nx = s.grid.nx;
   const Field& h = s.topography.heights;  // reduced
   Field dh(heights.heights.size()), hc(heights.heights.size());
   Grid::parallel_for(std::size_t(cny), [&](std::size_t b, std::size_t e) {
@@ -134,7 +138,53 @@ CoarseStart read_coarse_start(const fs::path& dir, const Case& c, const Scene& s
     var_h = Grid::dot(hc, hc) / double(hc.size()) - mean_h * mean_h;
     var_dh = Grid::dot(dh, dh) / double(dh.size()) - mean_dh * mean_dh;
   }
-  const double rel = std::sqrt(std::max(0.0, var_dh) / std::max(var_h, 1e-300));
+  return std::sqrt(std::max(0.0, var_dh) / std::max(var_h, 1e-300));
+}
+
+// A start from a load no larger than this case's (the quasi-static solver's start from above).
+void check_start_load(const fs::path& dir, const Scene& s, const LastStep& last) {
+  const Units& u = s.units;
+  const Target& t = s.targets[0];
+  if (t.control == Control::MeanPressure && u.pressure(last.mean_pressure_pa) > t.value * (1.0 + 1e-9) + 1e-300) {
+    std::ostringstream msg;
+    msg << "its last step is at " << last.mean_pressure_pa << " Pa, more than this case's " << u.to_pa(t.value)
+        << " Pa: a start needs the same or a smaller load";
+    fail_start(dir, msg.str());
+  }
+  if (t.control == Control::Penetration && u.length(last.penetration_m) > t.value + 1e-12 * std::abs(t.value)) {
+    std::ostringstream msg;
+    msg << "its last step is at penetration " << last.penetration_m << " m, more than this case's "
+        << u.to_m(t.value) << " m: a start needs the same or a smaller load";
+    fail_start(dir, msg.str());
+  }
+}
+
+}  // namespace
+
+CoarseStart read_coarse_start(const fs::path& dir, const Case& c, const Scene& s, double lift) {
+  auto fail = [&](const std::string& what) { fail_start(dir, what); };
+  if (!(lift >= 0.0) || !std::isfinite(lift)) throw std::invalid_argument("read_coarse_start: lift must be >= 0");
+  check_start_applies(dir, c, s);
+  const fs::path file = dir / "result.h5";
+  const Units& u = s.units;
+  const double lx_m = u.to_m(s.grid.lx), ly_m = u.to_m(s.grid.ly);
+  const LastStep last = read_last_step(dir, file, lx_m, ly_m);
+  const std::string& step = last.step;
+  // The fields (SI), each checked for shape and finite values by the reader.
+  auto read = [&](const std::string& name) { return read_hdf5_heights(file, name, lx_m, ly_m); };
+  HeightMap gap = read(step + "/gap"), pressure = read(step + "/pressure"), displacement = read(step + "/displacement");
+  HeightMap heights = read("heights");
+  const int cnx = gap.grid.nx, cny = gap.grid.ny;
+  for (const HeightMap* m : {&pressure, &displacement, &heights})
+    if (m->grid.nx != cnx || m->grid.ny != cny) fail(file.string() + ": its fields differ in shape");
+  const int nx = s.grid.nx, ny = s.grid.ny;
+  if (nx % cnx != 0 || ny % cny != 0 || nx / cnx != ny / cny)
+    fail("its grid, " + std::to_string(cnx) + " x " + std::to_string(cny) + ", does not divide this case's " +
+         std::to_string(nx) + " x " + std::to_string(ny) + " by one whole factor");
+  const int m = nx / cnx;
+
+  // The same surface: the heights at the points both grids share.
+  const double rel = surface_difference(heights, s, cnx, cny, m);
   if (!(rel <= 1e-2)) {
     std::ostringstream msg;
     msg << "its surface is not this case's: at the points both grids share the heights differ by " << 100 * rel
@@ -142,20 +192,7 @@ CoarseStart read_coarse_start(const fs::path& dir, const Case& c, const Scene& s
            "(seed, spectrum, size)";
     fail(msg.str());
   }
-  // A start from a load no larger than this case's (the quasi-static solver's start from above).
-  const Target& t = s.targets[0];
-  if (t.control == Control::MeanPressure && u.pressure(mean_pressure_pa) > t.value * (1.0 + 1e-9) + 1e-300) {
-    std::ostringstream msg;
-    msg << "its last step is at " << mean_pressure_pa << " Pa, more than this case's " << u.to_pa(t.value)
-        << " Pa: a start needs the same or a smaller load";
-    fail(msg.str());
-  }
-  if (t.control == Control::Penetration && u.length(penetration_m) > t.value + 1e-12 * std::abs(t.value)) {
-    std::ostringstream msg;
-    msg << "its last step is at penetration " << penetration_m << " m, more than this case's "
-        << u.to_m(t.value) << " m: a start needs the same or a smaller load";
-    fail(msg.str());
-  }
+  check_start_load(dir, s, last);
 
   CoarseStart out;
   ContactState& st = out.state;
@@ -169,13 +206,13 @@ CoarseStart read_coarse_start(const fs::path& dir, const Case& c, const Scene& s
   });
   st.pressure = prolong(reduced(std::move(pressure.heights), &Units::pressure), cnx, cny, m);
   st.displacement = prolong(reduced(std::move(displacement.heights), &Units::length), cnx, cny, m);
-  st.penetration = u.length(penetration_m);
+  st.penetration = u.length(last.penetration_m);
   st.mean_pressure = Grid::mean(st.pressure);
   out.record = toml::table{{"folder", dir.string()},
                            {"grid", toml::array{cnx, cny}},
                            {"factor", m},
                            {"step", step},
-                           {"mean_pressure", mean_pressure_pa},
+                           {"mean_pressure", last.mean_pressure_pa},
                            {"surface_difference", rel},
                            {"gap_lift", u.to_m(lift)},
                            {"method", "periodic bilinear prolongation of the last step's gap (raised by "

@@ -69,7 +69,7 @@ struct RunSummary {
 };
 
 // Where a run stands, enough to continue it exactly as if it had not stopped (what a
-// checkpoint holds, output/Writer.cpp): the steps finished, the state the next solve
+// checkpoint holds, output/Checkpoint.cpp): the steps finished, the state the next solve
 // starts from, and for a load path (adhesive runs) where its walk stands.
 struct RunPoint {
   std::vector<StepRecord> done;

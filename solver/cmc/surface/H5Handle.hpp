@@ -2,7 +2,8 @@
 // result writer can use it): every identifier cmc opens (file, group, dataset, dataspace, datatype,
 // attribute, property list) lives in an H5Handle, which closes it when the handle goes out
 // of scope, so an exception thrown between open and close cannot leak it. Used by the
-// result writer (output/Writer.cpp) and the surface reader/writer (surface/SurfaceIO.cpp).
+// result writer (output/Hdf5Fields.cpp and the files using it) and the surface reader/writer
+// (surface/SurfaceIO.cpp).
 #pragma once
 
 #include <hdf5.h>
