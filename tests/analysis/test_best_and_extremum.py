@@ -40,6 +40,14 @@ def test_an_unconverged_finest_run_is_not_the_estimate():
     assert best.best_at(rs, "hardwall", 250e3, None, FAMILY, [])["run"] == "h2"
 
 
+def test_a_finest_run_without_its_coarser_grid_gives_way():
+    # 8192² with 4096² missing cannot make its error: the 1024²/2048² pair does
+    rs = [rec("h1", 1024, 0.024, 1.0, problem="hardwall"), rec("h2", 2048, 0.022, 1.0, problem="hardwall"),
+          rec("h4", 8192, 0.0205, 1.0, problem="hardwall")]
+    got = best.best_at(rs, "hardwall", 250e3, None, FAMILY, [])
+    assert got["run"] == "h2" and got["quantities"]["a_r"]["error"] == pytest.approx(0.002)
+
+
 def test_the_smaller_total_error_wins_and_strategy_errors_add():
     rs = [rec("p1", 1024, 0.030, 1.0, k=4.0, b=4.0), rec("p2", 2048, 0.034, 1.0, k=2.0, b=2.0),
           rec("s1", 1024, 0.0398, 1.0, strategy="shape", case="s", k=4.0, b=4.0),

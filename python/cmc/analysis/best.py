@@ -2,8 +2,8 @@
 the finest trustworthy result among the stored runs, with its error, decided from data.
 
 Candidates. The runs at a point are grouped into refinement sequences (one case and strategy on
-grids of n, 2n, 4n ...). Each sequence's candidate is its finest converged run; the coarser
-grids below it make its refinement error (refinement.sequence_error). An adhesive run that does
+grids of n, 2n, 4n ...). Each sequence's candidate is its finest converged run whose coarser
+grids (n/2, n/4 ...) are there to make its refinement error (refinement.sequence_error). An adhesive run that does
 not resolve rho (dx > rho, or a bistability number above the family's refinement grids') also
 carries the error its strategy has at its dx/rho on the scaled family (family.transferred_error;
 at another mu_T than 3 the larger of that and the error measured at that mu_T). A candidate
@@ -141,14 +141,21 @@ def _rank(c):
     return q["relative_error"] if q["relative_error"] is not None else q["error"]
 
 
+def sequence_candidate(seq, members, conditions, roundoff=None):
+    """A sequence's candidate: its finest converged run whose grids below make an error (a finest
+    run with no coarser grid to compare with, e.g. 16384² with 8192² missing, gives way to the
+    next converged one that has them); the finest converged run, unusable, where none has; None
+    where no run converged."""
+    done = [r for r in seq if r.get("status") == "converged"]
+    cands = [candidate(seq, top, members, conditions, roundoff) for top in reversed(done)]
+    return next((c for c in cands if c["usable"]), cands[0] if cands else None)
+
+
 def best_at(records, problem, pressure, tabor, members, conditions, roundoff=None):
     """The best estimate at one point: the usable candidate with the smallest relative error in
     a_r, with every other candidate it was chosen over. None where no run at the point converged."""
-    cands = []
-    for seq in sequences(at_point(records, problem, pressure, tabor)).values():
-        done = [r for r in seq if r.get("status") == "converged"]
-        if done:
-            cands.append(candidate(seq, done[-1], members, conditions, roundoff))
+    cands = [c for seq in sequences(at_point(records, problem, pressure, tabor)).values()
+             for c in [sequence_candidate(seq, members, conditions, roundoff)] if c]
     usable = [c for c in cands if c["usable"]]
     if not usable:
         return None
