@@ -114,7 +114,27 @@ def headline(best, user, reference_dir="reference"):
     ex = best.get("mean_gap_extremum")
     if ex:
         L += [extremum_sentence(ex, best), ""]
+    mono = monotonicity_sentence(best.get("a_r_monotonicity"))
+    if mono:
+        L += [mono, ""]
     return L
+
+
+def monotonicity_sentence(m):
+    """Whether a_r(mu_T) of the best estimates is monotonic, as the problem definition says, and
+    where not, why (the falls, their grids, the bars; each grid's own sweep)."""
+    if not m:
+        return ""
+    grids = m.get("rises_on_each_grid") or {}
+    per = ", ".join(f"{n}²: {'yes' if ok else 'no'}" for n, ok in sorted(grids.items(), key=lambda x: int(x[0])))
+    if m["monotonic"]:
+        return f"**a_r(μ_T) is monotonic** on the best estimates, as the problem definition says (each grid's own sweep: {per})."
+    falls = "; ".join(f"from μ_T = {f['from']:g} ({f['grids'][0]}²) to {f['to']:g} ({f['grids'][1]}²) by {f['fall']:.2g}, "
+                      + ("inside" if f["inside_bars"] else "**outside**") + " their error bars" for f in m["falls"])
+    return (f"**a_r(μ_T) is not monotonic on the best estimates** where neighbouring points come from different grids: "
+            f"{falls}. The finer grid's counted area is smaller (the coarser one errs by a band of pixels along the "
+            f"contact lines), so the join steps down. On one grid a_r rises with μ_T where that grid resolves ρ ({per}; "
+            "2048² does not resolve ρ at μ_T ≥ 1, where its a_r falls again).")
 
 
 def cross_check(est):
@@ -155,8 +175,12 @@ def extremum_sentence(ex, best):
         text += f", against {hw['value'] * 1e6:.5f} µm without adhesion, the limit μ_T → 0"
     text += "."
     if flat:
-        text += (f" a_r rises monotonically with μ_T; its slope d a_r/d log10 μ_T is smallest ({flat['slope']:.3g}) near "
-                 f"μ_T = {flat['tabor']:.3g}: the \"interesting\" behaviour around the extremum (figure 6).")
+        lo = [x for x in slope if x["tabor"] < flat["tabor"]]
+        text += (f" Around it a_r(μ_T) flattens: on the {ex.get('a_r_log_slope_grid', '?')}² sweep its slope "
+                 f"d a_r/d log10 μ_T falls from {max(x['slope'] for x in lo):.3g} below μ_T* to {flat['slope']:.3g} "
+                 f"near μ_T = {flat['tabor']:.3g}, just above it, before it rises again toward μ_T = 3: the "
+                 "\"interesting\" behaviour the problem definition points to (figure 6)." if lo else
+                 f" a_r's slope against log10 μ_T is smallest ({flat['slope']:.3g}) near μ_T = {flat['tabor']:.3g}.")
     return text
 
 

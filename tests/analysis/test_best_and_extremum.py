@@ -111,3 +111,17 @@ def test_record_from_a_summary():
 def test_tabor_values_group_points_within_one_percent():
     rs = [rec("a", 64, 0.1, 1.0, tabor=3.0), rec("b", 64, 0.1, 1.0, tabor=3.0017), rec("c", 64, 0.1, 1.0, tabor=0.1)]
     assert challenge.tabor_values(rs) == [0.1, 3.0]
+
+
+def test_monotonicity_names_falls_and_checks_each_grid():
+    q = lambda v, e: {"a_r": {"value": v, "error": e}}
+    curve = [{"tabor": 0.01, "n": 4096, "quantities": q(0.0238, 0.0015)},
+             {"tabor": 0.1, "n": 16384, "quantities": q(0.0236, 0.0003)},
+             {"tabor": 1.0, "n": 16384, "quantities": q(0.0300, 0.0004)}]
+    rs = [rec(f"g{k}", 2048, v, 1.0, case="challenge-tabor-sweep", tabor=mu)
+          for k, (mu, v) in enumerate([(0.01, 0.025), (0.1, 0.026), (1.0, 0.033)])]
+    got = challenge.monotonicity(curve, rs)
+    assert not got["monotonic"] and len(got["falls"]) == 1
+    f = got["falls"][0]
+    assert f["from"] == 0.01 and f["grids"] == [4096, 16384] and f["inside_bars"]  # 0.0002 <= 0.0018
+    assert got["rises_on_each_grid"] == {2048: True}

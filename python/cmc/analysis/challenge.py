@@ -82,16 +82,28 @@ def load_curve(records, problem, members, conditions, spread=None):
     return [p for p in pts if p]
 
 
-def grid_sweeps(records):
-    """{n: (mu list, mean gap list)} of the Tabor sweep's case run plain and converged on each grid."""
+def grid_sweeps_of(records, key):
+    """{n: (mu list, values list)} of the Tabor sweep's case run plain and converged on each grid,
+    for the record key (e.g. "a_r", "mean_gap_m"), mu ascending."""
     out = {}
     for r in records:
         if r.get("case_name") == TABOR_CASE and r.get("strategy") == "plain" and r.get("status") == "converged" \
-                and best._same(r.get("pressure_Pa"), P0):
-            mus, gaps = out.setdefault(r["n"], ([], []))
-            mus.append(r["tabor"])
-            gaps.append(r["mean_gap_m"])
-    return out
+                and best._same(r.get("pressure_Pa"), P0) and r.get(key) is not None:
+            out.setdefault(r["n"], []).append((r["tabor"], r[key]))
+    return {n: ([m for m, _ in sorted(v)], [x for _, x in sorted(v)]) for n, v in out.items()}
+
+
+def monotonicity(curve, records):
+    """Whether a_r rises with mu_T on the best-estimate curve, and where it does not: each fall
+    between neighbouring points, with the two points' runs and whether the fall lies inside their
+    error bars; and, for each grid the sweep ran completely on, whether it rises there."""
+    pts = [(p["tabor"], p["quantities"]["a_r"], p["n"]) for p in curve if "a_r" in p["quantities"]]
+    falls = [{"from": a[0], "to": b[0], "grids": [a[2], b[2]], "fall": a[1]["value"] - b[1]["value"],
+              "inside_bars": a[1]["value"] - b[1]["value"] <= a[1]["error"] + b[1]["error"]}
+             for a, b in zip(pts, pts[1:]) if b[1]["value"] < a[1]["value"]]
+    grids = {n: all(y1 <= y2 for y1, y2 in zip(v, v[1:]))
+             for n, (mus, v) in grid_sweeps_of(records, "a_r").items() if len(mus) >= 3}
+    return {"monotonic": not falls, "falls": falls, "rises_on_each_grid": grids}
 
 
 def mean_gap_extremum(curve, records):
@@ -102,14 +114,21 @@ def mean_gap_extremum(curve, records):
     got = extremum.locate([m for m, _ in pts], [q["value"] for _, q in pts], "min")
     if got is None:
         return None
-    grids = sorted(grid_sweeps(records).items())
+    grids = sorted(grid_sweeps_of(records, "mean_gap_m").items())
     on_grids = [(n, extremum.locate(mus, gaps, "min")) for n, (mus, gaps) in grids]
     out = extremum.combine(got, on_grids)
     near = [q["error"] or 0.0 for m, q in pts if out["bracket"][0] <= m <= out["bracket"][1]]
     out["y_sample_error"] = max(near) if near else None
     out["y_total_error"] += out["y_sample_error"] or 0.0
-    mu_s, slope = extremum.log_slope([p["tabor"] for p in curve], [p["quantities"]["a_r"]["value"] for p in curve])
-    out["a_r_log_slope"] = [{"tabor": float(m), "slope": float(s)} for m, s in zip(mu_s, slope)]
+    # a_r's slope against log mu_T, on one grid (the finest whose sweep brackets the minimum):
+    # neighbouring best estimates may come from different grids, whose step is not a slope.
+    sweeps = [(n, v) for n, v in sorted(grid_sweeps_of(records, "a_r").items())
+              if v[0] and min(v[0]) < out["mu"] < max(v[0]) and len(v[0]) >= 5]
+    if sweeps:
+        n, (mus, ar) = sweeps[-1]
+        mu_s, slope = extremum.log_slope(mus, ar)
+        out["a_r_log_slope_grid"] = n
+        out["a_r_log_slope"] = [{"tabor": float(m), "slope": float(x)} for m, x in zip(mu_s, slope)]
     return out
 
 
@@ -130,5 +149,5 @@ def build(records, members=None, conditions=None, spread=None, physics=PHYSICS):
     curve = tabor_curve(records, members, conditions, spread)
     return {"reference_load": reference_load(records, members, conditions, spread), "roundoff": spread,
             "load_sweep": {pb: load_curve(records, pb, members, conditions, spread) for pb in ("adhesive", "hardwall")},
-            "tabor": curve,
+            "tabor": curve, "a_r_monotonicity": monotonicity(curve, records),
             "mean_gap_extremum": mean_gap_extremum(curve, records)}
