@@ -1,8 +1,8 @@
 // Polonsky–Keer on problems with known answers.
 #include "cmc/analytic/Analytic.hpp"
 #include "cmc/contact/ContactRule.hpp"
-#include "cmc/contact/PolonskyKeer.hpp"
-#include "cmc/contact/PolonskyKeerHost.hpp"
+#include "cmc/contact/polonsky_keer/PolonskyKeer.hpp"
+#include "cmc/contact/polonsky_keer/CpuBackend.hpp"
 #include "cmc/surface/SelfAffine.hpp"
 #include "cmc/surface/Topography.hpp"
 

@@ -8,11 +8,11 @@
 //  * the jump prediction and the cascade only accelerate: the plain iteration (tangent
 //    tension only) run to a tight tolerance ends in the same state.
 // Tolerances are next to the numbers they come from (measured on this patch).
-#include "cmc/contact/QuasiStaticAdhesion.hpp"
-#include "cmc/contact/QuasiStaticParts.hpp"
-#include "cmc/contact/AdhesiveSolver.hpp"
+#include "cmc/contact/quasi_static/QuasiStaticAdhesion.hpp"
+#include "cmc/contact/quasi_static/Parts.hpp"
+#include "cmc/contact/adhesive_cg/AdhesiveSolver.hpp"
 #include "cmc/contact/ContactRule.hpp"
-#include "cmc/contact/PolonskyKeer.hpp"
+#include "cmc/contact/polonsky_keer/PolonskyKeer.hpp"
 #include "cmc/input/Case.hpp"
 #include "cmc/run/Driver.hpp"
 #include "cmc/scene/Scene.hpp"

@@ -16,7 +16,7 @@
 // points in contact and the gaps within the outer tolerance's 0.02 ρ
 // (tests/test_quasi_static.cpp derives it; here the same algorithm on both sides,
 // measured: the same outer steps, iterations and FFT pairs, gaps within 3.6e-13 ρ).
-#include "cmc/contact/QuasiStaticDevice.cuh"
+#include "cmc/contact/quasi_static/CudaBackend.cuh"
 #include "cmc/input/Case.hpp"
 #include "cmc/scene/Scene.hpp"
 #include "cmc/surface/SelfAffine.hpp"

@@ -14,7 +14,7 @@
 // QuasiStaticAdhesion.hpp measured that spread at 512²: a_r 0.0381279 against 0.0381317
 // between tension tolerances 1e-3 and 1e-5 (1.0e-4 relative), the mean gap 4e-7. The
 // bounds below are twice those.
-#include "cmc/contact/QuasiStaticAdhesion.hpp"
+#include "cmc/contact/quasi_static/QuasiStaticAdhesion.hpp"
 #include "cmc/grid/Backend.hpp"
 #include "cmc/input/Case.hpp"
 #include "cmc/run/Driver.hpp"

@@ -29,8 +29,8 @@
 //                                      p − t, displacement, gap, penetration
 #pragma once
 
-#include "cmc/contact/QuasiStaticAdhesion.hpp"
-#include "cmc/contact/QuasiStaticParts.hpp"
+#include "cmc/contact/quasi_static/QuasiStaticAdhesion.hpp"
+#include "cmc/contact/quasi_static/Parts.hpp"
 #include "cmc/grid/Grid.hpp"
 
 #include <cmath>

@@ -91,7 +91,7 @@
 #pragma once
 
 #include "cmc/contact/Interaction.hpp"
-#include "cmc/contact/PolonskyKeer.hpp"
+#include "cmc/contact/polonsky_keer/PolonskyKeer.hpp"
 #include "cmc/contact/Solver.hpp"
 #include "cmc/elastic/HalfSpace.hpp"
 

@@ -1,6 +1,6 @@
-#include "cmc/contact/QuasiStaticAdhesion.hpp"
+#include "cmc/contact/quasi_static/QuasiStaticAdhesion.hpp"
 
-#include "cmc/contact/QuasiStaticRun.hpp"
+#include "cmc/contact/quasi_static/Iteration.hpp"
 #include "cmc/grid/Ranks.hpp"
 
 #include <algorithm>

@@ -57,7 +57,7 @@
 //   stiffness_z() (z = K z).
 #pragma once
 
-#include "cmc/contact/PolonskyKeer.hpp"
+#include "cmc/contact/polonsky_keer/PolonskyKeer.hpp"
 #include "cmc/grid/Backend.hpp"
 
 #include <cmath>

@@ -3,8 +3,8 @@
 // tests/emulation).
 #pragma once
 
-#include "cmc/contact/PolonskyKeerDevice.cuh"
-#include "cmc/contact/QuasiStaticRun.hpp"
+#include "cmc/contact/polonsky_keer/CudaBackend.cuh"
+#include "cmc/contact/quasi_static/Iteration.hpp"
 
 #include <string>
 #include <vector>

@@ -13,7 +13,7 @@
 // field: 19.3 GiB at 16384² with the preconditioner, 77 GiB at 32768² (69 GiB without).
 // With t̂ and the stiffness held as fields of their own the count was 22.3 GiB at 16384²,
 // and nvidia-smi's peak on an H100 was 22.8 GiB with the CUDA context.
-#include "cmc/contact/PolonskyKeerRun.hpp"
+#include "cmc/contact/polonsky_keer/Iteration.hpp"
 #include "cmc/grid/CudaDevice.cuh"
 
 #include <cstdio>

@@ -1,9 +1,9 @@
-#include "cmc/contact/AdhesiveSolver.hpp"
+#include "cmc/contact/adhesive_cg/AdhesiveSolver.hpp"
 
 #include "cmc/grid/Ranks.hpp"
 
-#include "cmc/contact/adhesive/LoadControl.hpp"
-#include "cmc/contact/adhesive/Passes.hpp"
+#include "cmc/contact/adhesive_cg/LoadControl.hpp"
+#include "cmc/contact/adhesive_cg/CpuBackend.hpp"
 
 #include <algorithm>
 #include <chrono>

@@ -1,6 +1,6 @@
-#include "cmc/contact/PolonskyKeer.hpp"
+#include "cmc/contact/polonsky_keer/PolonskyKeer.hpp"
 
-#include "cmc/contact/PolonskyKeerHost.hpp"
+#include "cmc/contact/polonsky_keer/CpuBackend.hpp"
 
 #include <algorithm>
 #include <cmath>

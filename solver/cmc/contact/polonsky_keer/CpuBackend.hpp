@@ -4,7 +4,7 @@
 // (tests/test_polonsky_keer.cpp: the GPU's, point by point) over the same transforms.
 #pragma once
 
-#include "cmc/contact/PolonskyKeerRun.hpp"
+#include "cmc/contact/polonsky_keer/Iteration.hpp"
 #include "cmc/grid/Grid.hpp"
 #include "cmc/grid/RowColumnFourier.hpp"
 

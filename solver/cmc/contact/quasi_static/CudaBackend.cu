@@ -13,7 +13,7 @@
 // Periodic boundary, one process (the case parser refuses the rest with backend = "cuda").
 // Device memory: grid/Backend.hpp quasi_static_bytes (93 GiB at 32768² with the
 // preconditioner, 85 GiB without: an H200, not an H100).
-#include "cmc/contact/QuasiStaticDevice.cuh"
+#include "cmc/contact/quasi_static/CudaBackend.cuh"
 
 #include <memory>
 

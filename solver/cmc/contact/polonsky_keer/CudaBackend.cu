@@ -4,7 +4,7 @@
 // with fixed-order reductions and cuFFT, grid/CudaDevice.cuh). Periodic boundary, one
 // process: the case parser refuses other combinations with backend = "cuda".
 // Its fields and their count: PolonskyKeerDevice.cuh.
-#include "cmc/contact/PolonskyKeerDevice.cuh"
+#include "cmc/contact/polonsky_keer/CudaBackend.cuh"
 
 #include <cstdio>
 #include <sstream>
