@@ -1,64 +1,13 @@
-// One Polonsky–Keer solve, written once for every backend (grid/Backend.hpp): the steps
-// (a)–(h) of Polonsky & Keer §3 (see PolonskyKeer.hpp) as named parts, over a backend B
-// that holds the fields and runs the passes. The CPU backend (PolonskyKeer.cpp) runs them
-// with OpenMP over the contact set only; the CUDA backend (contact/PolonskyKeerDevice.cu)
-// as kernels with fixed-order reductions. Neither holds any of the algorithm.
-//
-// What B provides (pointers are the backend's: host or device memory):
-//   n, nspec            points held, spectrum modes held
-//   points, transform_points
-//                       points of the whole grid, and of its transform grid (padded when free)
-//   p, w, t, z, m, h    pressure (times sigma), w = h + u, direction, preconditioned gap,
-//                       contact mask (m[i] == (p[i] > 0), always), heights; p and t are
-//                       zero off the mask whenever a combined operation starts (Run keeps
-//                       them so, and a backend may take them as zero there unread)
-//   p_hat, h_hat, out, ker
-//                       spectra as interleaved (re, im) doubles: of p, of h/N (both only
-//                       where the backend runs the steps as compose:: does), and the
-//                       transform's scratch, which holds t's spectrum from curvature_t()
-//                       until the step overwrites it; ker: the compliance (1/N folded in)
-//   all(k, f)                         f(i) for i in [0, k)
-//   reduce_in<Acc>(m, k, f)           f(i, acc) for i in the mask, merged in a fixed order
-//   reduce_in_or_below<Acc>(m, w, c, k, f)
-//                                     the same for i in the mask or with w[i] < c; the CPU
-//                                     calls f for the other points of a block of eight
-//                                     too, so f must be a no-op there
-//   sum(v)                            Σ v over the whole grid
-//   forward_h(s)                      h_hat = s FFT(h), where the backend keeps it
-//   four combined operations, each a pass, a transform and a pass; a backend may run
-//   them one after the other (compose:: below) or the passes inside the transforms'
-//   sweeps (the CPU's, PolonskyKeerHost.hpp). The spectra's layout is the backend's: Run
-//   only touches modes through mode passes, which treat every mode alike.
-//   direction_and_curvature<Acc>(m, f, c)
-//                                     f(i, acc) for i in the mask (it writes t), then
-//                                     out = FFT(t) and c = <t, G t>
-//   exact_and_gap_sums<Acc>(s, m, level, f)
-//                                     w = h + G (s p), then f(i, acc) as
-//                                     reduce_in_or_below(m, w, level)
-//   linear_and_gap_sums<Acc>(s, tau, m, level, f)
-//                                     w = h + G p' for p' = s (p − τ t), from t's spectrum
-//                                     in out (one inverse transform), then f as above
-//   project_and_gap_sums<Acc>(pass, choose, likely_exact, m, level, f, st, c)
-//                                     st = the sums of pass(i, st) for i in the mask or
-//                                     with w < level (it writes p, m and t), c =
-//                                     choose(st) (a StepChoice), then where c.ok the step
-//                                     c names, as exact_ or linear_and_gap_sums; a backend
-//                                     may run the pass inside p's transform where
-//                                     likely_exact, and then makes the step exact (c.exact
-//                                     says which step it made)
-//   stiffness_and_sums<Acc>(fill, m, f)
-//                                     fill(i) for every i (it writes z, and 0 off the
-//                                     mask), z = K z (one FFT pair), then f(i, acc) for i
-//                                     in the mask; afterwards z is defined on the mask
-//                                     only (the CPU calls fill on the mask alone, takes z
-//                                     as 0 elsewhere, and writes K z on the mask)
-//   and, for compose::, forward_p() (p_hat = FFT(p), unnormalised), curvature_t()
-//   (out = FFT(t); returns <t, G t>), inverse_w() (w = inverse FFT of out) and
-//   stiffness_z() (z = K z).
+// One Polonsky–Keer solve, written once for every backend: the steps (a)–(h) of Polonsky &
+// Keer §3 (see PolonskyKeer.hpp) as named parts, over a backend B that holds the fields and
+// runs the passes (what B provides: the concept PolonskyKeerBackend, Contract.hpp, which
+// Run and iterate require). The CPU backend (CpuBackend.hpp) runs them with OpenMP over the
+// contact set only; the CUDA backend (CudaBackend.cuh) as kernels with fixed-order
+// reductions. Neither holds any of the algorithm.
 #pragma once
 
+#include "cmc/contact/polonsky_keer/Contract.hpp"
 #include "cmc/contact/polonsky_keer/PolonskyKeer.hpp"
-#include "cmc/grid/Backend.hpp"
 
 #include <cmath>
 #include <cstdint>
@@ -69,139 +18,6 @@
 #include <string>
 
 namespace cmc::pk {
-
-// Sums of step (a) over the contact set Ic = {p > 0} and the overlap set, relative to c.
-struct GapSums {
-  double s1 = 0.0, s2 = 0.0, nc = 0.0;  // Σ_Ic (w − c), Σ_Ic (w − c)², |Ic|
-  double ol = 0.0, nol = 0.0;           // Σ overlap², number of overlapping points
-  double tsum = 0.0;                    // Σ_Ic t: keeps the next direction load-neutral
-  CMC_HD void merge(const GapSums& o) {
-    s1 += o.s1, s2 += o.s2, nc += o.nc, ol += o.ol, nol += o.nol, tsum += o.tsum;
-  }
-};
-struct Sum {
-  double v = 0.0;
-  CMC_HD void merge(const Sum& o) { v += o.v; }
-};
-struct GzSums {  // Σ_Ic z, Σ_Ic g z, Σ_Ic g
-  double zsum = 0.0, gz = 0.0, gsum = 0.0;
-  CMC_HD void merge(const GzSums& o) { zsum += o.zsum, gz += o.gz, gsum += o.gsum; }
-};
-struct StepSums {
-  double psum = 0.0;
-  bool changed = false;
-  CMC_HD void merge(const StepSums& o) { psum += o.psum, changed = changed || o.changed; }
-};
-
-// What Run::project() makes of its pass's sums: whether the pressure survived (ok), the
-// load scaling s, and whether the step that makes w transforms the new p (exact) or
-// updates from the direction's spectrum, p' = s (p − τ t).
-struct StepChoice {
-  bool ok = true, exact = true;
-  double s = 1.0, tau = 0.0;
-};
-
-// The pass of step (a) that gap_sums() runs: the sums of GapSums for the points in the
-// contact set or overlapping (w < c). A functor, so that the same body can run inside a
-// backend's inverse transform (Run::step) and on its own.
-struct GapBody {
-  const double *w, *t;
-  const std::uint8_t* m;
-  double c;
-  CMC_HD void operator()(std::size_t i, GapSums& s) const {
-    const double x = w[i] - c;
-    if (m[i]) {
-      s.s1 += x;
-      s.s2 += x * x;
-      s.nc += 1.0;
-      s.tsum += t[i];
-    } else if (x < 0.0) {
-      s.ol += x * x;
-      s.nol += 1.0;
-    }
-  }
-};
-
-// The combined operations of a backend that runs their parts one after the other.
-namespace compose {
-template <class Acc, class B, class F>
-Acc direction_and_curvature(B& b, const std::uint8_t* m, F f, double& curvature) {
-  const Acc a = b.template reduce_in<Acc>(m, b.n, f);
-  curvature = b.curvature_t();
-  return a;
-}
-template <class Acc, class B, class S, class F>
-Acc step_and_gap_sums(B& b, S step, const std::uint8_t* m, double level, F f) {
-  b.all(b.nspec, step);
-  b.inverse_w();
-  return b.template reduce_in_or_below<Acc>(m, b.w, level, b.n, f);
-}
-template <class Acc, class B, class S, class F>
-Acc pressure_and_gap_sums(B& b, S step, const std::uint8_t* m, double level, F f) {
-  b.forward_p();
-  return step_and_gap_sums<Acc>(b, step, m, level, f);
-}
-// The two steps of Run (set_pressure(), step()) over a spectral state: p̂ = s FFT(p), or
-// p̂ ← s (p̂ − τ t̂) with t̂ in `out`, and then out = G p̂ + ĥ/N, whose inverse is w = h + G p
-// (ĥ/N from forward_h(1/N), kept for the whole solve). On the real and imaginary parts as
-// doubles (what std::complex computes, component by component, for a complex times a
-// real). t̂ is read before it is overwritten: one spectrum less to hold and to stream than
-// a t̂ of its own (issues 11, 16).
-template <class Acc, class B, class F>
-Acc exact_and_gap_sums(B& b, double s, const std::uint8_t* m, double level, F f) {
-  double *out = b.out, *ph = b.p_hat;
-  const double *off = b.h_hat, *ker = b.ker;
-  return pressure_and_gap_sums<Acc>(
-      b,
-      [=] CMC_HD(std::size_t k) {
-        const double re = s * ph[2 * k], im = s * ph[2 * k + 1];
-        ph[2 * k] = re, ph[2 * k + 1] = im;
-        out[2 * k] = re * ker[k] + off[2 * k], out[2 * k + 1] = im * ker[k] + off[2 * k + 1];
-      },
-      m, level, f);
-}
-template <class Acc, class B, class F>
-Acc linear_and_gap_sums(B& b, double s, double tau, const std::uint8_t* m, double level, F f) {
-  double *out = b.out, *ph = b.p_hat;
-  const double *off = b.h_hat, *ker = b.ker;
-  return step_and_gap_sums<Acc>(
-      b,
-      [=] CMC_HD(std::size_t k) {
-        const double re = s * (ph[2 * k] - tau * out[2 * k]), im = s * (ph[2 * k + 1] - tau * out[2 * k + 1]);
-        ph[2 * k] = re, ph[2 * k + 1] = im;
-        out[2 * k] = re * ker[k] + off[2 * k], out[2 * k + 1] = im * ker[k] + off[2 * k + 1];
-      },
-      m, level, f);
-}
-// Run::project(): pass(i, st) for i in the mask or with w < level, then c = choose(st),
-// then (where c.ok) the step it chose, with the gap sums f.
-template <class Acc, class B, class StepAcc, class P, class C, class F>
-Acc project_and_gap_sums(B& b, P pass, C choose, const std::uint8_t* m, double level, F f, StepAcc& st,
-                         StepChoice& c) {
-  st = b.template reduce_in_or_below<StepAcc>(m, b.w, level, b.n, pass);
-  c = choose(st);
-  if (!c.ok) return Acc{};
-  return c.exact ? exact_and_gap_sums<Acc>(b, c.s, m, level, f) : linear_and_gap_sums<Acc>(b, c.s, c.tau, m, level, f);
-}
-template <class Acc, class B, class Fill, class F>
-Acc stiffness_and_sums(B& b, Fill fill, const std::uint8_t* m, F f) {
-  b.all(b.n, fill);
-  b.stiffness_z();
-  return b.template reduce_in<Acc>(m, b.n, f);
-}
-}  // namespace compose
-
-// The fields and sizes a backend hands Run (see above for each): the CPU's point into the
-// state and its work arrays, the GPU's into device memory.
-struct Fields {
-  std::size_t n = 0, nspec = 0;
-  double points = 0.0, transform_points = 0.0;
-  double *p = nullptr, *w = nullptr, *t = nullptr, *z = nullptr;
-  std::uint8_t* m = nullptr;
-  const double* h = nullptr;
-  double *p_hat = nullptr, *h_hat = nullptr, *out = nullptr;
-  const double* ker = nullptr;
-};
 
 // Where a solve starts (PolonskyKeer::solve works it out from the state, for any backend).
 struct Start {
@@ -247,16 +63,14 @@ inline bool converged(const End& end, const SolveResult& res, double tolerance, 
 }
 
 // Every member is public: nvcc's device lambdas may not sit in private member functions.
-template <class B>
+template <PolonskyKeerBackend B>
 class Run {
  public:
   Run(B& b, const PolonskyKeer::Options& o, double h_scale, const Target& target, const Start& start)
       : b_(b), opt_(o), h_scale_(h_scale), force_(target.control == Control::MeanPressure),
         target_(force_ ? target.value : 0.0), delta_(start.delta), warm_(start.warm),
         precondition_(start.precondition), overlap_k_(start.overlap_k), last_tau_(start.longest_compliance),
-        warm_sum_(start.warm_sum) {
-    heights_spectrum();
-  }
+        warm_sum_(start.warm_sum) {}
 
   void run(SolveResult& res);
   double delta() const { return delta_; }
@@ -265,17 +79,9 @@ class Run {
 
   // ---- the transforms of a step: each makes w for a new pressure, and with it the next
   // step (a)'s sums (gap_sums() takes them from there)
-  // ĥ/N where the backend keeps w = h + G p̂ in the spectrum (compose:: below).
-  void heights_spectrum() { b_.forward_h(1.0 / b_.transform_points); }
   // w = h + G (s p): one forward transform and one inverse.
   void set_pressure(double s) {
     keep_pending(b_.template exact_and_gap_sums<GapSums>(s, b_.m, delta_, gap_body()));
-  }
-  // w = h + G p' for p' = s (p − τ t), from t's spectrum, which the direction's transform
-  // left in `out`: one inverse transform. The caller applies the same step to the
-  // real-space p.
-  void step(double s, double tau) {
-    keep_pending(b_.template linear_and_gap_sums<GapSums>(s, tau, b_.m, delta_, gap_body()));
   }
   // Step (a)'s sums relative to the current δ (GapBody).
   GapBody gap_body() const { return {b_.w, b_.t, b_.m, delta_}; }
@@ -467,6 +273,95 @@ class Run {
     return true;
   }
 
+  // ---- the parts of run(): what the loop does after each
+  enum class Next { Return, Again, Go };  // end the solve; the next iteration; go on with this one
+  // No point carries pressure: either no contact at all (a valid solution of a
+  // displacement-controlled step whose indenter does not reach the surface, or of zero
+  // load), or the iteration lost its contact set (then it starts again from the overlap).
+  Next lost_contact(int it, const GapSums& S, SolveResult& res) {
+    if ((!force_ && S.nol == 0.0) || (force_ && target_ == 0.0)) {
+      res.iterations = it;
+      res.residual = 0.0;
+      return Next::Return;
+    }
+    const Restart r = restart_from_overlap();
+    if (r == Restart::Failed) return Next::Return;
+    if (r == Restart::NoContact) {
+      res.iterations = it;
+      res.residual = 0.0;
+      return Next::Return;
+    }
+    ++res.diagnostics.restarts;
+    return Next::Again;
+  }
+  // (b) under load control, the rigid-body position that zeroes the mean gap over Ic; the
+  // residual. Returns G, the squared gap norm over Ic. `c`: the δ the sums were taken at.
+  double measure(int it, double c, const GapSums& S, SolveResult& res) {
+    double G;
+    if (force_) {
+      const double shift = S.s1 / S.nc;  // mean gap over Ic relative to c
+      delta_ = c + shift;
+      G = std::max(0.0, S.s2 - S.nc * shift * shift);
+    } else {
+      G = S.s2;
+    }
+    // Overlap term measured with the previous δ; it is zero at convergence either way.
+    res.residual = std::sqrt((G + S.ol) / (S.nc + S.nol)) / h_scale_;
+    res.iterations = it;
+    if (opt_.progress && it % std::max(1, opt_.progress_every) == 0) opt_.progress({it, res.residual});
+    return G;
+  }
+  // At the tolerance: done, or confirmed first on u recomputed from the real-space p
+  // (removes the spectral drift). Else the limits: iterations, and the clock.
+  Next stop_or_confirm(int it, SolveResult& res) {
+    if (res.residual <= opt_.tolerance) {
+      if (since_exact_ == 0 || !opt_.confirm) return Next::Return;
+      exact();
+      ++res.diagnostics.exact_recomputes;
+      return Next::Again;
+    }
+    if (it >= opt_.max_iterations) return Next::Return;
+    if (opt_.stop_at > 0.0 && steady_seconds() >= opt_.stop_at) {
+      std::ostringstream s;
+      s << kInnerTimeLimitMessage << "after " << it << " iterations at residual " << res.residual << " > tolerance "
+        << opt_.tolerance;
+      failure = s.str();
+      return Next::Return;
+    }
+    return Next::Go;
+  }
+  // (d) the step length τ = Σ g t / <t, G t>. Where there is no descent on Ic, only the
+  // overlapping points move (with the last τ), or, with no overlap either, the round-off
+  // floor is reached: confirmed on an exact u, then the solve stops. `c`: as in measure().
+  Next step_length(double sgt, double curvature, double nol, double c, int& it, SolveResult& res, double& tau) {
+    if (curvature > 0.0 && sgt > 0.0) {
+      tau = last_tau_ = sgt / curvature;
+      return Next::Go;
+    }
+    if (nol > 0.0) {
+      tau = last_tau_;
+      conjugate_ = false;
+      return Next::Go;
+    }
+    if (since_exact_ == 0) {
+      // The sums were taken relative to the δ before this one: where δ moved, G = s2 −
+      // nc shift² cancels, and its round-off (ε s2) can hold the residual above the
+      // tolerance (a Hertz contact of 5 points at 16², its last step exact: 2.7e-11 against
+      // 1e-12). Measure them once more at the new δ (a pass, no transform).
+      if (!remeasured_ && c != delta_) {
+        remeasured_ = true;
+        has_pending_ = false;
+        --it;  // not an iteration: nothing moved
+        return Next::Again;
+      }
+      return Next::Return;
+    }
+    exact();
+    ++res.diagnostics.exact_recomputes;
+    conjugate_ = false;
+    return Next::Again;
+  }
+
   B& b_;
   const PolonskyKeer::Options& opt_;
   double h_scale_;
@@ -488,7 +383,7 @@ class Run {
   bool remeasured_ = false;  // the round-off floor's sums taken again at the current δ
 };
 
-template <class B>
+template <PolonskyKeerBackend B>
 void Run<B>::run(SolveResult& res) {
   initial_pressure();
   double G_old = 1.0;
@@ -496,50 +391,13 @@ void Run<B>::run(SolveResult& res) {
     const double c = delta_;
     const GapSums S = gap_sums();
     if (S.nc == 0.0) {
-      // No point carries pressure: either no contact at all (a valid solution of a
-      // displacement-controlled step whose indenter does not reach the surface, or of
-      // zero load), or the iteration lost its contact set.
-      if ((!force_ && S.nol == 0.0) || (force_ && target_ == 0.0)) {
-        res.iterations = it;
-        res.residual = 0.0;
-        return;
-      }
-      const Restart r = restart_from_overlap();
-      if (r == Restart::Failed) return;
-      if (r == Restart::NoContact) {
-        res.iterations = it;
-        res.residual = 0.0;
-        return;
-      }
-      ++res.diagnostics.restarts;
+      if (lost_contact(it, S, res) == Next::Return) return;
       continue;
     }
-    double G;
-    if (force_) {
-      const double shift = S.s1 / S.nc;  // mean gap over Ic relative to c
-      delta_ = c + shift;                // (b) the rigid-body position that zeroes it
-      G = std::max(0.0, S.s2 - S.nc * shift * shift);
-    } else {
-      G = S.s2;
-    }
-    // Overlap term measured with the previous δ; it is zero at convergence either way.
-    res.residual = std::sqrt((G + S.ol) / (S.nc + S.nol)) / h_scale_;
-    res.iterations = it;
-    if (opt_.progress && it % std::max(1, opt_.progress_every) == 0) opt_.progress({it, res.residual});
-    if (res.residual <= opt_.tolerance) {
-      if (since_exact_ == 0 || !opt_.confirm) return;
-      exact();  // confirm on u recomputed from the real-space p (removes spectral drift)
-      ++res.diagnostics.exact_recomputes;
-      continue;
-    }
-    if (it >= opt_.max_iterations) return;
-    if (opt_.stop_at > 0.0 && steady_seconds() >= opt_.stop_at) {
-      std::ostringstream s;
-      s << kInnerTimeLimitMessage << "after " << it << " iterations at residual " << res.residual << " > tolerance "
-        << opt_.tolerance;
-      failure = s.str();
-      return;
-    }
+    const double G = measure(it, c, S, res);
+    const Next n = stop_or_confirm(it, res);
+    if (n == Next::Return) return;
+    if (n == Next::Again) continue;
 
     const double beta = conjugate_ ? G / G_old : 0.0;
     if (beta == 0.0) ++res.diagnostics.restarts;
@@ -547,39 +405,17 @@ void Run<B>::run(SolveResult& res) {
     const double tbar = force_ ? S.tsum / S.nc : 0.0;
     double denom = 0.0;  // (d) curvature along t, from its transform alone
     const double sgt = precondition_ ? preconditioned_direction(tbar, S.nc, denom) : direction(beta, tbar, denom);
-    double tau;
-    if (denom > 0.0 && sgt > 0.0) {
-      tau = last_tau_ = sgt / denom;
-    } else if (S.nol > 0.0) {
-      tau = last_tau_;  // nothing to gain on Ic: only overlapping points move
-      conjugate_ = false;
-    } else {
-      // No descent left and no overlap: round-off floor. Confirm on an exact u, then stop.
-      if (since_exact_ == 0) {
-        // The sums were taken relative to the δ before this one: where δ moved, G = s2 −
-        // nc shift² cancels, and its round-off (ε s2) can hold the residual above the
-        // tolerance (a Hertz contact of 5 points at 16², its last step exact: 2.7e-11 against
-        // 1e-12). Measure them once more at the new δ (a pass, no transform).
-        if (!remeasured_ && c != delta_) {
-          remeasured_ = true;
-          has_pending_ = false;
-          --it;  // not an iteration: nothing moved
-          continue;
-        }
-        return;
-      }
-      exact();
-      ++res.diagnostics.exact_recomputes;
-      conjugate_ = false;
-      continue;
-    }
+    double tau = 0.0;
+    const Next step = step_length(sgt, denom, S.nol, c, it, res, tau);
+    if (step == Next::Return) return;
+    if (step == Next::Again) continue;
     if (!project(tau)) return;
     if (!conjugate_) ++res.diagnostics.clipped_steps;
   }
 }
 
 // One solve over backend b from `start`: the iteration, then σ, δ and why it failed.
-template <class B>
+template <PolonskyKeerBackend B>
 End iterate(B& b, const PolonskyKeer::Options& o, double h_scale, const Target& target, const Start& start,
             SolveResult& res) {
   Run<B> run(b, o, h_scale, target, start);
@@ -587,9 +423,16 @@ End iterate(B& b, const PolonskyKeer::Options& o, double h_scale, const Target& 
   return {run.sigma(), run.delta(), run.failure};
 }
 
-// The solve on the GPU (contact/PolonskyKeerDevice.cu): uploads the heights (and a warm
-// start), runs Run over the device backend, and leaves p (times sigma) and w = h + u in
-// st.pressure and st.displacement, as the CPU backend does. `dev` holds the device's work
+// The solve on the CPU (CpuBackend.cpp): Run over the CPU backend on the state's own
+// fields, which then hold p (times sigma) and w = h + u. `work` holds the work arrays
+// (made on first use; kept while Options::keep_work).
+End solve_on_cpu(std::unique_ptr<PolonskyKeer::Work>& work, HalfSpace& hs, const Field& h,
+                 const PolonskyKeer::Options& o, double h_scale, const Target& target, ContactState& st,
+                 const Start& start, SolveResult& res);
+
+// The solve on the GPU (CudaBackend.cu): uploads the heights (and a warm start), runs Run
+// over the device backend, and leaves p (times sigma) and w = h + u in st.pressure and
+// st.displacement, as the CPU backend does. `dev` holds the device's work
 // arrays (made on first use; kept while Options::keep_work). A build without CUDA throws.
 End solve_on_device(std::unique_ptr<PolonskyKeer::Device, PolonskyKeer::DeviceDelete>& dev, HalfSpace& hs,
                     const Field& h, const PolonskyKeer::Options& o, double h_scale, const Target& target,

@@ -16,7 +16,7 @@ struct DeviceSteps {
               const std::vector<double>& k_near)
       : n(heights.size()), hs_(hs), h_(heights), opt_(o), nx_(hs.grid().nx), ny_(hs.grid().ny),
         stencil_(qs::make_stencil(nx_, ny_, true, k_near)), h_scale_(PolonskyKeer::residual_scale(heights)),
-        d_(hs, o.precondition), H0(n, "the heights"), TEN(n, "the tension") {
+        d_(hs, o.precondition), H0(n, "the heights"), TEN(n, "the tension"), A(n, "the passed-on gaps") {
     H0.upload(heights.data(), n);
     d_.H.upload(heights.data(), n);  // hp = h until a tension shifts it
     po_.tolerance = o.tolerance;
@@ -78,7 +78,7 @@ struct DeviceSteps {
   }
   double mean_tension() {
     const double* t = TEN.data();
-    return d_.reducer.run<pk::Sum>(n, cuda::Everywhere{}, [=] __device__(std::size_t i, pk::Sum& a) { a.v += t[i]; }).v /
+    return d_.reducer.run<Sum>(n, cuda::Everywhere{}, [=] __device__(std::size_t i, Sum& a) { a.v += t[i]; }).v /
            double(n);
   }
   // Polonsky-Keer on the device's heights from its own pressure, as PolonskyKeer::solve
@@ -114,13 +114,13 @@ struct DeviceSteps {
       x_ = d_.t;  // the gaps themselves
       return;
     }
-    // x and a in two spectra's buffers, the flags in the contact mask's and the scratch
+    // x in G t's buffer, a in its own, the flags in the contact mask's and the scratch
     // spectrum's (each at least n bytes); the gap is in the direction's.
     cuda::ProfileScope ps(cuda::profile().cascade_s);
-    cuda::profile().rounds += qs::cascade_rounds(*this, n, d_.t, TEN.data(), jump, stencil_, nx_, ny_, floor, d_.p_hat,
-                                                 d_.h_hat, d_.m, reinterpret_cast<std::uint8_t*>(d_.out));
+    cuda::profile().rounds += qs::cascade_rounds(*this, n, d_.t, TEN.data(), jump, stencil_, nx_, ny_, floor, d_.gt,
+                                                 A.data(), d_.m, reinterpret_cast<std::uint8_t*>(d_.out));
     ++cuda::profile().cascades;
-    x_ = d_.p_hat;
+    x_ = d_.gt;
   }
   double* t() { return TEN.data(); }
   const double* g() const { return d_.t; }
@@ -172,7 +172,7 @@ struct DeviceSteps {
   qs::Stencil stencil_;
   double h_scale_;
   PolonskyKeer::Device d_;
-  cuda::Buffer<double> H0, TEN;
+  cuda::Buffer<double> H0, TEN, A;
   PolonskyKeer::Options po_;
   const double* x_ = nullptr;
   double delta_ = 0.0;
