@@ -29,6 +29,18 @@ struct RiseFall {
   }
 };
 
+// Bodies of the shapes a solver hands its backend's passes, for the backend concepts
+// (polonsky_keer/Contract.hpp, quasi_static/Contract.hpp), which only ask whether a call
+// compiles; nothing calls these.
+namespace archetype {
+struct PointBody {
+  CMC_HD void operator()(std::size_t) const {}
+};
+struct SumBody {
+  CMC_HD void operator()(std::size_t, Sum&) const {}
+};
+}  // namespace archetype
+
 // The CPU's passes: f(i) for i in [0, k), and the sums of f(i, acc), OpenMP chunks merged in
 // a fixed order (Grid::parallel_for, Grid::parallel_reduce).
 namespace host {

@@ -39,15 +39,11 @@ struct Fields {
   double* gt = nullptr;
 };
 
-// Bodies of the shapes the iteration hands a backend, for the concepts below (which only
-// ask whether a call compiles; nothing calls these).
+// Bodies of the shapes the iteration hands a backend besides Reductions.hpp's, for the
+// concepts below (which only ask whether a call compiles; nothing calls these).
 namespace archetype {
-struct PointBody {
-  CMC_HD void operator()(std::size_t) const {}
-};
-struct SumBody {
-  CMC_HD void operator()(std::size_t, Sum&) const {}
-};
+using cmc::archetype::PointBody;
+using cmc::archetype::SumBody;
 struct ProjectBody {
   CMC_HD void operator()(std::size_t, StepSums&) const {}
 };

@@ -1,15 +1,15 @@
 // The quasi-static solver with its outer step on one GPU: the device backend of
-// QuasiStaticRun.hpp. Every field stays on the device from the first outer step to the
-// last: Polonsky-Keer's (PolonskyKeerDevice.cuh), the case's heights and the tension. The
-// outer step's other fields live in Polonsky-Keer's work arrays, which hold nothing
-// between its solves: the gap in the direction's, the cascade's predicted and passed-on
-// gaps in two spectra's (each at least one real field), its two flags in the contact
-// mask's and the scratch spectrum's. The cascade runs in rounds (QuasiStaticParts.hpp):
-// two kernels a round, over the frontier only, with a fixed-order count, so a rerun gives the same bits. The host sees
-// the state at the start (a warm start's tension and pressure go up), at a checkpoint (the
-// tension and the pressure come down, only when one is written: OuterPoint::fetch), and at
-// the end. With the outer step on the host between device solves, a run at 8192² spent
-// 151 s of its 227 s on the host.
+// Iteration.hpp. Every field stays on the device from the first outer step to the last:
+// Polonsky-Keer's (polonsky_keer/CudaBackend.cuh), the case's heights, the tension and the
+// cascade's passed-on gaps. The outer step's other fields live in Polonsky-Keer's work
+// arrays, which hold nothing between its solves: the gap in the direction's, the cascade's
+// predicted gaps in G t's, its two flags in the contact mask's and the scratch spectrum's.
+// The cascade runs in rounds (Parts.hpp): two kernels a round, over the frontier only,
+// with a fixed-order count, so a rerun gives the same bits. The host sees the state at the
+// start (a warm start's tension and pressure go up), at a checkpoint (the tension and the
+// pressure come down, only when one is written: OuterPoint::fetch), and at the end. With
+// the outer step on the host between device solves, a run at 8192² spent 151 s of its
+// 227 s on the host.
 // Periodic boundary, one process (the case parser refuses the rest with backend = "cuda").
 // Device memory: grid/Backend.hpp quasi_static_bytes (93 GiB at 32768² with the
 // preconditioner, 85 GiB without: an H200, not an H100).
@@ -19,23 +19,21 @@
 
 namespace cmc {
 
-SolveResult solve_on_device(HalfSpace& hs, const Field& heights, const ExponentialAdhesion& adhesion,
-                            const QuasiStaticAdhesion::Options& o, double self_stiffness,
-                            const std::vector<double>& k_near, double move_floor, const Target& target,
-                            ContactState& st, OuterPoint* from) {
+SolveResult qs::solve_on_device(const Problem& p, const Target& target, ContactState& st, OuterPoint* from) {
+  HalfSpace& hs = p.hs;
   if (!hs.periodic() || hs.grid().split())
     throw std::invalid_argument("quasi-static adhesion on CUDA: periodic boundary and one process only");
   std::string why;
   if (!cuda::available(&why)) throw std::runtime_error("quasi-static adhesion on CUDA: " + why);
   const int nx = hs.grid().nx, ny = hs.grid().ny;
-  pk::check_device_memory("quasi-static adhesion", nx, ny, cuda::quasi_static_bytes(nx, ny, o.precondition));
-  std::unique_ptr<qs::DeviceSteps> b;
+  pk::check_device_memory("quasi-static adhesion", nx, ny, cuda::quasi_static_bytes(nx, ny, p.options.precondition));
+  std::unique_ptr<DeviceSteps> b;
   {
     cuda::ProfileScope ps(cuda::profile().setup_s);
-    b = std::make_unique<qs::DeviceSteps>(hs, heights, o, k_near);
+    b = std::make_unique<DeviceSteps>(hs, p.heights, p.options, p.k_near);
   }
-  return qs::solve(*b, hs, adhesion, o, qs::JumpPrediction(self_stiffness, adhesion), move_floor, target, st,
-                   from);
+  return solve(*b, hs, p.adhesion, p.options, JumpPrediction(p.self_stiffness, p.adhesion), p.move_floor, target, st,
+               from);
 }
 
 }  // namespace cmc
