@@ -39,23 +39,6 @@ double time_fft_pair(int nx, int ny, double min_seconds = 0.25, int min_repeats 
 // Bytes of the work area cuFFT needs for the two transforms of an nx x ny grid, as the
 // device reports it; where there is none (or in a CPU build), one real field is assumed.
 std::size_t fft_work_bytes(int nx, int ny);
-// Bytes of device memory a Polonsky-Keer solve holds on an nx x ny periodic grid: the count
-// of contact/polonsky_keer/CudaBackend.cuh (5 real fields, 1 more with the preconditioner,
-// a byte mask, a spectrum, the compliance), cuFFT's work area, the reductions' scratch.
-inline std::size_t polonsky_keer_bytes(int nx, int ny, bool precondition) {
-  const std::size_t n = std::size_t(nx) * std::size_t(ny), ns = std::size_t(ny) * std::size_t(nx / 2 + 1);
-  const std::size_t doubles = n * (precondition ? 6 : 5) + ns * 3;
-  return doubles * sizeof(double) + n + fft_work_bytes(nx, ny) + (std::size_t(1) << 16);
-}
-// Bytes of device memory the quasi-static solver holds with its outer step on the device
-// (contact/quasi_static/CudaBackend.cuh): Polonsky-Keer's, the heights, the tension and
-// the cascade's passed-on gaps (3 real fields). The outer step's other fields (the gap, the
-// predicted gaps and the cascade's flags) use Polonsky-Keer's direction, G t, contact mask
-// and spectrum between solves.
-inline std::size_t quasi_static_bytes(int nx, int ny, bool precondition) {
-  const std::size_t n = std::size_t(nx) * std::size_t(ny);
-  return polonsky_keer_bytes(nx, ny, precondition) + 3 * n * sizeof(double);
-}
 }  // namespace cuda
 
 }  // namespace cmc

@@ -5,6 +5,7 @@
 // parser refuses other combinations with backend = "cuda".
 // Its fields and their count: CudaBackend.cuh.
 #include "cmc/contact/polonsky_keer/CudaBackend.cuh"
+#include "cmc/contact/polonsky_keer/Memory.hpp"
 
 #include <cstdio>
 #include <sstream>
@@ -61,7 +62,8 @@ pk::End pk::solve_on_device(std::unique_ptr<PolonskyKeer::Device, PolonskyKeer::
   if (!dev || dev->precondition != start.precondition) {
     dev.reset();
     const int nx = hs.grid().nx, ny = hs.grid().ny;
-    pk::check_device_memory("Polonsky-Keer", nx, ny, cuda::polonsky_keer_bytes(nx, ny, start.precondition));
+    const std::size_t need = pk::device_bytes(nx, ny, start.precondition, cuda::fft_work_bytes(nx, ny));
+    pk::check_device_memory("Polonsky-Keer", nx, ny, need);
     cuda::ProfileScope ps(cuda::profile().setup_s);
     dev.reset(new PolonskyKeer::Device(hs, start.precondition));
   }

@@ -11,9 +11,10 @@
 // the outer step on the host between device solves, a run at 8192² spent 151 s of its
 // 227 s on the host.
 // Periodic boundary, one process (the case parser refuses the rest with backend = "cuda").
-// Device memory: grid/Backend.hpp quasi_static_bytes (93 GiB at 32768² with the
+// Device memory: qs::device_bytes, Memory.hpp (93 GiB at 32768² with the
 // preconditioner, 85 GiB without: an H200, not an H100).
 #include "cmc/contact/quasi_static/CudaBackend.cuh"
+#include "cmc/contact/quasi_static/Memory.hpp"
 
 #include <memory>
 
@@ -26,7 +27,8 @@ SolveResult qs::solve_on_device(const Problem& p, const Target& target, ContactS
   std::string why;
   if (!cuda::available(&why)) throw std::runtime_error("quasi-static adhesion on CUDA: " + why);
   const int nx = hs.grid().nx, ny = hs.grid().ny;
-  pk::check_device_memory("quasi-static adhesion", nx, ny, cuda::quasi_static_bytes(nx, ny, p.options.precondition));
+  const std::size_t need = device_bytes(nx, ny, p.options.precondition, cuda::fft_work_bytes(nx, ny));
+  pk::check_device_memory("quasi-static adhesion", nx, ny, need);
   std::unique_ptr<DeviceSteps> b;
   {
     cuda::ProfileScope ps(cuda::profile().setup_s);
