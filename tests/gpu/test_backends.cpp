@@ -150,7 +150,7 @@ TEST(GpuBackend, RerunGivesTheSameBits) {
   }
 }
 
-// The quasi-static solver's outer step on the device (contact/QuasiStaticDevice.cu): a solve
+// The quasi-static solver's outer step on the device (contact/quasi_static/CudaBackend.cu): a solve
 // interrupted after its second outer step (the checkpoint's fields copied down through
 // OuterPoint::fetch, as the writer does) and continued from there, as a resumed run does,
 // gives the uninterrupted solve's bits (the GPU's reductions and rounds are in a fixed

@@ -43,7 +43,7 @@ namespace {
 // pairs, a_r 0.0295022 against 0.0295014 (3 points of 4.2 million) and the mean gap
 // within 5e-7. Within 2 points: 10 outer steps, 8 s of queue. A larger move floor (1e-2,
 // 1e-1 ρ) costs outer steps (1024²: 9 and 12 instead of 6).
-// (kRadius, kMoveFloor and the stencil: QuasiStaticParts.hpp.)
+// (kRadius, kMoveFloor and the stencil: Parts.hpp.)
 using qs::kRadius;
 using qs::kSide;
 class Cascade {

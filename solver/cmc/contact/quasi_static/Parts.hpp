@@ -96,7 +96,7 @@ struct JumpPrediction {
 };
 
 
-// The cascade's stencil: the 8 nearest points (see QuasiStaticAdhesion.cpp, "Jumps that
+// The cascade's stencil: the 8 nearest points (see CpuBackend.cpp, "Jumps that
 // trigger jumps"), each neighbour once, with K's entry to it.
 constexpr int kRadius = 1;
 constexpr int kSide = 2 * kRadius + 1;
