@@ -41,21 +41,21 @@ struct SumBody {
 };
 }  // namespace archetype
 
-// The CPU's passes: f(i) for i in [0, k), and the sums of f(i, acc), OpenMP chunks merged in
-// a fixed order (Grid::parallel_for, Grid::parallel_reduce).
-namespace host {
-template <class F>
-void all(std::size_t k, F f) {
-  Grid::parallel_for(k, [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) f(i);
-  });
-}
-template <class Acc, class F>
-Acc reduce(std::size_t k, F f) {
-  return Grid::parallel_reduce<Acc>(k, [&](std::size_t b, std::size_t e, Acc& acc) {
-    for (std::size_t i = b; i < e; ++i) f(i, acc);
-  });
-}
-}  // namespace host
+// The CPU's passes, for a backend to derive from: f(i) for i in [0, k), and the sums of
+// f(i, acc), OpenMP chunks merged in a fixed order (Grid::parallel_for, parallel_reduce).
+struct HostPasses {
+  template <class F>
+  static void all(std::size_t k, F f) {
+    Grid::parallel_for(k, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i) f(i);
+    });
+  }
+  template <class Acc, class F>
+  static Acc reduce(std::size_t k, F f) {
+    return Grid::parallel_reduce<Acc>(k, [&](std::size_t b, std::size_t e, Acc& acc) {
+      for (std::size_t i = b; i < e; ++i) f(i, acc);
+    });
+  }
+};
 
 }  // namespace cmc

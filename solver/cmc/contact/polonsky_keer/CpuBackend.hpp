@@ -143,7 +143,7 @@ namespace pk {
 // free boundary, a distributed grid) they are the passes and HalfSpace's transforms one
 // after the other (compose::, Compose.hpp, as the GPU runs them).
 template <class Visit>
-struct HostOf : Fields {
+struct HostOf : Fields, HostPasses {
   HalfSpace& hs;
   Field &P, &W;
   const Field& H;
@@ -199,10 +199,6 @@ struct HostOf : Fields {
   HostOf(const HostOf&) = delete;
   HostOf& operator=(const HostOf&) = delete;
 
-  template <class F>
-  void all(std::size_t k, F f) {
-    host::all(k, f);
-  }
   template <class Acc, class F>
   Acc reduce_in(const std::uint8_t* mask, std::size_t k, F f) {
     // A local record, merged once: its sums stay in registers (acc is in memory, where the

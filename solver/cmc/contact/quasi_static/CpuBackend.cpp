@@ -206,7 +206,7 @@ class Cascade {
 // and any number of processes, the cascade as a queue (or, with Options::cascade_rounds on
 // a periodic grid held by one process, in the GPU's rounds). Polonsky-Keer runs on its own
 // backend (Options::backend: the CPU, or the GPU with the outer step here).
-class HostSteps {
+class HostSteps : public HostPasses {
  public:
   HostSteps(HalfSpace& hs, const Field& h, const std::vector<double>& k_near, const QuasiStaticAdhesion::Options& o)
       : n(h.size()), hs_(hs), h_(h), opt_(o), hp_(h), gt_(n, 0.0), predicted_(n, 0.0),
@@ -216,15 +216,6 @@ class HostSteps {
       throw std::invalid_argument("QuasiStaticAdhesion: cascade_rounds needs a periodic grid held by one process");
   }
   const std::size_t n;
-
-  template <class F>
-  void all(std::size_t k, F f) {
-    host::all(k, f);
-  }
-  template <class Acc, class F>
-  Acc reduce(std::size_t k, F f) {
-    return host::reduce<Acc>(k, f);
-  }
 
   // The tension and Polonsky-Keer's state live in the loop's OuterPoint (what on_outer is
   // shown, without copies).
