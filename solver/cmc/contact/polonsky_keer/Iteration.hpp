@@ -141,7 +141,7 @@ class Run {
       }
     }
     set_contact_set(s);
-    exact();  // w = h + G p, and p̂ kept
+    exact();  // w = h + G p
   }
   // (a) gap statistics over Ic = {p > 0} (σ > 0 does not change it), shifted by the
   // previous δ to avoid cancellation; overlap (w < c) elsewhere.
@@ -312,7 +312,7 @@ class Run {
     return G;
   }
   // At the tolerance: done, or confirmed first on u recomputed from the real-space p
-  // (removes the spectral drift). Else the limits: iterations, and the clock.
+  // (removes the linear steps' drift). Else the limits: iterations, and the clock.
   Next stop_or_confirm(int it, SolveResult& res) {
     if (res.residual <= opt_.tolerance) {
       if (since_exact_ == 0 || !opt_.confirm) return Next::Return;
@@ -374,7 +374,7 @@ class Run {
   double last_tau_;          // compliance of the last step (first: of the longest wave)
   double warm_sum_;          // Start::warm_sum
   double sigma_ = 1.0;       // the pressure is sigma_ p: the last load scaling, applied lazily
-  int since_exact_ = 0;      // linear spectral steps since p̂ was last taken from p
+  int since_exact_ = 0;      // linear steps since w was last made from p
   bool conjugate_ = false;   // PK's δ flag: false restarts steepest descent
   double gz_old_ = 1.0;      // Σ_Ic g z of the previous direction
   GapSums pending_;          // step (a)'s sums, made with the last step's inverse transform

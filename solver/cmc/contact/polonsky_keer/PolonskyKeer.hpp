@@ -34,7 +34,7 @@ class PolonskyKeer {
  public:
   struct Options : SolverOptions {
     // Exact displacement every this many linear steps: bounds the drift of the
-    // incremental spectral update (round-off), at one forward transform each.
+    // incremental update of the linear steps (round-off), at one forward transform each.
     int recompute_every = 32;
     // Precondition the conjugate gradients on the contact set with the half-space's
     // stiffness K = G⁻¹ (periodic boundary only): the direction is built from z = P K P g
@@ -44,7 +44,7 @@ class PolonskyKeer {
     // full contact; costs one more FFT pair per iteration.
     bool precondition = true;
     // Before declaring convergence, recompute u from the real-space p and test again
-    // (removes the drift of the incremental spectral update; one FFT pair). A caller that
+    // (removes the drift of the linear steps' incremental update; one FFT pair). A caller that
     // solves again from the returned state before using it (an outer iteration) may turn
     // this off and confirm only its last solve: the next solve starts from the exact u.
     bool confirm = true;
