@@ -21,8 +21,8 @@
 //    Polonsky–Keer kernel's is the outer loop: jump prediction, cascade, tension update.
 // Set CMC_THREADS to choose threads.
 #include "bench_common.hpp"
-#include "cmc/contact/AdhesiveSolver.hpp"
-#include "cmc/contact/QuasiStaticAdhesion.hpp"
+#include "cmc/contact/adhesive_cg/AdhesiveSolver.hpp"
+#include "cmc/contact/quasi_static/QuasiStaticAdhesion.hpp"
 #include "cmc/input/Case.hpp"
 #include "cmc/scene/Scene.hpp"
 #include "cmc/surface/SelfAffine.hpp"

@@ -9,7 +9,7 @@
 // faster of FFTW's pair and cmc's row-column pair (_floor_pair; bench_common.hpp). Set
 // CMC_THREADS to choose threads.
 #include "bench_common.hpp"
-#include "cmc/contact/PolonskyKeer.hpp"
+#include "cmc/contact/polonsky_keer/PolonskyKeer.hpp"
 #include "cmc/grid/RowColumnFourier.hpp"
 #include "cmc/surface/SelfAffine.hpp"
 

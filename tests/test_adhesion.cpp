@@ -2,11 +2,11 @@
 // Johnson (1995), JKR and Maugis–Dugdale. Every tolerance below is next to the number it
 // was set from (a measured discretisation / finite-range error or a convergence study);
 // the measured values are printed (and recorded as test properties) on every run.
-#include "cmc/contact/AdhesiveSolver.hpp"
+#include "cmc/contact/adhesive_cg/AdhesiveSolver.hpp"
 #include "cmc/analytic/Analytic.hpp"
 #include "cmc/contact/Interaction.hpp"
 #include "cmc/contact/LoadPath.hpp"
-#include "cmc/contact/PolonskyKeer.hpp"
+#include "cmc/contact/polonsky_keer/PolonskyKeer.hpp"
 #include "cmc/surface/SelfAffine.hpp"
 #include "cmc/surface/SurfaceStats.hpp"
 #include "cmc/surface/Topography.hpp"

@@ -1,8 +1,8 @@
 // Polonsky–Keer on problems with known answers.
 #include "cmc/analytic/Analytic.hpp"
 #include "cmc/contact/ContactRule.hpp"
-#include "cmc/contact/PolonskyKeer.hpp"
-#include "cmc/contact/PolonskyKeerHost.hpp"
+#include "cmc/contact/polonsky_keer/PolonskyKeer.hpp"
+#include "cmc/contact/polonsky_keer/CpuBackend.hpp"
 #include "cmc/surface/SelfAffine.hpp"
 #include "cmc/surface/Topography.hpp"
 
@@ -388,7 +388,7 @@ TEST(PolonskyKeer, FusedSweepsGiveTheSameSolution) {
 // fused sweeps transform the new p with the projection inside the transform), and the gap
 // sums came relative to the δ before it: G = s2 − nc shift² then cancels to a floor of
 // ε s2, 2.7e-11 here, and the solve stopped there, not converged, until the round-off exit
-// measured them once more at the current δ (PolonskyKeerRun.hpp).
+// measured them once more at the current δ (contact/polonsky_keer/Iteration.hpp).
 TEST(PolonskyKeer, FewContactPointsReachATightTolerance) {
   Grid g{16, 16, 1.0, 1.0};
   auto topo = sphere(g, 10.0, 0.5, 0.5, true);

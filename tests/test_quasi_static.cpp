@@ -1,4 +1,4 @@
-// The quasi-static (loading-branch) adhesive solver, contact/QuasiStaticAdhesion.hpp, on a
+// The quasi-static (loading-branch) adhesive solver, contact/quasi_static/QuasiStaticAdhesion.hpp, on a
 // rough periodic patch whose grid spacing is 24 ρ as in the challenge at 2048² (every
 // point bistable, w/ρ = E*). What must hold, and could fail:
 //  * its state is an equilibrium of the full adhesive problem (the adhesive CG, started
@@ -8,11 +8,11 @@
 //  * the jump prediction and the cascade only accelerate: the plain iteration (tangent
 //    tension only) run to a tight tolerance ends in the same state.
 // Tolerances are next to the numbers they come from (measured on this patch).
-#include "cmc/contact/QuasiStaticAdhesion.hpp"
-#include "cmc/contact/QuasiStaticParts.hpp"
-#include "cmc/contact/AdhesiveSolver.hpp"
+#include "cmc/contact/quasi_static/QuasiStaticAdhesion.hpp"
+#include "cmc/contact/quasi_static/Parts.hpp"
+#include "cmc/contact/adhesive_cg/AdhesiveSolver.hpp"
 #include "cmc/contact/ContactRule.hpp"
-#include "cmc/contact/PolonskyKeer.hpp"
+#include "cmc/contact/polonsky_keer/PolonskyKeer.hpp"
 #include "cmc/input/Case.hpp"
 #include "cmc/run/Driver.hpp"
 #include "cmc/scene/Scene.hpp"
@@ -188,7 +188,7 @@ TEST(QuasiStatic, AccelerationKeepsTheState) {
   EXPECT_LT(r.ra.fft_pairs, r.rb.fft_pairs);
 }
 
-// The cascade in rounds (QuasiStaticParts.hpp), which the GPU's outer step runs, against
+// The cascade in rounds (contact/quasi_static/Parts.hpp), which the GPU's outer step runs, against
 // the queue: both stop a move below the floor (1e-3 ρ) apart at most, and each outer step
 // is followed by a solve that the next prediction starts from, so the states agree on the
 // contact set and within the outer tolerance's 0.02 ρ in every gap (see the first test);
@@ -214,7 +214,7 @@ TEST(QuasiStatic, CascadeInRoundsKeepsTheState) {
                std::invalid_argument);
 }
 
-// The cascade in slabs (QuasiStaticAdhesion.cpp: a queue per slab of rows, the pulls across
+// The cascade in slabs (contact/quasi_static/CpuBackend.cpp: a queue per slab of rows, the pulls across
 // slab boundaries sent and applied between rounds) against one queue over the whole grid:
 // the moves come in another order, so the predictions may stop a move below the floor
 // (1e-3 ρ) apart, and as for the rounds the states agree on the contact set and within the

@@ -10,7 +10,7 @@
 #   hardwall:N    the hard-wall challenge at 250 kPa on an N² grid, on the GPU
 #   hardwall_plain:N   the same without the stiffness preconditioner (solver.precondition =
 #                 false: one real field less on the device, for a grid that does not fit with it;
-#                 at 32768² the count is 77 GiB with it and 69 GiB without)
+#                 at 32768² the count is 69 GiB with it and 61 GiB without)
 #   adhesive:N    the adhesive challenge at 250 kPa (quasi-static solver), on the GPU
 #   shape:N       the same with the shape coarse-graining, at most 170 outer steps
 #   tabor:N:MU    the challenge's Tabor sweep at mu_T = MU (cases/challenge/tabor-sweep.toml, one of

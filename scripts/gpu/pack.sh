@@ -21,7 +21,7 @@ grep -q '^CMC_CUDA:BOOL=ON' "$build/CMakeCache.txt" ||
   { echo "scripts/gpu/pack.sh: $build is not a CUDA build (CMC_CUDA=ON)" >&2; exit 1; }
 # nvcc keeps the host side of each __host__ __device__ lambda in per-unit statics, while the
 # linker merges the lambda's wrapper code across units: two .cu files that instantiate the
-# same such lambda make a program that calls a null pointer (PolonskyKeerDevice.cu, the note
+# same such lambda make a program that calls a null pointer (contact/polonsky_keer/CudaBackend.cu, the note
 # at pk::run_on_device). Refuse such a build before it travels to a GPU.
 objs=$(find "$build/CMakeFiles" -name '*.cu.o' | sort)
 shared=$(for o in $objs; do nm "$o" | awk '$2 ~ /^[WVT]$/ && $3 ~ /__nv_hdl_wrapper_t/ {print $3}' | sort -u; done |

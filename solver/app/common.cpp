@@ -1,5 +1,6 @@
 #include "commands.hpp"
 
+#include "cmc/contact/quasi_static/Memory.hpp"
 #include "cmc/grid/Backend.hpp"
 #include "cmc/grid/Ranks.hpp"
 
@@ -150,8 +151,9 @@ void print_memory_plan(const Case& c, bool quiet) {
     std::string why;
     const std::string dev = cuda::available(&why) ? cuda::device_description() : "none: " + why;
     const bool qs = c.solver.kind == SolverKind::QuasiStatic;
-    const std::size_t bytes = qs ? cuda::quasi_static_bytes(c.grid.nx, c.grid.ny, pre)
-                                 : cuda::polonsky_keer_bytes(c.grid.nx, c.grid.ny, pre);
+    const std::size_t work = cuda::fft_work_bytes(c.grid.nx, c.grid.ny);
+    const std::size_t bytes = qs ? qs::device_bytes(c.grid.nx, c.grid.ny, pre, work)
+                                 : pk::device_bytes(c.grid.nx, c.grid.ny, pre, work);
     std::fprintf(stderr, "%s: %s fields on the GPU: about %s of device memory (GPU: %s)\n", c.name.c_str(),
                  qs ? "the quasi-static solver's" : "Polonsky-Keer's", memory_text(double(bytes)).c_str(), dev.c_str());
   }

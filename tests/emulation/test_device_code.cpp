@@ -1,7 +1,7 @@
 // The GPU backends' own code run on the host (grid/CudaEmulation.hpp, CMC_CUDA_EMULATION;
 // built in CPU builds only, label quick): Polonsky-Keer's device backend
-// (PolonskyKeerDevice.cuh) and the quasi-static solver's outer step on the device
-// (QuasiStaticDevice.cuh), against the CPU backends on the same problems. What this can
+// (contact/polonsky_keer/CudaBackend.cuh) and the quasi-static solver's outer step on the device
+// (contact/quasi_static/CudaBackend.cuh), against the CPU backends on the same problems. What this can
 // catch: a buffer that holds two things at once, a pass in the wrong order, a field that
 // is not uploaded or copied back, a checkpoint that does not continue. What it cannot:
 // anything of CUDA itself (kernels, cuFFT, the device reductions' trees), which the gpu
@@ -16,7 +16,7 @@
 // points in contact and the gaps within the outer tolerance's 0.02 ρ
 // (tests/test_quasi_static.cpp derives it; here the same algorithm on both sides,
 // measured: the same outer steps, iterations and FFT pairs, gaps within 3.6e-13 ρ).
-#include "cmc/contact/QuasiStaticDevice.cuh"
+#include "cmc/contact/quasi_static/CudaBackend.cuh"
 #include "cmc/input/Case.hpp"
 #include "cmc/scene/Scene.hpp"
 #include "cmc/surface/SelfAffine.hpp"
@@ -30,7 +30,7 @@
 
 namespace cmc {
 void pk::report_profile(const PolonskyKeer::Device&) {}
-// PolonskyKeerDevice.cu's, which a CPU build does not compile.
+// contact/polonsky_keer/CudaBackend.cu's, which a CPU build does not compile.
 pk::End pk::run_on_device(PolonskyKeer::Device& d, const PolonskyKeer::Options& o, double h_scale,
                           const Target& target, const Start& start, SolveResult& res) {
   return iterate(d, o, h_scale, target, start, res);

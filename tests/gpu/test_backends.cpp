@@ -14,7 +14,7 @@
 // QuasiStaticAdhesion.hpp measured that spread at 512²: a_r 0.0381279 against 0.0381317
 // between tension tolerances 1e-3 and 1e-5 (1.0e-4 relative), the mean gap 4e-7. The
 // bounds below are twice those.
-#include "cmc/contact/QuasiStaticAdhesion.hpp"
+#include "cmc/contact/quasi_static/QuasiStaticAdhesion.hpp"
 #include "cmc/grid/Backend.hpp"
 #include "cmc/input/Case.hpp"
 #include "cmc/run/Driver.hpp"
@@ -150,7 +150,7 @@ TEST(GpuBackend, RerunGivesTheSameBits) {
   }
 }
 
-// The quasi-static solver's outer step on the device (contact/QuasiStaticDevice.cu): a solve
+// The quasi-static solver's outer step on the device (contact/quasi_static/CudaBackend.cu): a solve
 // interrupted after its second outer step (the checkpoint's fields copied down through
 // OuterPoint::fetch, as the writer does) and continued from there, as a resumed run does,
 // gives the uninterrupted solve's bits (the GPU's reductions and rounds are in a fixed

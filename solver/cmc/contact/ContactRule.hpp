@@ -8,11 +8,11 @@
 //   attractive contact   p < -stress_cut    (tensile: adhesion only)
 //
 // g <= 0 is an exact test, not a floating-point gamble: both solvers project the gap,
-// so contact points hold g = 0 exactly (PolonskyKeer.cpp sets it; the adhesive CG works
-// in gap variables and clips them at 0, AdhesiveSolver.cpp).
+// so contact points hold g = 0 exactly (polonsky_keer/PolonskyKeer.cpp sets it; the adhesive CG works
+// in gap variables and clips them at 0, adhesive_cg/).
 // The gap decides contact, not p > 0: with adhesion p < 0 in the cohesive zone of a
 // closed contact, and p > 0 at open points is solver noise (below). For a hard wall the
-// two agree: Polonsky–Keer sets g = 0 exactly where p > 0 (PolonskyKeer.cpp), and every
+// two agree: Polonsky–Keer sets g = 0 exactly where p > 0 (polonsky_keer/PolonskyKeer.cpp), and every
 // validation and 512² challenge case had the same set under both rules when they were
 // unified.
 //

@@ -76,6 +76,32 @@ class SolveClock {
   std::chrono::steady_clock::time_point t0_;
 };
 
+// Transforms a solve runs outside the half-space's own (the CPU's fused sweeps, the GPU's
+// cuFFT): how many forward and inverse, and the seconds inside them.
+struct TransformCounts {
+  long forward = 0, inverse = 0;
+  double seconds = 0.0;
+};
+// Counts them with an operator (count_transforms(), e.g. the HalfSpace) over its lifetime,
+// so that they show in the solve's FFT pairs: `read` gives the transforms' counts so far.
+template <class Operator>
+class TransformTally {
+ public:
+  TransformTally(Operator& op, std::function<TransformCounts()> read)
+      : op_(op), read_(std::move(read)), start_(read_()) {}
+  ~TransformTally() {
+    const TransformCounts now = read_();
+    op_.count_transforms(now.forward - start_.forward, now.inverse - start_.inverse, now.seconds - start_.seconds);
+  }
+  TransformTally(const TransformTally&) = delete;
+  TransformTally& operator=(const TransformTally&) = delete;
+
+ private:
+  Operator& op_;
+  std::function<TransformCounts()> read_;
+  TransformCounts start_;
+};
+
 // The solved state of one load step (reduced units). Also the warm start of the next.
 struct ContactState {
   Field pressure;      // p, compressive > 0

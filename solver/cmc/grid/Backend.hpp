@@ -39,23 +39,6 @@ double time_fft_pair(int nx, int ny, double min_seconds = 0.25, int min_repeats 
 // Bytes of the work area cuFFT needs for the two transforms of an nx x ny grid, as the
 // device reports it; where there is none (or in a CPU build), one real field is assumed.
 std::size_t fft_work_bytes(int nx, int ny);
-// Bytes of device memory a Polonsky-Keer solve holds on an nx x ny periodic grid: the count
-// of contact/PolonskyKeerDevice.cu (4 real fields, 1 more with the preconditioner, a byte
-// mask, 3 spectra, the compliance), cuFFT's work area, the reductions' scratch.
-inline std::size_t polonsky_keer_bytes(int nx, int ny, bool precondition) {
-  const std::size_t n = std::size_t(nx) * std::size_t(ny), ns = std::size_t(ny) * std::size_t(nx / 2 + 1);
-  const std::size_t doubles = n * (precondition ? 5 : 4) + ns * 7;
-  return doubles * sizeof(double) + n + fft_work_bytes(nx, ny) + (std::size_t(1) << 16);
-}
-// Bytes of device memory the quasi-static solver holds with its outer step on the device
-// (contact/QuasiStaticDevice.cu): Polonsky-Keer's, the heights and the tension (2 real
-// fields). The outer step's other fields (the gap, the cascade's predicted and passed-on
-// gaps and their flags) use Polonsky-Keer's direction, spectra and contact mask between
-// solves.
-inline std::size_t quasi_static_bytes(int nx, int ny, bool precondition) {
-  const std::size_t n = std::size_t(nx) * std::size_t(ny);
-  return polonsky_keer_bytes(nx, ny, precondition) + 2 * n * sizeof(double);
-}
 }  // namespace cuda
 
 }  // namespace cmc

@@ -1,6 +1,6 @@
 // A host stand-in for grid/CudaDevice.cuh, under CMC_CUDA_EMULATION: the same names
 // (Buffer, all, Reducer, Fft, ...) with plain loops, std::vector memory and FFTW, so that
-// the device backends' own code (contact/PolonskyKeerDevice.cuh, QuasiStaticDevice.cuh:
+// the device backends' own code (contact/polonsky_keer/CudaBackend.cuh, contact/quasi_static/CudaBackend.cuh:
 // which buffer holds what, the order of their passes, what goes up and comes down) runs
 // and is tested on a machine without a GPU (tests/emulation; the CPU build only). It checks
 // that code's logic, not CUDA: kernels, cuFFT, device memory and the fixed-order trees of

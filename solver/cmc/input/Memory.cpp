@@ -3,6 +3,11 @@
 // grid uses (check_memory in input/Case.cpp).
 #include "cmc/input/Case.hpp"
 
+#include "cmc/contact/Memory.hpp"  // each solver's count (the one include of contact/ here)
+#include "cmc/contact/adhesive_cg/Memory.hpp"
+#include "cmc/contact/polonsky_keer/Memory.hpp"
+#include "cmc/contact/quasi_static/Memory.hpp"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -62,57 +67,22 @@ void count_every_run(const FieldSizes& z, FieldCounts& f) {
   f.run_transform += 3.0 + (periodic ? 0.0 : 1.0);
 }
 
-void count_adhesive_cg(const Case& c, const FieldSizes& z, FieldCounts& f) {
-  const bool periodic = z.periodic;
+// The solver's fields, counted beside it (contact/*/Memory.hpp); returns whether it
+// measures and writes a step inside its run (the adhesive CG's load path).
+bool count_solver(const Case& c, FieldCounts& f) {
   const bool load_control = c.loading.control == LoadControl::Force || c.loading.control == LoadControl::MeanPressure;
-  // AdhesiveSolver::Work (a member of the solver, kept for the whole run): heights, x,
-  // Ku, d, Kd, r, c, trial, Ktrial on the transform grid, K h when periodic, the bound
-  // flags (bytes); the stiffness when periodic.
-  f.run_transform += 9.0 + (periodic ? 1.0 : 0.0) + 1.0 / 8.0;
-  if (periodic) f.run_transform += z.sp / 2.0 / z.m;
-  // The load path's trial copy of the state; the pull-off search's best state and its
-  // copy; load control: the three points of the bracketing search, each a state. The
-  // walk holds them while a step is measured and written (its callbacks run inside it).
-  f.run_grid += 3.0;
-  if (c.loading.refine_pulloff > 0) f.run_grid += 6.0;
-  if (load_control) f.run_grid += 9.0;
-}
-
-void count_polonsky_keer_host(const Case& c, const FieldSizes& z, FieldCounts& f) {
-  const bool periodic = z.periodic;
-  const double sp = z.sp, m = z.m, my = z.my;
-  // Polonsky-Keer, within a solve: the search direction (and the preconditioned gap, on
-  // a periodic grid), the contact set (bytes); no spectrum of the pressure or the heights
-  // (contact/PolonskyKeerHost.hpp; the direction's is the half-space's
-  // spectrum, counted above). A periodic grid held by one process runs the fused sweeps
-  // (grid/RowColumnFourier.hpp): the compliance once more, in the transform's layout (its
-  // row buffers are a few rows); that layout leaves kColumnPad = 8 modes unused after
-  // each column of my, so its spectra (the compliance, and the half-space's scratch,
-  // which keeps its longer buffer for the rest of the run) are 8/my longer, and the
-  // least w of each block of eight points, an eighth of a field. Otherwise (a free
-  // boundary, a distributed grid) G t for the linear steps, a field of the grid.
-  const bool fused = periodic && memory_split().ranks == 1;
-  const double pad = 8.0 / my;
-  f.solve_grid += 1.0 + (periodic && c.solver.precondition ? 1.0 : 0.0) + 1.0 / 8.0 + (fused ? 1.0 / 8.0 : 1.0);
-  f.solve_transform += fused ? sp / 2.0 / m + 0.5 * pad * sp / m : 0.0;
-  if (fused) f.run_transform += pad * sp / m;
-}
-
-void count_quasi_static(const Case& c, const FieldSizes& z, FieldCounts& f) {
-  // QuasiStaticAdhesion: K's unit response and its set-up impulse on the transform grid
-  // in its constructor (freed once the cascade's nine entries are read off), and the
-  // stiffness when periodic, for the whole run; within a solve, around its
-  // Polonsky-Keer (counted above): the shifted heights, the tension, G t and the
-  // predicted gaps, the cascade's pull, applied and decay fields and flags. The inner
-  // state is the driver's (counted above), moved in and back; the next tension is
-  // computed where it is used, and a checkpoint inside a step is written a block of rows
-  // at a time (no copy).
-  // On the GPU the outer step's fields are the device's (grid/Backend.hpp
-  // quasi_static_bytes); the host makes the first tension of a warm start and the
-  // tension it subtracts at the end (one field).
-  f.setup_transform = 2.0;
-  f.run_transform += z.periodic ? z.sp / 2.0 / z.m : 0.0;
-  f.solve_grid += c.grid.backend == "cuda" ? 1.0 : 4.0 + 3.0 + 1.0 / 8.0;
+  const MemoryShape shape{double(c.grid.nx), double(c.grid.ny), c.grid.periodic, memory_split().ranks,
+                          c.grid.backend == "cuda"};
+  const FieldCount solver =
+      c.solver.kind == SolverKind::AdhesiveCg ? adhesive::host_memory(shape, c.loading.refine_pulloff > 0, load_control)
+      : c.solver.kind == SolverKind::QuasiStatic ? qs::host_memory(shape, c.solver.precondition)
+                                                 : pk::host_memory(shape, c.solver.precondition);
+  f.run_grid += solver.run_grid, f.run_transform += solver.run_transform;
+  f.solve_grid += solver.solve_grid, f.solve_transform += solver.solve_transform;
+  f.setup_transform = solver.setup_transform;
+  // A run on the GPU times no FFT pair on the host: the two fields counted above are not made.
+  if (shape.cuda) f.run_transform -= 2.0;
+  return solver.steps_inside_run;
 }
 
 // Making the surface: the self-affine generator holds every mode of the band (about
@@ -138,34 +108,18 @@ MemoryEstimate estimate_memory(const Case& c) {
   const double mx = periodic ? nx : 2.0 * nx, my = periodic ? ny : 2.0 * ny, m = mx * my;
   const double sp = 2.0 * (std::floor(mx / 2.0) + 1.0) * my;
   const FieldSizes z{n, my, m, sp, periodic};
-  const bool adhesive = c.solver.kind == SolverKind::AdhesiveCg;
   FieldCounts f;
   count_every_run(z, f);
-  if (adhesive) {
-    count_adhesive_cg(c, z, f);
-  } else if (c.grid.backend == "cuda") {
-    // Polonsky-Keer on the GPU holds its work arrays on the device (printed separately,
-    // grid/Backend.hpp polonsky_keer_bytes; its stiffness is taken from the compliance
-    // there, the host makes none), and no FFT pair is timed on the host (its two fields,
-    // counted above, are not made). Counted from the code; the host's peak of a GPU run
-    // has not been measured.
-    f.run_transform -= 2.0;
-  } else {
-    count_polonsky_keer_host(c, z, f);
-  }
-  // Fields a solver makes in its constructor and frees there, before any state or solve
-  // field exists: a phase of their own (the larger grids' blocks go back to the system;
-  // a smaller grid's stay in glibc's heap, where the state's fields and the solve's are
-  // then allocated).
-  if (c.solver.kind == SolverKind::QuasiStatic) count_quasi_static(c, z, f);
+  const bool steps_inside_run = count_solver(c, f);
   // A solved step: the observables (the contact mask (bytes), patch labels (ints) and their
   // union-find parents, a Fourier transform of the pressure (its spectrum and scratch), the
   // distributions' per-thread counts). The writer scales and writes a field a block of
   // rows at a time (8 MB), so it holds no copy of a field.
   f.step_grid = 0.0;
   if (c.observables.enabled) f.step_grid = 1.0 / 8.0 + 1.0 + 2.0 + 1.0;
-  // The adhesive CG measures and writes inside its load path, beside its work arrays.
-  if (adhesive) f.run_grid += f.step_grid, f.step_grid = 0.0;
+  // A solver that measures and writes inside its run (the adhesive CG's load path), beside
+  // its work arrays.
+  if (steps_inside_run) f.run_grid += f.step_grid, f.step_grid = 0.0;
   const double phase_grid =
       std::max({f.solve_grid * n + f.solve_transform * m, f.step_grid * n, f.setup_transform * m});
   const double grid_fields = f.run_grid + phase_grid / n, transform = f.run_transform;

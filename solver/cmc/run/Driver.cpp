@@ -2,9 +2,9 @@
 
 #include "cmc/grid/Backend.hpp"
 
-#include "cmc/contact/AdhesiveSolver.hpp"
-#include "cmc/contact/PolonskyKeer.hpp"
-#include "cmc/contact/QuasiStaticAdhesion.hpp"
+#include "cmc/contact/adhesive_cg/AdhesiveSolver.hpp"
+#include "cmc/contact/polonsky_keer/PolonskyKeer.hpp"
+#include "cmc/contact/quasi_static/QuasiStaticAdhesion.hpp"
 #include "cmc/run/TestPoints.hpp"
 
 #include <algorithm>

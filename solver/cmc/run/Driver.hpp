@@ -4,7 +4,7 @@
 #pragma once
 
 #include "cmc/contact/LoadPath.hpp"
-#include "cmc/contact/QuasiStaticAdhesion.hpp"
+#include "cmc/contact/quasi_static/QuasiStaticAdhesion.hpp"
 #include "cmc/observe/StepObservables.hpp"
 #include "cmc/scene/Scene.hpp"
 

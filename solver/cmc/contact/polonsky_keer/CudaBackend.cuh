@@ -1,19 +1,22 @@
 #pragma once
-// The device backend of Polonsky-Keer (PolonskyKeerRun.hpp) on one GPU: its fields and
-// passes, shared by PolonskyKeerDevice.cu (the hard-wall solve) and QuasiStaticDevice.cu
-// (the quasi-static solver's outer step, which keeps its own fields beside these). Included
-// by .cu files only.
+// The device backend of Polonsky-Keer (Iteration.hpp; its contract: Contract.hpp) on one
+// GPU: its fields and passes, shared by polonsky_keer/CudaBackend.cu (the hard-wall solve)
+// and quasi_static/CudaBackend.cu (the quasi-static solver's outer step, which keeps its
+// own fields beside these). Included by .cu files only (and by the host emulation's tests,
+// tests/emulation). The combined operations are compose::'s (Compose.hpp): a step makes w
+// with the CPU's per-point parts (Parts.hpp), and no spectrum of p or of h is held.
 //
 // Device memory, per point of an n-point grid (nspec = ny (nx/2 + 1) ≈ n/2 modes):
-// p, w = h + u, t, h (4 doubles), z (1, with the preconditioner), the contact mask (1
-// byte), the spectra p̂, ĥ/N and the transform's scratch, which holds t̂ too (3 nspec
-// complex ≈ 3 doubles), the compliance (nspec doubles ≈ ½; the preconditioner's stiffness
+// p, w = h + u, t, h and G t of a linear step (5 doubles), z (1, with the preconditioner),
+// the contact mask (1 byte), the transform's scratch spectrum, which holds t̂ too (nspec
+// complex ≈ 1 double), the compliance (nspec doubles ≈ ½; the preconditioner's stiffness
 // is taken from it), and cuFFT's work area (cufftMakePlan2d reports it for the shape).
-// Counted by polonsky_keer_bytes (grid/Backend.hpp), with the work area taken as one real
-// field: 19.3 GiB at 16384² with the preconditioner, 77 GiB at 32768² (69 GiB without).
-// With t̂ and the stiffness held as fields of their own the count was 22.3 GiB at 16384²,
-// and nvidia-smi's peak on an H100 was 22.8 GiB with the CUDA context.
-#include "cmc/contact/PolonskyKeerRun.hpp"
+// Counted by pk::device_bytes (Memory.hpp), with the work area taken as one real field:
+// 17.3 GiB at 16384² with the preconditioner, 69 GiB at 32768² (61 GiB without). An
+// earlier layout that held p̂, ĥ/N, t̂ and the stiffness as spectra of their own counted
+// 22.3 GiB at 16384², and nvidia-smi's peak on an H100 was 22.8 GiB with the CUDA context.
+#include "cmc/contact/polonsky_keer/Compose.hpp"
+#include "cmc/contact/polonsky_keer/Iteration.hpp"
 #include "cmc/grid/CudaDevice.cuh"
 
 #include <cstdio>
@@ -22,8 +25,8 @@
 namespace cmc {
 
 struct PolonskyKeer::Device : pk::Fields {
-  // ---- the backend interface of pk::Run (PolonskyKeerRun.hpp): the fields (pk::Fields), the passes
-  // and the transforms
+  // ---- the backend of pk::Run (Contract.hpp, PolonskyKeerBackend): the fields
+  // (pk::Fields), the passes and the transforms
 
   template <class F>
   void all(std::size_t k, F f) {
@@ -38,29 +41,25 @@ struct PolonskyKeer::Device : pk::Fields {
     return reducer.run<Acc>(k, cuda::InMaskOrBelow{mask, v, level}, f);
   }
   double sum(const double* v) {
-    return reducer.run<pk::Sum>(n, cuda::Everywhere{}, [=] __device__(std::size_t i, pk::Sum& a) { a.v += v[i]; }).v;
+    return reducer.run<Sum>(n, cuda::Everywhere{}, [=] __device__(std::size_t i, Sum& a) { a.v += v[i]; }).v;
   }
-  void forward_p() { fft.forward(p, p_hat); }
-  void forward_h(double scale) {
-    fft.forward(h, h_hat);
-    double* hh = h_hat;
-    cuda::all(2 * nspec, [=] __device__(std::size_t k) { hh[k] *= scale; });
-  }
+  // The transforms of compose:: (Contract.hpp, TransformParts).
+  void forward_p() { fft.forward(p, out); }
   double curvature_t() {
     fft.forward(t, out);
     return quadratic_form(out, ker);
   }
   void inverse_w() { fft.inverse(out, w); }
-  // The stiffness is the compliance's inverse, E*|q|/2 = (1/N)² / (2/(E*|q|)) with 1/N folded
-  // into both, 0 at q = 0: taken from the compliance here instead of held (half a spectrum,
-  // 4 GiB at 32768²). It may differ from the CPU's E*|q|/(2N) in the last bit.
+  void inverse_gt() { fft.inverse(out, gt); }
+  // The stiffness taken from the compliance (Parts.hpp) instead of held (half a spectrum,
+  // 4 GiB at 32768²). It may differ from the CPU's unfused E*|q|/(2N) in the last bit.
   void stiffness_z() {
     fft.forward(z, out);
     double* o = out;
     const double* k = ker;
     const double nn = 1.0 / (transform_points * transform_points);
     cuda::all(nspec, [=] __device__(std::size_t j) {
-      const double s = k[j] > 0.0 ? nn / k[j] : 0.0;
+      const double s = pk::stiffness_from_compliance(k[j], nn);
       o[2 * j] *= s, o[2 * j + 1] *= s;
     });
     fft.inverse(out, z);
@@ -91,8 +90,8 @@ struct PolonskyKeer::Device : pk::Fields {
   double quadratic_form(const double* s, const double* mult) {
     const int cols = nx / 2 + 1, nxx = nx;
     return reducer
-        .run<pk::Sum>(nspec, cuda::Everywhere{},
-                      [=] __device__(std::size_t j, pk::Sum& a) {
+        .run<Sum>(nspec, cuda::Everywhere{},
+                      [=] __device__(std::size_t j, Sum& a) {
                         const int c = int(j % std::size_t(cols));
                         const double wgt = (c == 0 || 2 * c == nxx) ? 1.0 : 2.0;
                         a.v += wgt * mult[j] * (s[2 * j] * s[2 * j] + s[2 * j + 1] * s[2 * j + 1]);
@@ -103,7 +102,7 @@ struct PolonskyKeer::Device : pk::Fields {
   // ---- the buffers
   int nx, ny;
   bool precondition;
-  cuda::Buffer<double> P, W, T, Z, H, PH, HH, OUT, KER;
+  cuda::Buffer<double> P, W, T, Z, H, GT, OUT, KER;
   cuda::Buffer<std::uint8_t> M;
   cuda::Reducer reducer;
   cuda::Fft fft;
@@ -112,20 +111,21 @@ struct PolonskyKeer::Device : pk::Fields {
       : pk::Fields{hs.grid().size(), hs.spectrum_size(), double(hs.grid().points()), double(hs.transform_points())},
         nx(hs.grid().nx), ny(hs.grid().ny), precondition(pre), P(n, "the pressure"), W(n, "the displacement"),
         T(n, "the direction"), Z(pre ? n : 0, "the preconditioned gap"), H(n, "the heights"),
-        PH(2 * nspec, "a spectrum"), HH(2 * nspec, "a spectrum"),
-        OUT(2 * nspec, "a spectrum"), KER(nspec, "the compliance"),
+        GT(n, "G t"), OUT(2 * nspec, "a spectrum"), KER(nspec, "the compliance"),
         M(n, "the contact set"), fft(nx, ny) {
     p = P.data(), w = W.data(), t = T.data(), z = Z.data(), m = M.data(), h = H.data();
-    p_hat = PH.data(), h_hat = HH.data(), out = OUT.data(), ker = KER.data();
+    gt = GT.data(), out = OUT.data(), ker = KER.data();
     KER.upload(hs.compliance().data(), nspec);
   }
+  // The device's transforms so far (TransformTally).
+  TransformCounts transforms() const { return {fft.forwards, fft.inverses, fft.seconds}; }
 };
 
 namespace pk {
 // With $CMC_CUDA_PROFILE set: where the device's time went so far, on stderr.
 void report_profile(const PolonskyKeer::Device& d);
 // Polonsky-Keer on the device's fields (pk::iterate over the device backend). Defined in
-// PolonskyKeerDevice.cu alone, so that one translation unit instantiates the iteration's
+// polonsky_keer/CudaBackend.cu alone, so that one translation unit instantiates the iteration's
 // __host__ __device__ lambdas (why: the note there); other units call this.
 End run_on_device(PolonskyKeer::Device& d, const PolonskyKeer::Options& o, double h_scale, const Target& target,
                   const Start& start, SolveResult& res);

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "cmc/contact/Interaction.hpp"
+#include "cmc/contact/Reductions.hpp"
 #include "cmc/grid/Backend.hpp"
 
 #include <algorithm>
@@ -95,7 +96,7 @@ struct JumpPrediction {
 };
 
 
-// The cascade's stencil: the 8 nearest points (see QuasiStaticAdhesion.cpp, "Jumps that
+// The cascade's stencil: the 8 nearest points (see CpuBackend.cpp, "Jumps that
 // trigger jumps"), each neighbour once, with K's entry to it.
 constexpr int kRadius = 1;
 constexpr int kSide = 2 * kRadius + 1;
@@ -162,23 +163,6 @@ inline Stencil make_stencil(int nx, int ny, bool periodic, const std::vector<dou
     }
   return s;
 }
-
-struct Count {
-  double n = 0.0;
-  CMC_HD void merge(const Count& o) { n += o.n; }
-};
-struct Max {
-  double v = 0.0;
-  CMC_HD void merge(const Max& o) { v = v < o.v ? o.v : v; }  // std::max(v, o.v)
-};
-// The largest rise and the largest fall of a quantity over the points (both >= 0).
-struct RiseFall {
-  double rise = 0.0, fall = 0.0;
-  CMC_HD void merge(const RiseFall& o) {
-    rise = rise < o.rise ? o.rise : rise;
-    fall = fall < o.fall ? o.fall : fall;
-  }
-};
 
 // The cascade in rounds (Jacobi instead of the CPU's Gauss-Seidel queue; for a periodic
 // grid held by one process). Every point with a gap keeps x (its predicted gap) and a (the

@@ -1,10 +1,10 @@
-// The device backend of the quasi-static solver's outer iteration (QuasiStaticRun.hpp):
-// see QuasiStaticDevice.cu. Included by .cu files (and by the host emulation's tests,
-// tests/emulation).
+// The device backend of the quasi-static solver's outer iteration (Iteration.hpp; its
+// contract: Contract.hpp): see CudaBackend.cu. Included by .cu files (and by the host
+// emulation's tests, tests/emulation).
 #pragma once
 
-#include "cmc/contact/PolonskyKeerDevice.cuh"
-#include "cmc/contact/QuasiStaticRun.hpp"
+#include "cmc/contact/polonsky_keer/CudaBackend.cuh"
+#include "cmc/contact/quasi_static/Iteration.hpp"
 
 #include <string>
 #include <vector>
@@ -16,20 +16,10 @@ struct DeviceSteps {
               const std::vector<double>& k_near)
       : n(heights.size()), hs_(hs), h_(heights), opt_(o), nx_(hs.grid().nx), ny_(hs.grid().ny),
         stencil_(qs::make_stencil(nx_, ny_, true, k_near)), h_scale_(PolonskyKeer::residual_scale(heights)),
-        d_(hs, o.precondition), H0(n, "the heights"), TEN(n, "the tension") {
+        d_(hs, o.precondition), H0(n, "the heights"), TEN(n, "the tension"), A(n, "the passed-on gaps"),
+        inner_(o, Backend::Cuda) {
     H0.upload(heights.data(), n);
     d_.H.upload(heights.data(), n);  // hp = h until a tension shifts it
-    po_.tolerance = o.tolerance;
-    po_.max_iterations = o.max_iterations;
-    po_.recompute_every = o.recompute_every;
-    po_.precondition = o.precondition;
-    po_.backend = Backend::Cuda;
-    po_.keep_work = true;
-    po_.confirm = false;  // as on the CPU (QuasiStaticAdhesion.cpp, HostSteps)
-    if (o.progress) {
-      po_.progress = [this](const ProgressPoint& p) { opt_.progress({before_ + p.iteration, p.residual, outer_ + 1, true}); };
-      po_.progress_every = o.progress_every;
-    }
   }
   const std::size_t n;
 
@@ -66,7 +56,7 @@ struct DeviceSteps {
   // hp = h − G t into Polonsky-Keer's heights: t's transform in the scratch spectrum, times
   // the compliance (1/N folded in), and the inverse into the heights' buffer.
   void shift_heights() {
-    Counted c(*this);
+    const Counted c = counted();
     d_.fft.forward(TEN.data(), d_.out);
     double* o = d_.out;
     const double* k = d_.ker;
@@ -78,21 +68,22 @@ struct DeviceSteps {
   }
   double mean_tension() {
     const double* t = TEN.data();
-    return d_.reducer.run<pk::Sum>(n, cuda::Everywhere{}, [=] __device__(std::size_t i, pk::Sum& a) { a.v += t[i]; }).v /
+    return d_.reducer.run<Sum>(n, cuda::Everywhere{}, [=] __device__(std::size_t i, Sum& a) { a.v += t[i]; }).v /
            double(n);
   }
   // Polonsky-Keer on the device's heights from its own pressure, as PolonskyKeer::solve
   // does on the host: then p times σ, and the gap (zero where p > 0) into the direction's
   // buffer, which the next solve overwrites.
-  void stop_inner_at(double t) { po_.stop_at = t; }
+  void stop_inner_at(double t) { inner_.options().stop_at = t; }
   SolveResult inner(const Target& tk, bool confirm, int outer, int iterations_before) {
-    Counted c(*this);
-    outer_ = outer, before_ = iterations_before;
-    po_.confirm = confirm;
+    const Counted c = counted();
+    inner_.at(outer, iterations_before);
+    PolonskyKeer::Options& po = inner_.options();
+    po.confirm = confirm;
     const bool warm = have_p_ && d_.sum(d_.p) > 0.0;
     const pk::Start start = pk::make_start(hs_, tk, warm, delta_, opt_.precondition);
     SolveResult res;
-    const pk::End end = pk::run_on_device(d_, po_, h_scale_, tk, start, res);
+    const pk::End end = pk::run_on_device(d_, po, h_scale_, tk, start, res);
     double* p = d_.p;
     double* g = d_.t;
     const double* w = d_.w;
@@ -105,7 +96,7 @@ struct DeviceSteps {
     delta_ = delta;
     have_p_ = true;
     std::string msg;
-    res.converged = pk::converged(end, res, po_.tolerance, msg);
+    res.converged = pk::converged(end, res, po.tolerance, msg);
     res.message = msg;
     return res;
   }
@@ -114,13 +105,13 @@ struct DeviceSteps {
       x_ = d_.t;  // the gaps themselves
       return;
     }
-    // x and a in two spectra's buffers, the flags in the contact mask's and the scratch
+    // x in G t's buffer, a in its own, the flags in the contact mask's and the scratch
     // spectrum's (each at least n bytes); the gap is in the direction's.
     cuda::ProfileScope ps(cuda::profile().cascade_s);
-    cuda::profile().rounds += qs::cascade_rounds(*this, n, d_.t, TEN.data(), jump, stencil_, nx_, ny_, floor, d_.p_hat,
-                                                 d_.h_hat, d_.m, reinterpret_cast<std::uint8_t*>(d_.out));
+    cuda::profile().rounds += qs::cascade_rounds(*this, n, d_.t, TEN.data(), jump, stencil_, nx_, ny_, floor, d_.gt,
+                                                 A.data(), d_.m, reinterpret_cast<std::uint8_t*>(d_.out));
     ++cuda::profile().cascades;
-    x_ = d_.p_hat;
+    x_ = d_.gt;
   }
   double* t() { return TEN.data(); }
   const double* g() const { return d_.t; }
@@ -157,13 +148,10 @@ struct DeviceSteps {
 
  private:
   // Counts the transforms of a scope with the half-space (the run's FFT pairs).
-  struct Counted {
-    explicit Counted(DeviceSteps& s) : s_(s), f0_(s.d_.fft.forwards), i0_(s.d_.fft.inverses), t0_(s.d_.fft.seconds) {}
-    ~Counted() { s_.hs_.count_transforms(s_.d_.fft.forwards - f0_, s_.d_.fft.inverses - i0_, s_.d_.fft.seconds - t0_); }
-    DeviceSteps& s_;
-    long f0_, i0_;
-    double t0_;
-  };
+  using Counted = TransformTally<HalfSpace>;
+  Counted counted() {
+    return Counted(hs_, [this] { return d_.transforms(); });
+  }
 
   HalfSpace& hs_;
   const Field& h_;
@@ -172,12 +160,11 @@ struct DeviceSteps {
   qs::Stencil stencil_;
   double h_scale_;
   PolonskyKeer::Device d_;
-  cuda::Buffer<double> H0, TEN;
-  PolonskyKeer::Options po_;
+  cuda::Buffer<double> H0, TEN, A;
+  InnerSolves inner_;
   const double* x_ = nullptr;
   double delta_ = 0.0;
   bool have_p_ = false;
-  int outer_ = 0, before_ = 0;
 };
 
 }  // namespace cmc::qs

@@ -1,6 +1,6 @@
-#include "cmc/contact/PolonskyKeer.hpp"
+#include "cmc/contact/polonsky_keer/PolonskyKeer.hpp"
 
-#include "cmc/contact/PolonskyKeerHost.hpp"
+#include "cmc/contact/polonsky_keer/CpuBackend.hpp"  // PolonskyKeer::Work
 
 #include <algorithm>
 #include <cmath>
@@ -52,13 +52,8 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
   if (opt_.backend == Backend::Cuda) {
     end = pk::solve_on_device(device_, hs_, h_, opt_, h_scale_, target, st, start, res);
   } else {
-    if (!work_) work_ = std::make_unique<Work>();
     if (start.warm) start.warm_sum = warm_sum;  // what the CPU backend's b.sum(p) would give
-    {  // the backend counts its transforms when it goes, before its work arrays do
-      pk::Host host(hs_, h_, st, *work_, start.warm, start.precondition, opt_.fused_sweeps);
-      end = pk::iterate(host, opt_, h_scale_, target, start, res);
-    }
-    if (!opt_.keep_work) work_.reset();
+    end = pk::solve_on_cpu(work_, hs_, h_, opt_, h_scale_, target, st, start, res);
   }
   // ---- the solved state. The reported gap is the solution's: zero where pressure is
   // carried, and the non-negative gap elsewhere; how far the iterate is from that is the

@@ -1,10 +1,11 @@
-// Polonsky-Keer on one GPU: the device backend of PolonskyKeerRun.hpp. The
-// iteration is PolonskyKeerRun.hpp's, body for body; here are only where its fields live
-// (device buffers for the whole solve) and how its passes and transforms run (kernels
-// with fixed-order reductions and cuFFT, grid/CudaDevice.cuh). Periodic boundary, one
-// process: the case parser refuses other combinations with backend = "cuda".
-// Its fields and their count: PolonskyKeerDevice.cuh.
-#include "cmc/contact/PolonskyKeerDevice.cuh"
+// Polonsky-Keer on one GPU: the device backend of Iteration.hpp. The iteration is
+// Iteration.hpp's, body for body; here are only where its fields live (device buffers for
+// the whole solve) and how its passes and transforms run (kernels with fixed-order
+// reductions and cuFFT, grid/CudaDevice.cuh). Periodic boundary, one process: the case
+// parser refuses other combinations with backend = "cuda".
+// Its fields and their count: CudaBackend.cuh.
+#include "cmc/contact/polonsky_keer/CudaBackend.cuh"
+#include "cmc/contact/polonsky_keer/Memory.hpp"
 
 #include <cstdio>
 #include <sstream>
@@ -44,7 +45,7 @@ std::size_t pk::check_device_memory(const char* who, int nx, int ny, std::size_t
 // the templates that copy it are merged across units by the linker. A Run<Device> member
 // instantiated in two .cu files could then be copied by one unit's code with the other
 // unit's statics, never set: a call through a null pointer (every solve crashed once
-// QuasiStaticDevice.cu instantiated Run<Device> too).
+// quasi_static/CudaBackend.cu instantiated Run<Device> too).
 // scripts/gpu/pack.sh refuses a build whose .cu objects share such a wrapper.
 pk::End pk::run_on_device(PolonskyKeer::Device& d, const PolonskyKeer::Options& o, double h_scale,
                           const Target& target, const Start& start, SolveResult& res) {
@@ -61,21 +62,23 @@ pk::End pk::solve_on_device(std::unique_ptr<PolonskyKeer::Device, PolonskyKeer::
   if (!dev || dev->precondition != start.precondition) {
     dev.reset();
     const int nx = hs.grid().nx, ny = hs.grid().ny;
-    pk::check_device_memory("Polonsky-Keer", nx, ny, cuda::polonsky_keer_bytes(nx, ny, start.precondition));
+    const std::size_t need = pk::device_bytes(nx, ny, start.precondition, cuda::fft_work_bytes(nx, ny));
+    pk::check_device_memory("Polonsky-Keer", nx, ny, need);
     cuda::ProfileScope ps(cuda::profile().setup_s);
     dev.reset(new PolonskyKeer::Device(hs, start.precondition));
   }
   PolonskyKeer::Device& d = *dev;
-  const long f0 = d.fft.forwards, i0 = d.fft.inverses;
-  const double s0 = d.fft.seconds;
-  d.H.upload(heights.data(), d.n);
-  if (start.warm) d.P.upload(st.pressure.data(), d.n);
-  const End end = run_on_device(d, o, h_scale, target, start, res);
-  st.pressure.resize(d.n);
-  st.displacement.resize(d.n);
-  d.P.download(st.pressure.data(), d.n);
-  d.W.download(st.displacement.data(), d.n);
-  hs.count_transforms(d.fft.forwards - f0, d.fft.inverses - i0, d.fft.seconds - s0);
+  End end;
+  {
+    const TransformTally tally(hs, [&d] { return d.transforms(); });
+    d.H.upload(heights.data(), d.n);
+    if (start.warm) d.P.upload(st.pressure.data(), d.n);
+    end = run_on_device(d, o, h_scale, target, start, res);
+    st.pressure.resize(d.n);
+    st.displacement.resize(d.n);
+    d.P.download(st.pressure.data(), d.n);
+    d.W.download(st.displacement.data(), d.n);
+  }
   pk::report_profile(d);
   if (!o.keep_work) dev.reset();
   return end;

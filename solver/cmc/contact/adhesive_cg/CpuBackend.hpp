@@ -1,7 +1,8 @@
-// The adhesive solver's per-point passes: the few fused kernels over whole transform-grid
-// fields that an iteration is made of (see AdhesiveSolver.hpp for the algorithm). Each is
-// one pass over memory; threads and the combination of partial sums are the grid layer's
-// (Grid::parallel_reduce over rows), so another backend can replace them as a whole.
+// The adhesive CG's CPU backend: its fields (AdhesiveSolver::Work, below) and the few fused
+// per-point passes over whole transform-grid fields that an iteration (Iteration.hpp) is
+// made of (see AdhesiveSolver.hpp for the algorithm). Each is one pass over memory; threads
+// and the combination of partial sums are the grid layer's (Grid::parallel_reduce over
+// rows), so another backend can replace them as a whole.
 //
 // Fields (transform grid, row-major, rows of mx points): x holds the gap g on the patch
 // (the first nx points of the first ny rows) and the displacement u in the padding of a
@@ -11,11 +12,15 @@
 #pragma once
 
 #include "cmc/contact/Interaction.hpp"
+#include "cmc/contact/adhesive_cg/AdhesiveSolver.hpp"
 #include "cmc/grid/Grid.hpp"
+#include "cmc/grid/Ranks.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <vector>
 
 namespace cmc::adhesive {
 
@@ -250,3 +255,34 @@ void eval_padding_row(const Arrays& A, const EvalStep& p, std::size_t pe, std::s
 
 }  // namespace detail
 }  // namespace cmc::adhesive
+
+namespace cmc {
+
+// The transform-grid fields of the solver (made in its constructor, kept for the whole run).
+struct AdhesiveSolver::Work {
+  adhesive::Shape shape{};  // dimensions, heights and K h; delta is set per solve
+  bool periodic = true;
+  std::size_t n = 0, M = 0;  // patch and transform-grid sizes (this rank's slab of them)
+  double N = 0.0;            // points of the whole patch (all ranks)
+  Field hf;  // heights on the transform grid (patch part; 0 in the padding)
+  Field x, Ku, d, Kd, r, c, trial, Ktrial;
+  Field Kh;  // K h (periodic): makes the mean-gap rescale g <- s g an exact linear update
+  std::vector<unsigned char> bound;
+  double hmean = 0.0;
+  // A free boundary in a distributed run: the padded grid's rows are split on their own
+  // (HalfSpace.hpp), so the patch's rows move between the contact grid's slabs and the
+  // padded slabs (the patch is the first ny of its 2ny rows). Null otherwise.
+  std::unique_ptr<RowExchange> exchange;
+  // A contact-grid field as the padded slab's rows (0 in the padding), and back.
+  void to_padded(const Field& f, Field& out) const {
+    out.assign(M, 0.0);
+    if (exchange) {
+      exchange->forward(f.data(), out.data());
+    } else {
+      for (int iy = 0; iy < shape.ny; ++iy) std::copy_n(&f[std::size_t(iy) * shape.nx], shape.nx, &out[shape.row(iy)]);
+    }
+  }
+  adhesive::Arrays arrays() { return {x.data(), Ku.data(), r.data(), c.data(), d.data(), Kd.data(), bound.data()}; }
+};
+
+}  // namespace cmc

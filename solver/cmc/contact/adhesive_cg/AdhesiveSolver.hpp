@@ -78,14 +78,17 @@
 // reports not converged when no δ on that branch carries the target (beyond pull-off, or
 // a jump in between). Its tolerance on the mean pressure is 10 × tolerance × P.
 //
-// The parts (each a small named function, constants named and explained in the .cpp):
-//  * per-point passes (evaluation, direction, trial point): adhesive/Passes.hpp;
-//  * convergence measure (the KKT residual above): Iteration::digest;
-//  * search direction (Daniel's β with the sufficient-descent reset): Iteration::direction;
-//  * step rule (exact curvature step, trust step, energy-checked backtracking by
-//    safeguarded quadratic interpolation): Iteration::line_search;
-//  * load control (the outer secant/Illinois search on δ): adhesive/LoadControl.hpp;
-//  * path control (step halving, jump detection, pull-off): LoadPath.hpp.
+// The parts (contact/adhesive_cg/; each a small named function, constants named and
+// explained where they are used):
+//  * the CPU backend: the solve's fields (Work) and its per-point passes (evaluation,
+//    direction, trial point): CpuBackend.hpp; there is no CUDA backend;
+//  * the iteration, written once for every interaction law: Iteration.hpp, with the
+//    convergence measure (the KKT residual above, Iteration::digest), the search direction
+//    (Daniel's β with the sufficient-descent reset, Iteration::conjugate_beta) and the step
+//    rule (exact curvature step, trust step, energy-checked backtracking by safeguarded
+//    quadratic interpolation, Iteration::line_search);
+//  * load control (the outer secant/Illinois search on δ): LoadControl.hpp;
+//  * path control (step halving, jump detection, pull-off): contact/LoadPath.hpp.
 // The elastic response is the HalfSpace's (its stiffness K on the transform grid).
 #pragma once
 
@@ -126,7 +129,7 @@ class AdhesiveSolver {
   const Options& options() const { return opt_; }
   Options& options() { return opt_; }
 
-  struct Work;  // the transform-grid fields of a solve (AdhesiveSolver.cpp)
+  struct Work;  // the transform-grid fields of a solve (CpuBackend.hpp)
 
  private:
   SolveResult solve_displacement(double delta, ContactState& st);

@@ -1,4 +1,4 @@
-#include "cmc/contact/adhesive/Passes.hpp"
+#include "cmc/contact/adhesive_cg/CpuBackend.hpp"
 
 namespace cmc::adhesive {
 

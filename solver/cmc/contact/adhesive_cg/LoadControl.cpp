@@ -1,4 +1,4 @@
-#include "cmc/contact/adhesive/LoadControl.hpp"
+#include "cmc/contact/adhesive_cg/LoadControl.hpp"
 
 #include <algorithm>
 #include <chrono>

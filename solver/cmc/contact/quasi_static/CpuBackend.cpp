@@ -1,12 +1,15 @@
-#include "cmc/contact/QuasiStaticAdhesion.hpp"
-
-#include "cmc/contact/QuasiStaticRun.hpp"
+// The quasi-static solver's outer iteration on the CPU: its backend (qs::Contract.hpp) with
+// host fields, any boundary and any number of processes, the cascade as a queue per slab of
+// rows; Polonsky-Keer on its own backend (Options::backend: the CPU, or the GPU with the
+// outer step here).
+#include "cmc/contact/quasi_static/Iteration.hpp"
 #include "cmc/grid/Ranks.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
+#include <cstdint>
 #include <stdexcept>
+#include <vector>
 
 namespace cmc {
 
@@ -40,7 +43,7 @@ namespace {
 // pairs, a_r 0.0295022 against 0.0295014 (3 points of 4.2 million) and the mean gap
 // within 5e-7. Within 2 points: 10 outer steps, 8 s of queue. A larger move floor (1e-2,
 // 1e-1 ρ) costs outer steps (1024²: 9 and 12 instead of 6).
-// (kRadius, kMoveFloor and the stencil: QuasiStaticParts.hpp.)
+// (kRadius, kMoveFloor and the stencil: Parts.hpp.)
 using qs::kRadius;
 using qs::kSide;
 class Cascade {
@@ -65,96 +68,18 @@ class Cascade {
 
   // x: on exit the predicted gaps. Returns the number of points moved (on this rank).
   long run(const Field& g, const Field& t, const qs::JumpPrediction& jp, Field& x, double move_floor) {
-    const std::size_t n = g.size();
-    pull_.resize(n);
-    applied_.resize(n);
-    eg_.resize(n);
-    queued_.resize(n);
-    // One pass per point, in parallel: decay(g), the first prediction, and the state of the
-    // queue (pull 0, nothing passed on yet).
-    Grid::parallel_for(n, [&](std::size_t b, std::size_t e) {
-      for (std::size_t i = b; i < e; ++i) {
-        eg_[i] = jp.decay(g[i]);
-        x[i] = jp.gap(g[i], eg_[i], t[i], 0.0);
-        pull_[i] = 0.0;
-        applied_[i] = g[i];
-        queued_[i] = x[i] < g[i] - move_floor;
-      }
-    }, 8 * n);
-    const int nx = nx_, ny = ny_, y0 = y0_;
-    const std::size_t unx = std::size_t(nx);
-    // The pull c on local point m, a point of slab sl: its new prediction, queued if it moved
-    // far enough.
-    auto pull = [&](std::size_t m, double c, Slab& sl) {
-      if (g[m] <= 0.0) return;  // in contact: held by the wall
-      pull_[m] += c;
-      const double xm = std::min(x[m], jp.gap(g[m], eg_[m], t[m], pull_[m]));
-      if (xm < applied_[m] - move_floor && !queued_[m]) sl.queue.push_back(m), queued_[m] = 1;
-      x[m] = xm;
-    };
-    // A slab's queue, to its end: pulls on its own points applied, the others sent.
-    auto drain = [&](Slab& sl) {
-      for (std::size_t q = 0; q < sl.queue.size(); ++q) {
-        const std::size_t i = sl.queue[q];
-        queued_[i] = 0;
-        const double d = x[i] - applied_[i];  // not yet passed on (< 0)
-        applied_[i] = x[i];
-        ++sl.moved;
-        const int iy = y0 + int(i / unx), ix = int(i - std::size_t(iy - y0) * unx);
-        for (int s = 0; s < stencil_.count; ++s) {
-          int jx = ix + stencil_.dx[s], jy = iy + stencil_.dy[s];
-          if (periodic_) {
-            jx = wrap(jx, nx), jy = wrap(jy, ny);
-          } else if (jx < 0 || jy < 0 || jx >= nx || jy >= ny) {
-            continue;
-          }
-          if (jy - y0 >= sl.r0 && jy - y0 < sl.r1) {
-            pull(std::size_t(jy - y0) * unx + std::size_t(jx), stencil_.k[s] * d, sl);
-          } else {  // another slab's point (or another rank's): sent at the end of the round
-            sl.out_index.push_back(std::int64_t(jy) * nx + jx);
-            sl.out_pull.push_back(stencil_.k[s] * d);
-          }
-        }
-      }
-      sl.queue.clear();
-    };
+    in_ = {g.data(), t.data(), &jp, x.data(), move_floor};
+    first_predictions(g.size());
     for (Slab& sl : slabs_) sl.queue.clear(), sl.out_index.clear(), sl.out_pull.clear(), sl.moved = 0;
+    const std::size_t n = g.size(), unx = std::size_t(nx_);
     Grid::parallel_tasks(slabs_.size(), [&](std::size_t s) {
       Slab& sl = slabs_[s];
       for (std::size_t i = std::size_t(sl.r0) * unx; i < std::size_t(sl.r1) * unx; ++i)
         if (queued_[i]) sl.queue.push_back(i);
     }, n);
-    // A pull sent to point (global index) k: applied where this rank holds it.
-    auto receive = [&](std::int64_t k, double c) {
-      const int jy = int(k / nx), jx = int(k - std::int64_t(jy) * nx);
-      if (jy < y0 || jy >= y0 + rows_) return;
-      pull(std::size_t(jy - y0) * unx + std::size_t(jx), c, slabs_[std::size_t(slab_of_row_[std::size_t(jy - y0)])]);
-    };
-    for (;;) {
+    do {
       Grid::parallel_tasks(slabs_.size(), [&](std::size_t s) { drain(slabs_[s]); }, n);
-      // A round ends: every slab's pulls across its boundaries, in slab order.
-      out_index_.clear(), out_pull_.clear();
-      for (Slab& sl : slabs_) {
-        out_index_.insert(out_index_.end(), sl.out_index.begin(), sl.out_index.end());
-        out_pull_.insert(out_pull_.end(), sl.out_pull.begin(), sl.out_pull.end());
-        sl.out_index.clear(), sl.out_pull.clear();
-      }
-      if (ranks() == 1) {
-        if (out_index_.empty()) break;
-        for (std::size_t k = 0; k < out_index_.size(); ++k) receive(out_index_[k], out_pull_[k]);
-        continue;
-      }
-      // Distributed: every rank's, applied in rank order.
-      const auto index = allgather(out_index_);
-      const auto amount = allgather(out_pull_);
-      bool sent = false;
-      for (std::size_t r = 0; r < index.size(); ++r)
-        for (std::size_t k = 0; k < index[r].size(); ++k) {
-          sent = true;
-          receive(index[r][k], amount[r][k]);
-        }
-      if (!sent) break;  // the same answer on every rank: it saw the same lists
-    }
+    } while (exchange());
     long moved = 0;
     for (const Slab& sl : slabs_) moved += sl.moved;
     return moved;
@@ -169,6 +94,101 @@ class Cascade {
     std::vector<double> out_pull;         // ... and their amounts
     long moved = 0;
   };
+  // The run in progress: the gaps, the tension, the prediction, the predicted gaps x, the
+  // move floor.
+  struct Inputs {
+    const double *g = nullptr, *t = nullptr;
+    const qs::JumpPrediction* jp = nullptr;
+    double* x = nullptr;
+    double floor = 0.0;
+  };
+  // One pass per point, in parallel: decay(g), the first prediction, and the state of the
+  // queue (pull 0, nothing passed on yet).
+  void first_predictions(std::size_t n) {
+    pull_.resize(n);
+    applied_.resize(n);
+    eg_.resize(n);
+    queued_.resize(n);
+    const Inputs in = in_;
+    Grid::parallel_for(n, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i) {
+        eg_[i] = in.jp->decay(in.g[i]);
+        in.x[i] = in.jp->gap(in.g[i], eg_[i], in.t[i], 0.0);
+        pull_[i] = 0.0;
+        applied_[i] = in.g[i];
+        queued_[i] = in.x[i] < in.g[i] - in.floor;
+      }
+    }, 8 * n);
+  }
+  // The pull c on local point m, a point of slab sl: its new prediction, queued if it moved
+  // far enough.
+  void pull(std::size_t m, double c, Slab& sl) {
+    const Inputs& in = in_;
+    if (in.g[m] <= 0.0) return;  // in contact: held by the wall
+    pull_[m] += c;
+    const double xm = std::min(in.x[m], in.jp->gap(in.g[m], eg_[m], in.t[m], pull_[m]));
+    if (xm < applied_[m] - in.floor && !queued_[m]) sl.queue.push_back(m), queued_[m] = 1;
+    in.x[m] = xm;
+  }
+  // A slab's queue, to its end: pulls on its own points applied, the others sent.
+  void drain(Slab& sl) {
+    const std::size_t unx = std::size_t(nx_);
+    double* x = in_.x;
+    for (std::size_t q = 0; q < sl.queue.size(); ++q) {
+      const std::size_t i = sl.queue[q];
+      queued_[i] = 0;
+      const double d = x[i] - applied_[i];  // not yet passed on (< 0)
+      applied_[i] = x[i];
+      ++sl.moved;
+      const int iy = y0_ + int(i / unx), ix = int(i - std::size_t(iy - y0_) * unx);
+      for (int s = 0; s < stencil_.count; ++s) {
+        int jx = ix + stencil_.dx[s], jy = iy + stencil_.dy[s];
+        if (periodic_) {
+          jx = wrap(jx, nx_), jy = wrap(jy, ny_);
+        } else if (jx < 0 || jy < 0 || jx >= nx_ || jy >= ny_) {
+          continue;
+        }
+        if (jy - y0_ >= sl.r0 && jy - y0_ < sl.r1) {
+          pull(std::size_t(jy - y0_) * unx + std::size_t(jx), stencil_.k[s] * d, sl);
+        } else {  // another slab's point (or another rank's): sent at the end of the round
+          sl.out_index.push_back(std::int64_t(jy) * nx_ + jx);
+          sl.out_pull.push_back(stencil_.k[s] * d);
+        }
+      }
+    }
+    sl.queue.clear();
+  }
+  // A pull sent to point (global index) k: applied where this rank holds it.
+  void receive(std::int64_t k, double c) {
+    const int jy = int(k / nx_), jx = int(k - std::int64_t(jy) * nx_);
+    if (jy < y0_ || jy >= y0_ + rows_) return;
+    pull(std::size_t(jy - y0_) * std::size_t(nx_) + std::size_t(jx), c,
+         slabs_[std::size_t(slab_of_row_[std::size_t(jy - y0_)])]);
+  }
+  // A round ends: every slab's pulls across its boundaries, in slab order (distributed:
+  // every rank's, applied in rank order). Returns whether any was sent (the same answer on
+  // every rank: it saw the same lists).
+  bool exchange() {
+    out_index_.clear(), out_pull_.clear();
+    for (Slab& sl : slabs_) {
+      out_index_.insert(out_index_.end(), sl.out_index.begin(), sl.out_index.end());
+      out_pull_.insert(out_pull_.end(), sl.out_pull.begin(), sl.out_pull.end());
+      sl.out_index.clear(), sl.out_pull.clear();
+    }
+    if (ranks() == 1) {
+      for (std::size_t k = 0; k < out_index_.size(); ++k) receive(out_index_[k], out_pull_[k]);
+      return !out_index_.empty();
+    }
+    const auto index = allgather(out_index_);
+    const auto amount = allgather(out_pull_);
+    bool sent = false;
+    for (std::size_t r = 0; r < index.size(); ++r)
+      for (std::size_t k = 0; k < index[r].size(); ++k) {
+        sent = true;
+        receive(index[r][k], amount[r][k]);
+      }
+    return sent;
+  }
   int nx_, ny_, y0_, rows_;  // the whole grid, and this rank's rows [y0_, y0_ + rows_)
   bool periodic_;
   qs::Stencil stencil_;
@@ -178,34 +198,24 @@ class Cascade {
   std::vector<unsigned char> queued_;
   std::vector<std::int64_t> out_index_;  // a round's sent pulls, in slab order ...
   std::vector<double> out_pull_;         // ... and their amounts
+  Inputs in_;
 };
 
-// The CPU backend of the outer iteration (QuasiStaticRun.hpp): host fields, any boundary
+
+// The CPU backend of the outer iteration (Iteration.hpp): host fields, any boundary
 // and any number of processes, the cascade as a queue (or, with Options::cascade_rounds on
 // a periodic grid held by one process, in the GPU's rounds). Polonsky-Keer runs on its own
 // backend (Options::backend: the CPU, or the GPU with the outer step here).
-class HostSteps {
+class HostSteps : public HostPasses {
  public:
   HostSteps(HalfSpace& hs, const Field& h, const std::vector<double>& k_near, const QuasiStaticAdhesion::Options& o)
-      : n(h.size()), hs_(hs), h_(h), opt_(o), hp_(h), gt_(n, 0.0), predicted_(n, 0.0), cascade_(hs, k_near, o.cascade_slab_rows),
-        pk_(hs, hp_, pk_options()) {  // the residual scale of Polonsky-Keer is that of h (hp == h here)
+      : n(h.size()), hs_(hs), h_(h), opt_(o), hp_(h), gt_(n, 0.0), predicted_(n, 0.0),
+        cascade_(hs, k_near, o.cascade_slab_rows), inner_(o, o.backend),
+        pk_(hs, hp_, inner_.options()) {  // the residual scale of Polonsky-Keer is that of h (hp == h here)
     if (o.cascade_rounds && (!hs.periodic() || hs.grid().split()))
       throw std::invalid_argument("QuasiStaticAdhesion: cascade_rounds needs a periodic grid held by one process");
   }
   const std::size_t n;
-
-  template <class F>
-  void all(std::size_t k, F f) {
-    Grid::parallel_for(k, [&](std::size_t b, std::size_t e) {
-      for (std::size_t i = b; i < e; ++i) f(i);
-    });
-  }
-  template <class Acc, class F>
-  Acc reduce(std::size_t k, F f) {
-    return Grid::parallel_reduce<Acc>(k, [&](std::size_t b, std::size_t e, Acc& acc) {
-      for (std::size_t i = b; i < e; ++i) f(i, acc);
-    });
-  }
 
   // The tension and Polonsky-Keer's state live in the loop's OuterPoint (what on_outer is
   // shown, without copies).
@@ -232,7 +242,7 @@ class HostSteps {
   double mean_tension() const { return Grid::mean(at_->tension); }
   void stop_inner_at(double t) { pk_.set_stop_at(t); }
   SolveResult inner(const Target& tk, bool confirm, int outer, int iterations_before) {
-    outer_ = outer, before_ = iterations_before;
+    inner_.at(outer, iterations_before);
     pk_.set_confirm(confirm);
     return pk_.solve(tk, at_->inner);
   }
@@ -271,26 +281,6 @@ class HostSteps {
   }
 
  private:
-  PolonskyKeer::Options pk_options() {
-    const QuasiStaticAdhesion::Options& o = opt_;
-    PolonskyKeer::Options po;
-    if (o.progress) {
-      po.progress = [this](const ProgressPoint& p) { opt_.progress({before_ + p.iteration, p.residual, outer_ + 1, true}); };
-      po.progress_every = o.progress_every;
-    }
-    po.tolerance = o.tolerance;
-    po.max_iterations = o.max_iterations;
-    po.recompute_every = o.recompute_every;
-    po.precondition = o.precondition;
-    po.backend = o.backend;
-    po.keep_work = true;  // one solve an outer step: the same arrays each time
-    // Each outer solve starts from the exact u of its pressure (Polonsky-Keer's first step),
-    // so only the last one needs Polonsky-Keer's confirmation on an exact u: the others skip
-    // it, and the converged tension is confirmed by one more solve at the same t (a "confirm"
-    // step, usually 0 iterations: one FFT pair and a half instead of one per outer step).
-    po.confirm = false;
-    return po;
-  }
   HalfSpace& hs_;
   const Field& h_;
   const QuasiStaticAdhesion::Options& opt_;
@@ -300,50 +290,16 @@ class HostSteps {
   std::vector<std::uint8_t> moved_, told_;  // and their flags
   const double* x_ = nullptr;
   Cascade cascade_;
+  qs::InnerSolves inner_;
   PolonskyKeer pk_;
-  int outer_ = 0, before_ = 0;
 };
 
 }  // namespace
 
-QuasiStaticAdhesion::QuasiStaticAdhesion(HalfSpace& hs, const Field& heights, ExponentialAdhesion adhesion,
-                                         Options o)
-    : hs_(hs), h_(heights), adh_(adhesion), opt_(std::move(o)) {
-  if (heights.size() != hs.grid().size())
-    throw std::invalid_argument("QuasiStaticAdhesion: heights do not match the grid");
-  if (!(opt_.tension_tolerance > 0.0)) throw std::invalid_argument("QuasiStaticAdhesion: tension_tolerance must be > 0");
-  if (opt_.cascade_slab_rows < 1) throw std::invalid_argument("QuasiStaticAdhesion: cascade_slab_rows must be >= 1");
-  // The diagonal of K: the pressure at a point that holds a unit displacement there and
-  // zero everywhere else (the same at every point of a translation-invariant grid); and
-  // K's entries to the cascade's neighbours. Only these numbers are kept, not the response
-  // (a field of the transform grid: 8.6 GB at 32768², which a GPU run cannot spare).
-  {
-    const Field response = hs.unit_response();
-    const int mx = hs.transform_nx(), my = hs.transform_ny();
-    k_self_ = hs.transform_entry(response, 0, 0);
-    k_near_.resize(std::size_t(kSide * kSide));
-    for (int dy = -kRadius; dy <= kRadius; ++dy)
-      for (int dx = -kRadius; dx <= kRadius; ++dx)
-        k_near_[std::size_t((dy + kRadius) * kSide + dx + kRadius)] =
-            hs.transform_entry(response, (dy + my) % my, (dx + mx) % mx);
-  }
-  if (!(k_self_ > 0.0)) throw std::logic_error("QuasiStaticAdhesion: the half-space's self-stiffness is not positive");
-  move_floor_ = qs::move_floor(adh_.range(), opt_.tolerance, PolonskyKeer::residual_scale(heights));
-}
-
-#ifndef CMC_CUDA
-// A build without the CUDA backend: the case parser refuses backend = "cuda" before a solve.
-SolveResult solve_on_device(HalfSpace&, const Field&, const ExponentialAdhesion&, const QuasiStaticAdhesion::Options&,
-                            double, const std::vector<double>&, double, const Target&, ContactState&, OuterPoint*) {
-  throw std::runtime_error("quasi-static adhesion: this build of cmc has no CUDA backend (configure with -DCMC_CUDA=ON)");
-}
-#endif
-
-SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st, OuterPoint* from) {
-  if (opt_.backend == Backend::Cuda && opt_.outer_on_device)
-    return solve_on_device(hs_, h_, adh_, opt_, k_self_, k_near_, move_floor_, target, st, from);
-  HostSteps b(hs_, h_, k_near_, opt_);
-  return qs::solve(b, hs_, adh_, opt_, qs::JumpPrediction(k_self_, adh_), move_floor_, target, st, from);
+SolveResult qs::solve_on_cpu(const Problem& p, const Target& target, ContactState& st, OuterPoint* from) {
+  HostSteps b(p.hs, p.heights, p.k_near, p.options);
+  return solve(b, p.hs, p.adhesion, p.options, JumpPrediction(p.self_stiffness, p.adhesion), p.move_floor, target, st,
+               from);
 }
 
 }  // namespace cmc

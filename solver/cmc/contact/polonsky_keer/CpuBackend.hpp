@@ -1,10 +1,12 @@
-// The CPU backend of a Polonsky-Keer solve (PolonskyKeerRun.hpp): the state's own fields,
-// the operator's FFTW transforms, and OpenMP passes over the contact set only. In a header
-// of its own so that a test can run the iteration with another selection of points
-// (tests/test_polonsky_keer.cpp: the GPU's, point by point) over the same transforms.
+// The CPU backend of a Polonsky-Keer solve (Iteration.hpp; its contract: Contract.hpp): the
+// state's own fields, the operator's FFTW transforms, and OpenMP passes over the contact
+// set only. In a header so that a test can run the iteration with another selection of
+// points (tests/test_polonsky_keer.cpp: the GPU's, point by point) over the same
+// transforms; CpuBackend.cpp runs the solve.
 #pragma once
 
-#include "cmc/contact/PolonskyKeerRun.hpp"
+#include "cmc/contact/polonsky_keer/Compose.hpp"
+#include "cmc/contact/polonsky_keer/Iteration.hpp"
 #include "cmc/grid/Grid.hpp"
 #include "cmc/grid/RowColumnFourier.hpp"
 
@@ -12,6 +14,7 @@
 #include <cstdint>
 #include <cstring>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace cmc {
@@ -128,7 +131,7 @@ struct PolonskyKeer::Work {
 
 namespace pk {
 
-// The CPU backend of a Polonsky-Keer solve (PolonskyKeerRun.hpp): the state's own fields,
+// The CPU backend of a Polonsky-Keer solve (Iteration.hpp): the state's own fields,
 // the operator's FFTW transforms, and OpenMP passes that visit the contact set only (the
 // block scans above). The pressure and w = h + u are the state's pressure and
 // displacement fields, so the solve works in place.
@@ -138,9 +141,9 @@ namespace pk {
 // its sweeps, while the row or block is in cache: a pass over the points of a row next to
 // that row's transform, a pass over modes between a block's column transforms. Elsewhere (a
 // free boundary, a distributed grid) they are the passes and HalfSpace's transforms one
-// after the other.
+// after the other (compose::, Compose.hpp, as the GPU runs them).
 template <class Visit>
-struct HostOf : Fields {
+struct HostOf : Fields, HostPasses {
   HalfSpace& hs;
   Field &P, &W;
   const Field& H;
@@ -150,8 +153,8 @@ struct HostOf : Fields {
   std::size_t nb = 0;              // fused: blocks of eight a row (row_minima())
   double* wmin = nullptr;          // fused: their least w, ny × nb, made wherever w is
   Complex* spec = nullptr;         // the scratch spectrum (`out`)
-  long f0 = 0, i0 = 0;             // rc's counts and seconds when the solve began
-  double s0 = 0.0;
+  // Fused: rc's transforms count as the operator's (fft_pairs(), fft_seconds()).
+  std::optional<TransformTally<HalfSpace>> tally;
 
   HostOf(HalfSpace& half_space, const Field& heights, ContactState& st, PolonskyKeer::Work& work, bool warm,
          bool precondition, bool fuse = true)
@@ -184,29 +187,18 @@ struct HostOf : Fields {
       wk.wmin.resize(std::size_t(g.ny) * nb);
       wmin = wk.wmin.data();
       spec = hs.scratch_spectrum(rc->spectrum_size());  // its layout is longer than the half-space's
-      f0 = rc->forward_count(), i0 = rc->inverse_count(), s0 = rc->seconds();
+      const RowColumnFourier* r = rc;
+      tally.emplace(hs, [r] { return TransformCounts{r->forward_count(), r->inverse_count(), r->seconds()}; });
     } else {
       wk.rc.reset();
       wk.ker = Field();
       wk.wmin = Field();
     }
-    // The steps hold no spectrum of p or h (exact_and_gap_sums() below): p_hat and h_hat
-    // stay null.
     out = reinterpret_cast<double*>(spec);
-  }
-  // The fused sweeps' transforms count as the operator's (fft_pairs(), fft_seconds()).
-  ~HostOf() {
-    if (rc) hs.count_transforms(rc->forward_count() - f0, rc->inverse_count() - i0, rc->seconds() - s0);
   }
   HostOf(const HostOf&) = delete;
   HostOf& operator=(const HostOf&) = delete;
 
-  template <class F>
-  void all(std::size_t k, F f) {
-    Grid::parallel_for(k, [&](std::size_t b, std::size_t e) {
-      for (std::size_t i = b; i < e; ++i) f(i);
-    });
-  }
   template <class Acc, class F>
   Acc reduce_in(const std::uint8_t* mask, std::size_t k, F f) {
     // A local record, merged once: its sums stay in registers (acc is in memory, where the
@@ -229,17 +221,22 @@ struct HostOf : Fields {
 
   using None = RowColumnFourier::None;
   static constexpr auto no_row_pass = [](std::size_t, None&) {};
-  // The steps add h in real space (exact_and_gap_sums()): no ĥ to make.
-  void forward_h(double) {}
-  // Unfused only (the combined operations below use them when rc is null).
+  // The transforms of compose:: (Contract.hpp, TransformParts): unfused only, where the
+  // combined operations below are compose::'s (rc is null).
+  void forward_p() { hs.forward(P); }
   double curvature_t() {
     hs.forward(wk.t);
     return hs.quadratic_form(hs.spectrum(), hs.compliance());
   }
   void inverse_w() { hs.inverse(W); }
+  void inverse_gt() {
+    wk.gt.resize(n);
+    hs.inverse(wk.gt);
+    gt = wk.gt.data();
+  }
   void stiffness_z() { hs.apply(z, z, hs.stiffness()); }
 
-  // ---- the combined operations (PolonskyKeerRun.hpp)
+  // ---- the combined operations (Contract.hpp)
   // A row pass of forward_rows_from() for a field v that is zero off the mask (t, p and
   // z are: Run keeps them so): the row starts as zeros, and for each point i the visit
   // selects, f(i, acc) (which may write v[i]), then the row takes v[i]. So v is read only
@@ -284,17 +281,15 @@ struct HostOf : Fields {
                   }).v;
     return a;
   }
-  // How a step makes w from the inverse transform's output u (a row, or a thread's range
-  // of points; u may be w itself): w = h + u after an exact step, w = h + s ((w − h) − τ u)
-  // with u = G t after a linear one. (Round-off gathers in w from one linear step to the
-  // next, as it did in p̂ before: Options::recompute_every bounds the run of them.)
+  // How a step makes w along a row from the inverse transform's output u there (Parts.hpp:
+  // exact_w after an exact step, LinearW after a linear one).
   static void add_heights(double* w_, const double* h_, const double* u, std::size_t k) {
-    for (std::size_t i = 0; i < k; ++i) w_[i] = h_[i] + u[i];
+    for (std::size_t i = 0; i < k; ++i) w_[i] = exact_w(h_[i], u[i]);
   }
-  struct LinearUpdate {
-    double s, tau;
-    void operator()(double* w_, const double* h_, const double* gt, std::size_t k) const {
-      for (std::size_t i = 0; i < k; ++i) w_[i] = h_[i] + s * ((w_[i] - h_[i]) - tau * gt[i]);
+  struct LinearRow {
+    LinearW make;
+    void operator()(double* w_, const double* h_, const double* u, std::size_t k) const {
+      for (std::size_t i = 0; i < k; ++i) w_[i] = make(h_[i], w_[i], u[i]);
     }
   };
   // w = h + G (s p). Fused: p's rows, then per block its column transforms, the compliance
@@ -306,10 +301,7 @@ struct HostOf : Fields {
   // 26.2–26.7 ms in place and 22.4–22.6 ms for the bare pair.)
   template <class Acc, class F>
   Acc exact_and_gap_sums(double s, const std::uint8_t* mask, double level, F f) {
-    if (!rc) {
-      hs.forward(P);
-      return unfused_step<Acc>(s, W, mask, level, f, add_heights);
-    }
+    if (!rc) return compose::exact_and_gap_sums<Acc>(*this, s, mask, level, f);
     rc->forward_rows_from<None>(spec, sparse_row<None>(mask, p, no_row_pass));
     return exact_after_rows<Acc>(s, mask, level, f);
   }
@@ -323,26 +315,8 @@ struct HostOf : Fields {
   // w = h + s ((w − h) − τ G t), and the gap sums.
   template <class Acc, class F>
   Acc linear_and_gap_sums(double s, double tau, const std::uint8_t* mask, double level, F f) {
-    if (!rc) {
-      wk.gt.resize(n);
-      return unfused_step<Acc>(1.0, wk.gt, mask, level, f, LinearUpdate{s, tau});
-    }
-    return compliance_and_rows<Acc>(RowColumnFourier::kInverse, 1.0, mask, level, f, LinearUpdate{s, tau});
-  }
-  // Unfused (a free boundary, a distributed grid): the half-space's spectrum (p's after
-  // hs.forward(P), t's after curvature_t()) times the compliance times `scale`, its inverse
-  // into u, make_w over the points, then the gap sums: the transforms and the passes one
-  // after the other.
-  template <class Acc, class F, class MakeW>
-  Acc unfused_step(double scale, Field& u, const std::uint8_t* mask, double level, F f, MakeW make_w) {
-    Complex* o = spec;
-    const double* k = ker;
-    all(nspec, [=](std::size_t q) { o[q] *= scale * k[q]; });
-    hs.inverse(u);
-    double* ww = w;
-    const double *hh = h, *uu = u.data();
-    Grid::parallel_for(n, [&](std::size_t b, std::size_t e) { make_w(ww + b, hh + b, uu + b, e - b); });
-    return reduce_in_or_below<Acc>(mask, w, level, n, f);
+    if (!rc) return compose::linear_and_gap_sums<Acc>(*this, s, tau, mask, level, f);
+    return compliance_and_rows<Acc>(RowColumnFourier::kInverse, 1.0, mask, level, f, LinearRow{{s, tau}});
   }
   // Fused: the column sweep `what` over the scratch with the compliance times `scale` on
   // every mode, then row by row the inverse into a buffer, make_w(w's row, h's row, that
@@ -417,7 +391,7 @@ struct HostOf : Fields {
     const double nn = 1.0 / (transform_points * transform_points);
     rc->columns<None>(spec, RowColumnFourier::kForward | RowColumnFourier::kInverse,
                       [&](const RowColumnFourier::Block& B, None&) {
-                        B.each([&](std::size_t q) { s[q] *= k[q] > 0.0 ? nn / k[q] : 0.0; });
+                        B.each([&](std::size_t q) { s[q] *= stiffness_from_compliance(k[q], nn); });
                       });
     double* zz = z;
     const std::size_t nxx = nx;

@@ -6,13 +6,12 @@
 // penetration (displacement) control.
 //
 // Cost: the Green's function is applied to the search direction once per iteration
-// (one FFT pair). The solver keeps the transform p̂ of the current pressure and t̂ of
-// the direction, so the displacement of the new pressure is one inverse transform,
-// exact whenever the step changed no point's contact status; when it did (points
-// clipped to zero pressure or points added from overlap), or every `recompute_every`
-// iterations, or before declaring convergence, p̂ is taken afresh from p (one forward
-// transform more). It iterates on w = h + u, with h added in Fourier space, so no pass
-// reads h.
+// (one FFT pair). The solver keeps the transform t̂ of the direction, so the displacement
+// of the new pressure p' = s (p − τ t) is one inverse transform, w = h + s ((w − h) − τ G t),
+// exact (up to round-off) whenever the step changed no point's contact status; when it did
+// (points clipped to zero pressure or points added from overlap), or every
+// `recompute_every` iterations, or before declaring convergence, w = h + G p is made
+// afresh from p (one forward transform more). It iterates on w = h + u.
 //
 // Residual (what `tolerance` applies to): the rms gap over points carrying pressure
 // together with the rms overlap (negative gap) elsewhere, divided by the rms height
@@ -35,7 +34,7 @@ class PolonskyKeer {
  public:
   struct Options : SolverOptions {
     // Exact displacement every this many linear steps: bounds the drift of the
-    // incremental spectral update (round-off), at one forward transform each.
+    // incremental update of the linear steps (round-off), at one forward transform each.
     int recompute_every = 32;
     // Precondition the conjugate gradients on the contact set with the half-space's
     // stiffness K = G⁻¹ (periodic boundary only): the direction is built from z = P K P g
@@ -45,12 +44,12 @@ class PolonskyKeer {
     // full contact; costs one more FFT pair per iteration.
     bool precondition = true;
     // Before declaring convergence, recompute u from the real-space p and test again
-    // (removes the drift of the incremental spectral update; one FFT pair). A caller that
+    // (removes the drift of the linear steps' incremental update; one FFT pair). A caller that
     // solves again from the returned state before using it (an outer iteration) may turn
     // this off and confirm only its last solve: the next solve starts from the exact u.
     bool confirm = true;
-    // Keep the work arrays (the spectra of the pressure, the direction and the heights; the
-    // direction, the preconditioned gap and the contact set) from one solve to the next
+    // Keep the work arrays (the direction, the preconditioned gap, G t, the contact set, the
+    // fused sweeps' transform; on the GPU every device field) from one solve to the next
     // instead of making them anew: for a caller that solves many times in a row (the
     // quasi-static solver's outer steps), it saves touching fresh pages in every solve.
     // Off: they live within a solve only (what the memory estimate of a hard-wall run counts).
@@ -61,7 +60,7 @@ class PolonskyKeer {
     // limit (message kInnerTimeLimitMessage...).
     double stop_at = 0.0;
     // Where the iteration runs (grid/Backend.hpp). Cuda: the fields live on the GPU for
-    // the whole solve (contact/PolonskyKeerDevice.cu; periodic boundary, one process); the
+    // the whole solve (CudaBackend.cu; periodic boundary, one process); the
     // heights and a warm start go up at its start, p and u come down at its end, and the
     // solved state is made from them on the host as on the CPU.
     Backend backend = Backend::Cpu;
@@ -82,8 +81,8 @@ class PolonskyKeer {
   void set_stop_at(double t) { opt_.stop_at = t; }
   // The scale of the residual: the rms height fluctuation of `heights` (1 for a flat one).
   static double residual_scale(const Field& heights);
-  struct Work;    // a solve's work arrays (PolonskyKeer.cpp)
-  struct Device;  // the same on the GPU (contact/PolonskyKeerDevice.cu)
+  struct Work;    // a solve's work arrays on the CPU (CpuBackend.hpp)
+  struct Device;  // the same on the GPU (CudaBackend.cuh)
   struct DeviceDelete {
     void operator()(Device* d) const noexcept;
   };

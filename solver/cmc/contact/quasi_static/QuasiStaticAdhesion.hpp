@@ -56,18 +56,19 @@
 // may make m jump in turn; this is followed point by point (nonlinear Gauss-Seidel on the
 // exact K of the 8 nearest points; the rest, negative, is left out, which pulls less than
 // the truth). Moves smaller than the move floor are not passed on (qs::move_floor,
-// QuasiStaticParts.hpp: it follows the inner tolerance, and at tight inner tolerances it
+// quasi_static/Parts.hpp: it follows the inner tolerance, and at tight inner tolerances it
 // brings in, within one outer step, jumps that a point and its neighbours make together and
 // that the iteration otherwise reached by creeping over tens of outer steps). On a 128²
 // patch at dx = 24 ρ: 7 outer steps instead of 111, 10.2x fewer
 // FFT pairs, the same state (tests/test_quasi_static.cpp). The GPU runs the cascade in
-// parallel rounds instead (nonlinear Jacobi over the same stencil, QuasiStaticParts.hpp):
+// parallel rounds instead (nonlinear Jacobi over the same stencil, Parts.hpp):
 // on the challenge at 512² and 2048² the same outer steps, iterations and contact set as
 // the queue, the mean gap within 1.2e-9 and 3.6e-10 relative.
 //
-// Where the parts are: the outer iteration is written once (QuasiStaticRun.hpp) over a
-// backend that holds the fields: the CPU's (QuasiStaticAdhesion.cpp) or, with backend =
-// cuda, the GPU's (QuasiStaticDevice.cu: the outer step on the device too).
+// Where the parts are (contact/quasi_static/): the outer iteration is written once
+// (Iteration.hpp) over a backend that holds the fields (Contract.hpp): the CPU's
+// (CpuBackend.cpp) or, with backend = cuda, the GPU's (CudaBackend.cu: the outer step on
+// the device too); the per-point parts of both in Parts.hpp.
 //
 // Residual: the largest change of the tension, relative to the peak tension w/ρ, that one
 // more outer step would make (with jump prediction and cascade), max |t_next − t| / (w/ρ),
@@ -91,7 +92,7 @@
 #pragma once
 
 #include "cmc/contact/Interaction.hpp"
-#include "cmc/contact/PolonskyKeer.hpp"
+#include "cmc/contact/polonsky_keer/PolonskyKeer.hpp"
 #include "cmc/contact/Solver.hpp"
 #include "cmc/elastic/HalfSpace.hpp"
 
@@ -145,18 +146,18 @@ class QuasiStaticAdhesion {
     bool predict_jumps = true;  // the nonlinear Jacobi prediction (off: the plain iteration)
     bool cascade = true;        // jumps that trigger jumps within an outer step (needs predict_jumps)
     // Where the solve runs. Cuda: every field of the outer step stays on the GPU with
-    // Polonsky-Keer's (contact/QuasiStaticDevice.cu; periodic boundary, one process), and
+    // Polonsky-Keer's (CudaBackend.cu; periodic boundary, one process), and
     // the cascade runs in rounds (cascade_rounds); with outer_on_device off, only the
     // Polonsky-Keer solves run there and the outer step on the CPU (the first GPU path,
     // kept to compare with).
     Backend backend = Backend::Cpu;
     bool outer_on_device = true;
-    // The cascade in parallel rounds (QuasiStaticParts.hpp), as the GPU runs it, instead of
+    // The cascade in parallel rounds (Parts.hpp), as the GPU runs it, instead of
     // the queues (periodic grid, one process). The same state within the move floor; the
     // CPU's default is the queues (fewer passes on a few cores). On for the GPU's outer step
     // whatever is set here.
     bool cascade_rounds = false;
-    // The height of the cascade's slabs in rows (QuasiStaticAdhesion.cpp: a queue per slab,
+    // The height of the cascade's slabs in rows (CpuBackend.cpp: a queue per slab,
     // the slabs in parallel, at most 64 of them; a grid of fewer than twice this many rows is
     // one slab, the whole grid's queue). A number of the grid, not of the thread count, so
     // that the answer is the same on any number of threads.
@@ -182,7 +183,7 @@ class QuasiStaticAdhesion {
   double self_stiffness() const { return k_self_; }
   // K to the 3 x 3 nearest points, entry (dy + 1) 3 + dx + 1 (the cascade's stencil).
   const std::vector<double>& near_stiffness() const { return k_near_; }
-  // The cascade's move floor, a length (qs::move_floor, QuasiStaticParts.hpp).
+  // The cascade's move floor, a length (qs::move_floor, Parts.hpp).
   double move_floor() const { return move_floor_; }
 
  private:
@@ -194,12 +195,5 @@ class QuasiStaticAdhesion {
   std::vector<double> k_near_;  // K to the 3 x 3 nearest points (the cascade's stencil)
   double move_floor_ = 0.0;
 };
-
-// The solve with the outer step on the GPU (contact/QuasiStaticDevice.cu); a build without
-// CUDA throws.
-SolveResult solve_on_device(HalfSpace& hs, const Field& heights, const ExponentialAdhesion& adhesion,
-                            const QuasiStaticAdhesion::Options& options, double self_stiffness,
-                            const std::vector<double>& k_near, double move_floor, const Target& target,
-                            ContactState& state, OuterPoint* from);
 
 }  // namespace cmc
