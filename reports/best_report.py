@@ -122,19 +122,21 @@ def headline(best, user, reference_dir="reference"):
 
 def monotonicity_sentence(m):
     """Whether a_r(mu_T) of the best estimates is monotonic, as the problem definition says, and
-    where not, why (the falls, their grids, the bars; each grid's own sweep)."""
+    where not, why (the falls, their grids, the bars; each grid's own sweep where it resolves rho)."""
     if not m:
         return ""
-    grids = m.get("rises_on_each_grid") or {}
-    per = ", ".join(f"{n}²: {'yes' if ok else 'no'}" for n, ok in sorted(grids.items(), key=lambda x: int(x[0])))
+    grids = sorted((m.get("grids") or {}).items(), key=lambda x: int(x[0]))
+    per = "; ".join(f"{n}²: " + ("rises" if g["rises"] else
+                                 (f"rises over the μ_T where it resolves ρ (up to {g['resolved_up_to']:g}), not over all its points"
+                                  if g["rises_where_resolved"] and g["resolved_up_to"] else "does not rise"))
+                    for n, g in grids)
     if m["monotonic"]:
         return f"**a_r(μ_T) is monotonic** on the best estimates, as the problem definition says (each grid's own sweep: {per})."
     falls = "; ".join(f"from μ_T = {f['from']:g} ({f['grids'][0]}²) to {f['to']:g} ({f['grids'][1]}²) by {f['fall']:.2g}, "
                       + ("inside" if f["inside_bars"] else "**outside**") + " their error bars" for f in m["falls"])
     return (f"**a_r(μ_T) is not monotonic on the best estimates** where neighbouring points come from different grids: "
-            f"{falls}. The finer grid's counted area is smaller (the coarser one errs by a band of pixels along the "
-            f"contact lines), so the join steps down. On one grid a_r rises with μ_T where that grid resolves ρ ({per}; "
-            "2048² does not resolve ρ at μ_T ≥ 1, where its a_r falls again).")
+            f"{falls}. Each grid's counted area errs by a band of pixels along the contact lines, so a join of two grids "
+            f"steps. On each grid's own sweep: {per}.")
 
 
 def cross_check(est):

@@ -118,10 +118,11 @@ def test_monotonicity_names_falls_and_checks_each_grid():
     curve = [{"tabor": 0.01, "n": 4096, "quantities": q(0.0238, 0.0015)},
              {"tabor": 0.1, "n": 16384, "quantities": q(0.0236, 0.0003)},
              {"tabor": 1.0, "n": 16384, "quantities": q(0.0300, 0.0004)}]
-    rs = [rec(f"g{k}", 2048, v, 1.0, case="challenge-tabor-sweep", tabor=mu)
-          for k, (mu, v) in enumerate([(0.01, 0.025), (0.1, 0.026), (1.0, 0.033)])]
+    rs = [rec(f"g{k}", 2048, v, 1.0, case="challenge-tabor-sweep", tabor=mu, k=k_, b=k_)
+          for k, (mu, v, k_) in enumerate([(0.01, 0.025, 0.1), (0.1, 0.026, 0.5), (1.0, 0.033, 3.0), (3.0, 0.030, 9.0)])]
     got = challenge.monotonicity(curve, rs)
     assert not got["monotonic"] and len(got["falls"]) == 1
     f = got["falls"][0]
     assert f["from"] == 0.01 and f["grids"] == [4096, 16384] and f["inside_bars"]  # 0.0002 <= 0.0018
-    assert got["rises_on_each_grid"] == {2048: True}
+    # on 2048² a_r falls at mu_T = 3, where that grid no longer resolves rho; it rises where it does
+    assert got["grids"] == {2048: {"rises": False, "rises_where_resolved": True, "resolved_up_to": 0.1}}

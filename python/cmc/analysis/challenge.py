@@ -82,28 +82,37 @@ def load_curve(records, problem, members, conditions, spread=None):
     return [p for p in pts if p]
 
 
-def grid_sweeps_of(records, key):
+def grid_sweeps_of(records, key, only=None):
     """{n: (mu list, values list)} of the Tabor sweep's case run plain and converged on each grid,
-    for the record key (e.g. "a_r", "mean_gap_m"), mu ascending."""
+    for the record key (e.g. "a_r", "mean_gap_m"), mu ascending; only: a further test of a record."""
     out = {}
     for r in records:
         if r.get("case_name") == TABOR_CASE and r.get("strategy") == "plain" and r.get("status") == "converged" \
-                and best._same(r.get("pressure_Pa"), P0) and r.get(key) is not None:
+                and best._same(r.get("pressure_Pa"), P0) and r.get(key) is not None and (only is None or only(r)):
             out.setdefault(r["n"], []).append((r["tabor"], r[key]))
     return {n: ([m for m, _ in sorted(v)], [x for _, x in sorted(v)]) for n, v in out.items()}
 
 
+def _rises(values):
+    return all(a <= b for a, b in zip(values, values[1:]))
+
+
 def monotonicity(curve, records):
     """Whether a_r rises with mu_T on the best-estimate curve, and where it does not: each fall
-    between neighbouring points, with the two points' runs and whether the fall lies inside their
-    error bars; and, for each grid the sweep ran completely on, whether it rises there."""
+    between neighbouring points, with the two points' grids and whether the fall lies inside
+    their error bars; and, per grid the sweep ran on (three points or more), whether it rises
+    over all its points and over those where the grid resolves rho (best.resolved), with the
+    largest mu_T it resolves."""
     pts = [(p["tabor"], p["quantities"]["a_r"], p["n"]) for p in curve if "a_r" in p["quantities"]]
     falls = [{"from": a[0], "to": b[0], "grids": [a[2], b[2]], "fall": a[1]["value"] - b[1]["value"],
               "inside_bars": a[1]["value"] - b[1]["value"] <= a[1]["error"] + b[1]["error"]}
              for a, b in zip(pts, pts[1:]) if b[1]["value"] < a[1]["value"]]
-    grids = {n: all(y1 <= y2 for y1, y2 in zip(v, v[1:]))
-             for n, (mus, v) in grid_sweeps_of(records, "a_r").items() if len(mus) >= 3}
-    return {"monotonic": not falls, "falls": falls, "rises_on_each_grid": grids}
+    every = grid_sweeps_of(records, "a_r")
+    resolved = grid_sweeps_of(records, "a_r", best.resolved)
+    grids = {n: {"rises": _rises(v), "rises_where_resolved": _rises(resolved.get(n, ([], []))[1]),
+                 "resolved_up_to": max(resolved[n][0]) if resolved.get(n, ([], []))[0] else None}
+             for n, (mus, v) in every.items() if len(mus) >= 3}
+    return {"monotonic": not falls, "falls": falls, "grids": grids}
 
 
 def mean_gap_extremum(curve, records):
