@@ -9,6 +9,8 @@ the stored challenge references, without the runs at hand:
   other loads keep their sweep's values and bands (the file says which run each comes from);
 - contact_area_vs_tabor.csv and mean_gap_vs_tabor.csv: every point the best estimate at its mu_T
   (its own finest run and band);
+- the distributions, spectrum and cross sections (items 1, 3, 4, 5, 9): a `finest_run` line
+  saying which grid they still come from;
 - README.md: the block between the best-estimate markers, which lists each of them with its run.
 
 cmc formats and writes every file (`cmc reference --run-curve`, as scripts/challenge_reference.py
@@ -149,6 +151,24 @@ def tabor_curve(old, points, ycol, short):
                       ("generator", "scripts/apply_best_estimates.py (python/cmc/analysis/best.py)")]}
 
 
+DISTRIBUTIONS = ("patch_size_distribution", "gap_distribution", "stress_distribution", "stress_spectrum",
+                 "cross_section_gap", "cross_section_pressure")
+
+
+def with_finest_note(curve, best):
+    """A distribution's curve (items 1, 3, 4, 5, 9) with a line saying that its grid is still the
+    finest run with these observables, while the best estimates reach further for a_r and the
+    mean gap."""
+    grid = dict(curve["extra"]).get("grid", "?").split(" (")[0]
+    ests = [e for e in best["reference_load"].values() if isinstance(e, dict) and e.get("run")]
+    finest = max((e["n"] for e in ests), default=None)
+    note = (f"this quantity's finest stored run is {grid}" + (
+        f"; the best estimates of a_r, the repulsive a_r and the mean gap come from {finest}^2 "
+        "(best_estimates.json), whose runs were stored without these observables" if finest else ""))
+    curve["extra"] = [(k, v) for k, v in curve["extra"] if k != "finest_run"] + [("finest_run", note)]
+    return curve
+
+
 def readme_block(best):
     """The README's best-estimate block: what each rewritten file takes from which run."""
     rl = best["reference_load"]
@@ -207,6 +227,13 @@ def apply(best, out_dir, cmc):
         if best["tabor"]:
             write_curve(cmc, tabor_curve(read_curve(path), best["tabor"], ycol, short), path)
             done.append(path)
+    for folder in (out_dir, os.path.join(out_dir, "adhesionless")):
+        for q in DISTRIBUTIONS:
+            path = os.path.join(folder, q + ".csv")
+            old = read_curve(path)
+            if old:
+                write_curve(cmc, with_finest_note(old, best), path)
+                done.append(path)
     update_readme(os.path.join(out_dir, "README.md"), best)
     return done + [os.path.join(out_dir, "README.md")]
 
