@@ -24,6 +24,7 @@ from cmc.analysis.conditions import condition_holds, quantity_holds, worst_failu
 from cmc.analysis.family import STRATEGIES, family_members, seed_members  # noqa: E402
 from cmc.analysis.s_route import assessment  # noqa: E402
 from cmc.analysis.transfer import realization_deviations, transfer_check, transfer_verdict  # noqa: E402
+from cmc.analysis.runs import get  # noqa: E402,F401
 
 import matplotlib  # noqa: E402
 
@@ -54,15 +55,6 @@ def load_json(path, notes=None):
         if notes is not None:
             notes.append(f"`{path}` could not be read ({e}); skipped")
         return None
-
-
-def get(d, *keys, default=None):
-    """d[k0][k1]... or default if any level is missing or not a dict."""
-    for k in keys:
-        if not isinstance(d, dict) or k not in d:
-            return default
-        d = d[k]
-    return d
 
 
 def case_name(summary):

@@ -43,12 +43,12 @@ def this_commit():
 def command_of(run_dir, summary):
     """`cmc run CASE --set ... --out RUN_DIR` as far as the summary tells: its case file and the
     grid it ran on (other overrides show in the record's case fields)."""
-    n = runs._get(summary, "grid", "nx")
+    n = runs.get(summary, "grid", "nx")
     parts = ["cmc run", summary.get("case_file") or "?", f"--set grid.n={n}"]
-    tabor = runs._get(summary, "case", "interaction", "tabor")
-    if tabor is not None and "tabor" in (runs._get(summary, "case", "case", "name") or ""):
+    tabor = runs.get(summary, "case", "interaction", "tabor")
+    if tabor is not None and "tabor" in (runs.get(summary, "case", "case", "name") or ""):
         parts.append(f"--set interaction.tabor={tabor:g}")
-    tol = runs._get(summary, "case", "solver", "tolerance")
+    tol = runs.get(summary, "case", "solver", "tolerance")
     if tol is not None:
         parts.append(f"--set solver.tolerance={tol:g}")
     return " ".join(parts + ["--out", run_dir])
@@ -69,15 +69,14 @@ def main(argv):
             print(f"store_runs: {d}: no summary.json (expected a finished `cmc run` output folder)", file=sys.stderr)
             return 2
         s = runs.read_summary(path)
-        backend = runs._get(s, "grid", "backend") or "cpu"
-        tag = f"{backend}-{runs.kind_of(s)}-{runs._get(s, 'grid', 'nx')}"
+        backend = runs.get(s, "grid", "backend") or "cpu"
+        tag = f"{backend}-{runs.kind_of(s)}-{runs.get(s, 'grid', 'nx')}"
         date = datetime.datetime.fromtimestamp(os.path.getmtime(path), datetime.timezone.utc).strftime("%Y-%m-%d")
         new.append(runs.record(s, tag=tag, command=command_of(os.path.relpath(d, ROOT), s),
                                device=a.device or this_cpu(), date=date, commit=a.commit or this_commit(),
                                origin=a.origin))
-    records = runs.merge(runs.load_store(a.store), new)
-    runs.save_store(records, a.store)
-    print(f"store_runs: {len(new)} runs stored; {len(records)} records in {a.store}", file=sys.stderr)
+    total = runs.add_to_store(new, a.store)
+    print(f"store_runs: {len(new)} runs stored; {total} records in {a.store}", file=sys.stderr)
     return 0
 
 

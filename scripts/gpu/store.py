@@ -84,9 +84,8 @@ def main(argv):
             print(f"store.py: {out}: no such folder (expected a check.sh --out folder)", file=sys.stderr)
             return 2
         new += store_folder(out, a)
-    records = runs.merge(runs.load_store(a.store), new)
-    runs.save_store(records, a.store)
-    print(f"store.py: {len(new)} runs stored; {len(records)} records in {a.store}", file=sys.stderr)
+    total = runs.add_to_store(new, a.store)
+    print(f"store.py: {len(new)} runs stored; {total} records in {a.store}", file=sys.stderr)
     return 0
 
 

@@ -10,7 +10,7 @@ import math
 import numpy as np
 
 from . import family
-from .runs import _get, strategy_of
+from .runs import get, strategy_of
 
 SAME = 0.01  # a mu_T or load within 1 % of another is the same condition
 
@@ -29,7 +29,7 @@ def run_strategy_error(summary, short, members=None):
     "shape", else "plain") has on the family at that dx/rho (family.strategy_errors over `members`,
     by default the measured ones), with what it was measured on; (dx/rho, None, []) where the family
     has no run near; None for other runs."""
-    if _get(summary, "case", "interaction", "kind") != "exponential":
+    if get(summary, "case", "interaction", "kind") != "exponential":
         return None
     facts = summary.get("surface_facts") or {}
     rho = facts.get("specified_range") or facts.get("interaction_range")
@@ -46,7 +46,7 @@ def run_strategy_error(summary, short, members=None):
 def own_tabor(summary):
     """The run's mu_T where it is not the challenge's 3 (within 1 %), else None: the condition whose
     store (condition_error's tabor) measures its band."""
-    tabor = _get(summary, "case", "interaction", "tabor")
+    tabor = get(summary, "case", "interaction", "tabor")
     ok = isinstance(tabor, (int, float)) and not isinstance(tabor, bool) and math.isfinite(tabor)
     return tabor if ok and not _same(tabor, 3.0) else None
 

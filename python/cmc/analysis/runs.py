@@ -12,12 +12,15 @@ STORE_WHAT = ("runs of the Contact Mechanics Challenge behind the best estimates
               "one record per run, made from its summary.json by scripts/store_runs.py or scripts/gpu/store.py")
 
 
-def _get(d, *keys):
+def get(d, *keys, default=None):
+    """d[k0][k1]... or default if any level is missing or not a dict."""
     for k in keys:
         if not isinstance(d, dict) or k not in d:
-            return None
+            return default
         d = d[k]
     return d
+
+
 
 
 def _finite(x):
@@ -28,7 +31,7 @@ def tabor_of(summary):
     """The run's Tabor parameter as the problem defines it, R_c^(1/3) (w/E*)^(2/3) / rho with the
     specified range rho (a coarse-grained law's own range is longer): the case's interaction.tabor
     where it gives one, else from surface_facts; None without exponential adhesion."""
-    inter = _get(summary, "case", "interaction") or {}
+    inter = get(summary, "case", "interaction") or {}
     if inter.get("kind") != "exponential":
         return None
     if _finite(inter.get("tabor")):
@@ -36,7 +39,7 @@ def tabor_of(summary):
     facts = summary.get("surface_facts") or {}
     rho = facts.get("specified_range") or facts.get("interaction_range")
     R, w = facts.get("curvature_radius"), inter.get("work_of_adhesion")
-    E = _get(summary, "case", "material", "contact_modulus")
+    E = get(summary, "case", "material", "contact_modulus")
     if not all(_finite(x) and x > 0 for x in (rho, R, w, E)):
         return None
     return R ** (1 / 3) * (w / E) ** (2 / 3) / rho
@@ -44,7 +47,7 @@ def tabor_of(summary):
 
 def strategy_of(summary):
     """The run's resolution strategy: its interaction.coarse_graining ("range", "shape"), or "plain"."""
-    cg = _get(summary, "case", "interaction", "coarse_graining")
+    cg = get(summary, "case", "interaction", "coarse_graining")
     return cg if cg in ("range", "shape") else "plain"
 
 
@@ -52,7 +55,7 @@ def dx_over_rho(summary):
     """The grid spacing over the problem's range rho (the specified one, not a coarse-grained law's)."""
     f = summary.get("surface_facts") or {}
     rho = f.get("specified_range") or f.get("interaction_range")
-    dx = _get(summary, "grid", "dx")
+    dx = get(summary, "grid", "dx")
     return dx / rho if _finite(rho) and rho > 0 and _finite(dx) else None
 
 
@@ -61,10 +64,10 @@ def kind_of(summary):
     load, plain), shape / range (the same coarse-grained), tabor_mu<MU> (one point of the Tabor
     sweep's case; shape_tabor_mu<MU> coarse-grained), load / shape_load / hardwall_load (the load
     sweeps)."""
-    name = _get(summary, "case", "case", "name") or ""
+    name = get(summary, "case", "case", "name") or ""
     strategy = strategy_of(summary)
     prefix = "" if strategy == "plain" else strategy + "_"
-    if _get(summary, "case", "interaction", "kind") != "exponential":
+    if get(summary, "case", "interaction", "kind") != "exponential":
         return "hardwall_load" if "load-sweep" in name else "hardwall"
     if "load-sweep" in name:
         return prefix + "load"
@@ -109,7 +112,7 @@ PHYSICS_KEYS = (("grid", "size"), ("material", "contact_modulus"), ("surface", "
 
 def physics_of(summary):
     """The run's physics (PHYSICS_KEYS of its resolved case), e.g. {"surface.seed": 28, ...}."""
-    return {f"{a}.{b}": _get(summary, "case", a, b) for a, b in PHYSICS_KEYS}
+    return {f"{a}.{b}": get(summary, "case", a, b) for a, b in PHYSICS_KEYS}
 
 
 def same_physics(a, b):
@@ -136,15 +139,15 @@ def record(summary, *, tag, command, device, date, commit=None, origin=None, gpu
     steps, t = summary.get("steps") or [{}], summary.get("timing") or {}
     last = steps[-1]
     obs = last.get("observables", {})
-    backend = _get(summary, "grid", "backend") or "cpu"
+    backend = get(summary, "grid", "backend") or "cpu"
     return {
-        "tag": tag, "kind": kind_of(summary), "n": _get(summary, "grid", "nx"), "backend": backend,
-        "case_name": _get(summary, "case", "case", "name"), "case_file": summary.get("case_file"),
-        "problem": "hardwall" if _get(summary, "case", "interaction", "kind") != "exponential" else "adhesive",
+        "tag": tag, "kind": kind_of(summary), "n": get(summary, "grid", "nx"), "backend": backend,
+        "case_name": get(summary, "case", "case", "name"), "case_file": summary.get("case_file"),
+        "problem": "hardwall" if get(summary, "case", "interaction", "kind") != "exponential" else "adhesive",
         "strategy": strategy_of(summary), "tabor": tabor_of(summary),
         "pressure_Pa": last.get("mean_pressure"),
-        "tolerance": _get(summary, "case", "solver", "tolerance"),
-        "device": device, "host_threads": _get(summary, "grid", "threads"),
+        "tolerance": get(summary, "case", "solver", "tolerance"),
+        "device": device, "host_threads": get(summary, "grid", "threads"),
         "command": command, "date": date, "commit": commit, "origin": origin,
         "cmc_version": summary.get("cmc_version"),
         "status": summary.get("status"), "message": summary.get("message") or None,
@@ -152,10 +155,10 @@ def record(summary, *, tag, command, device, date, commit=None, origin=None, gpu
         "solve_s": sum(x.get("wall_s", 0.0) for x in steps), "run_s": t.get("wall_s"),
         "fft_pair_s": t.get("fft_pair_s"), "time_per_iteration": t.get("time_per_iteration"),
         "time_per_fft_pair": t.get("time_per_fft_pair"), "fft_share": t.get("fft_share"),
-        "outer_steps": _get(last, "diagnostics", "outer_iterations"),
+        "outer_steps": get(last, "diagnostics", "outer_iterations"),
         "dx_over_rho": dx_over_rho(summary),
-        "bistability_number": _get(summary, "surface_facts", "bistability_number"),
-        "rms_height_m": _get(summary, "surface_facts", "rms_height"),
+        "bistability_number": get(summary, "surface_facts", "bistability_number"),
+        "rms_height_m": get(summary, "surface_facts", "rms_height"),
         "a_r": last.get("contact_fraction"), "a_r_corrected": obs.get("contact_fraction_corrected"),
         "a_rep": obs.get("repulsive_fraction"), "mean_gap_m": last.get("mean_gap"),
         "gpu_peak_mib": gpu_peak_mib, "steps": step_values(summary), "physics": physics_of(summary),
@@ -180,6 +183,13 @@ def save_store(records, path=RUN_STORE):
         json.dump(data, f, indent=1, sort_keys=True)
         f.write("\n")
     os.replace(tmp, path)
+
+
+def add_to_store(new, path=RUN_STORE):
+    """Add records to the store (replacing those of the same tags); returns how many it holds."""
+    records = merge(load_store(path), new)
+    save_store(records, path)
+    return len(records)
 
 
 def merge(records, new):
