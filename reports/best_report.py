@@ -167,7 +167,6 @@ def extremum_sentence(ex, best):
     """Where the mean gap has its minimum in mu_T, with its errors, and how a_r behaves around it."""
     hw = (best["reference_load"].get("hardwall") or {}).get("quantities", {}).get("mean_gap")
     slope = ex.get("a_r_log_slope") or []
-    flat = min(slope, key=lambda s: s["slope"]) if slope else None
     text = (f"**The mean gap's extremum in μ_T** (\"a challenge in the challenge\"): a minimum at μ_T* = {ex['mu']:.3g} "
             f"(between {ex['mu_range'][0]:.3g} and {ex['mu_range'][1]:.3g}: the parabolas through the samples around it, "
             f"{ex['bracket'][0]:g} < μ_T < {ex['bracket'][1]:g}"
@@ -176,14 +175,27 @@ def extremum_sentence(ex, best):
     if hw:
         text += f", against {hw['value'] * 1e6:.5f} µm without adhesion, the limit μ_T → 0"
     text += "."
-    if flat:
-        lo = [x for x in slope if x["tabor"] < flat["tabor"]]
-        text += (f" Around it a_r(μ_T) flattens: on the {ex.get('a_r_log_slope_grid', '?')}² sweep its slope "
-                 f"d a_r/d log10 μ_T falls from {max(x['slope'] for x in lo):.3g} below μ_T* to {flat['slope']:.3g} "
-                 f"near μ_T = {flat['tabor']:.3g}, just above it, before it rises again toward μ_T = 3: the "
-                 "\"interesting\" behaviour the problem definition points to (figure 6)." if lo else
-                 f" a_r's slope against log10 μ_T is smallest ({flat['slope']:.3g}) near μ_T = {flat['tabor']:.3g}.")
+    if slope:
+        text += a_r_slope_sentence(ex["mu"], slope, ex.get("a_r_log_slope_grid", "?"),
+                                   ex.get("a_r_log_slope_resolved_up_to"))
     return text
+
+
+def a_r_slope_sentence(mu_star, slope, grid, resolved_up_to):
+    """How a_r's slope against log10 mu_T behaves around mu_star on one grid's sweep (slope: the
+    extremum's a_r_log_slope, mu_T ascending)."""
+    flat = min(slope, key=lambda s: s["slope"])
+    below = [x for x in slope if x["tabor"] < flat["tabor"]]
+    above = [x for x in slope if x["tabor"] > flat["tabor"]]
+    where = "just above it" if flat["tabor"] > mu_star else "just below it"
+    if not below or not above:
+        return f" a_r's slope against log10 μ_T is smallest ({flat['slope']:.3g}) near μ_T = {flat['tabor']:.3g}."
+    peak = max(below, key=lambda x: x["slope"])
+    return (f" Around it a_r(μ_T) flattens: on the {grid}² sweep its slope d a_r/d log10 μ_T falls from "
+            f"{peak['slope']:.3g} near μ_T = {peak['tabor']:.3g} to {flat['slope']:.3g} near μ_T = {flat['tabor']:.3g}, "
+            f"{where}, and rises again to {above[-1]['slope']:.3g} near μ_T = {above[-1]['tabor']:.3g}"
+            + (f" (the sweep's points resolve ρ up to μ_T = {resolved_up_to:.3g})" if resolved_up_to else "")
+            + ": the \"interesting\" behaviour the problem definition points to (figure 6).")
 
 
 def _table(head, rows):

@@ -126,3 +126,19 @@ def test_monotonicity_names_falls_and_checks_each_grid():
     assert f["from"] == 0.01 and f["grids"] == [4096, 16384] and f["inside_bars"]  # 0.0002 <= 0.0018
     # on 2048² a_r falls at mu_T = 3, where that grid no longer resolves rho; it rises where it does
     assert got["grids"] == {2048: {"rises": False, "rises_where_resolved": True, "resolved_up_to": 0.1}}
+
+
+def test_a_r_slope_around_the_extremum_uses_only_points_that_resolve_rho():
+    # a_r rises in log mu_T on the points that resolve rho; the last point (dx = 3 rho) falls, as a
+    # coarse grid's counted area does, and must not enter the slope
+    pts = [(0.001, 0.020, 0.1), (0.003, 0.021, 0.1), (0.01, 0.0215, 0.2), (0.03, 0.0217, 0.3),
+           (0.1, 0.023, 0.5), (3.0, 0.022, 3.0)]
+    rs = [rec(f"g{k}", 4096, v, 1.0, case="challenge-tabor-sweep", tabor=mu, k=k_, b=k_)
+          for k, (mu, v, k_) in enumerate(pts)]
+    got = challenge.a_r_log_slope_around(0.008, rs)
+    assert got["a_r_log_slope_grid"] == 4096 and got["a_r_log_slope_resolved_up_to"] == 0.1
+    slopes = [s["slope"] for s in got["a_r_log_slope"]]
+    assert len(slopes) == 4 and min(slopes) > 0
+    assert slopes[2] == pytest.approx(0.0002 / math.log10(3.0))
+    # no grid's resolved points bracket mu_T = 0.5
+    assert challenge.a_r_log_slope_around(0.5, rs) == {}

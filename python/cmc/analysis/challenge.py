@@ -129,16 +129,23 @@ def mean_gap_extremum(curve, records):
     near = [q["error"] or 0.0 for m, q in pts if out["bracket"][0] <= m <= out["bracket"][1]]
     out["y_sample_error"] = max(near) if near else None
     out["y_total_error"] += out["y_sample_error"] or 0.0
-    # a_r's slope against log mu_T, on one grid (the finest whose sweep brackets the minimum):
-    # neighbouring best estimates may come from different grids, whose step is not a slope.
-    sweeps = [(n, v) for n, v in sorted(grid_sweeps_of(records, "a_r").items())
-              if v[0] and min(v[0]) < out["mu"] < max(v[0]) and len(v[0]) >= 5]
-    if sweeps:
-        n, (mus, ar) = sweeps[-1]
-        mu_s, slope = extremum.log_slope(mus, ar)
-        out["a_r_log_slope_grid"] = n
-        out["a_r_log_slope"] = [{"tabor": float(m), "slope": float(x)} for m, x in zip(mu_s, slope)]
+    out.update(a_r_log_slope_around(out["mu"], records))
     return out
+
+
+def a_r_log_slope_around(mu, records):
+    """a_r's slope against log10 mu_T on one grid: the finest whose sweep, over the mu_T where it
+    resolves rho, brackets mu with five points or more (neighbouring best estimates may come from
+    different grids, whose step is not a slope; where rho is not resolved the counted area errs by
+    a band of pixels along the contact lines). {} where no grid qualifies."""
+    sweeps = [(n, v) for n, v in sorted(grid_sweeps_of(records, "a_r", best.resolved).items())
+              if v[0] and min(v[0]) < mu < max(v[0]) and len(v[0]) >= 5]
+    if not sweeps:
+        return {}
+    n, (mus, ar) = sweeps[-1]
+    mu_s, slope = extremum.log_slope(mus, ar)
+    return {"a_r_log_slope_grid": n, "a_r_log_slope_resolved_up_to": float(max(mus)),
+            "a_r_log_slope": [{"tabor": float(m), "slope": float(x)} for m, x in zip(mu_s, slope)]}
 
 
 def of_physics(records, physics=PHYSICS):
