@@ -204,6 +204,8 @@ REFUSALS = [  # (arguments, what the message must name)
     (["--over", "interaction.tabor="], "--over interaction.tabor=: an empty list"),
     (["--over", "interaction.tabor=1,,2"], "--over interaction.tabor=1,,2: value 2 is empty"),
     (["--over", "interaction.tabor=1,1"], "the value 1 comes twice"),
+    (["--over", "interaction.tabor=1,1.0"], "the value 1.0 (the same as 1) comes twice"),
+    (["--over", "loading.values=[1e4],[10000.0]"], "the value [10000.0] (the same as [1e4]) comes twice"),
     (["--over", "interaction.tabor=1", "--over", "interaction.tabor=2"], "--over interaction.tabor is given twice"),
     (["--over", "tabor=1"], "--over tabor=1: expected section.key=V1,V2"),
     (["--over", "interaction.tabor=[1"], "an unclosed bracket"),

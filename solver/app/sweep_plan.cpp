@@ -6,6 +6,9 @@
 #include <algorithm>
 #include <cctype>
 #include <map>
+#include <optional>
+
+#include <toml++/toml.h>
 
 namespace cmc::app {
 
@@ -45,6 +48,44 @@ std::vector<std::string> split_values(const std::string& list, const std::string
   return values;
 }
 
+// Whether two TOML values mean the same: numbers compared as numbers (1 and 1.0, 1e4 and
+// 10000), arrays and tables element by element, strings and booleans by value.
+bool same_toml(const toml::node& a, const toml::node& b) {
+  if (a.is_number() && b.is_number()) return a.value<double>() == b.value<double>();
+  if (a.is_array() && b.is_array()) {
+    const toml::array &x = *a.as_array(), &y = *b.as_array();
+    if (x.size() != y.size()) return false;
+    for (std::size_t i = 0; i < x.size(); ++i)
+      if (!same_toml(x[i], y[i])) return false;
+    return true;
+  }
+  if (a.is_table() && b.is_table()) {
+    const toml::table &x = *a.as_table(), &y = *b.as_table();
+    if (x.size() != y.size()) return false;
+    for (const auto& [key, value] : x)
+      if (!y.contains(key.str()) || !same_toml(value, *y.get(key.str()))) return false;
+    return true;
+  }
+  if (a.is_string() && b.is_string()) return a.value<std::string>() == b.value<std::string>();
+  if (a.is_boolean() && b.is_boolean()) return a.value<bool>() == b.value<bool>();
+  return false;  // dates and times: compared as written only
+}
+
+// The value V as TOML reads it, or nothing where it does not parse (the run then says why).
+std::optional<toml::table> parsed_value(const std::string& v) {
+  try {
+    return toml::parse("v = " + v);
+  } catch (const toml::parse_error&) {
+    return std::nullopt;
+  }
+}
+
+bool same_value(const std::string& a, const std::string& b) {
+  if (a == b) return true;
+  const auto x = parsed_value(a), y = parsed_value(b);
+  return x && y && same_toml(*x->get("v"), *y->get("v"));
+}
+
 }  // namespace
 
 SweepAxis parse_over(const std::string& argument) {
@@ -61,8 +102,10 @@ SweepAxis parse_over(const std::string& argument) {
     if (axis.values[i].empty())
       throw CaseError("--over " + argument + ": value " + std::to_string(i + 1) + " is empty; expected " + axis.key +
                       "=V1,V2,... with a TOML value between each two commas");
-    if (std::count(axis.values.begin(), axis.values.begin() + long(i), axis.values[i]))
-      throw CaseError("--over " + argument + ": the value " + axis.values[i] + " comes twice");
+    for (std::size_t j = 0; j < i; ++j)
+      if (same_value(axis.values[j], axis.values[i]))
+        throw CaseError("--over " + argument + ": the value " + axis.values[i] +
+                        (axis.values[j] == axis.values[i] ? "" : " (the same as " + axis.values[j] + ")") + " comes twice");
   }
   return axis;
 }
