@@ -57,6 +57,7 @@ cmc_rel_test(resume_truncated_step "CMC_TEST_KILL_AT=step:4 ${CMC_STEPS}; test -
 # are exit 2 before any solve (the case read, its scene built, or cmc validate checking its
 # reference), naming the key and what is expected; nothing is made.
 cmc_rel_test(self_affine_one_point "${CMC_BIN} run ${CMC_ROUGH} --set grid.n=1 --out o 2>err; test $? -eq 2 && grep -q 'a grid of at least 2 x 2 points for a self-affine surface' err && test ! -e o")
+cmc_rel_test(wavy_one_point "${CMC_BIN} run ${CMC_WAVY} --set grid.nx=1 --out o 2>err; test $? -eq 2 && grep -q '\\[surface\\] wavelength: expected at least 2 grid points a wavelength (here 1)' err && test ! -e o")
 cmc_rel_test(tabor_without_curvature "${CMC_BIN} run ${CMAKE_SOURCE_DIR}/cases/challenge/tabor-sweep.toml --set grid.n=2 --out o 2>err; test $? -eq 2 && grep -q '\\[interaction\\] tabor: expected a surface with a radius of curvature' err && test ! -e o")
 cmc_rel_test(reference_on_wrong_surface "${CMC_BIN} validate ${CMC_SPHERE} --set validation.reference=westergaard --out o 2>err; test $? -eq 2 && grep -q '\\[validation\\] reference: \"westergaard\" compares a wavy1d surface' err && test ! -e o")
 cmc_rel_test(quantity_not_in_reference "${CMC_BIN} validate ${CMAKE_SOURCE_DIR}/cases/validation/jkr-tabor5.slow.toml --set 'validation.check=[{quantity=\"penetration\", tolerance=0.1}]' --out o 2>err; test $? -eq 2 && grep -q 'quantity: expected \"force\" or \"pulloff\" (what reference \"jkr\" has), got \"penetration\"' err && test ! -e o")

@@ -60,6 +60,12 @@ void parse_surface(Section s, const GridSpec& grid, SurfaceSpec& sf) {
       const double periods = grid.size_x / sf.wavelength;
       if (grid.periodic && std::abs(periods - std::round(periods)) > 1e-9)
         s.fail("wavelength", "a wavelength that divides the periodic grid size " + std::to_string(grid.size_x));
+      // Fewer than two points a wavelength sample the cosine as a constant: a flat punch.
+      double per_wavelength = grid.nx * sf.wavelength / grid.size_x;
+      if (sf.kind == SurfaceKind::Wavy2d) per_wavelength = std::min(per_wavelength, grid.ny * sf.wavelength / grid.size_y);
+      if (per_wavelength < 2.0)
+        s.fail("wavelength", "at least 2 grid points a wavelength (here " + number_text(per_wavelength) +
+                                 "): a longer wavelength or a larger [grid] n");
       break;
     }
     case SurfaceKind::SelfAffine:
