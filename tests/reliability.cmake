@@ -53,6 +53,10 @@ cmc_rel_test(overflow_tabor "${CMC_BIN} run ${CMAKE_SOURCE_DIR}/cases/challenge/
 set(CMC_STEPS "${CMC_BIN} run ${CMC_HARDWALL} --set grid.n=64 --set loading.values=[1e4,2e4,4e4,8e4,16e4] --out o --quiet")
 cmc_rel_test(resume_truncated_step "CMC_TEST_KILL_AT=step:4 ${CMC_STEPS}; test -e o/.partial/step_0003.h5 && truncate -s 1000 o/.partial/step_0003.h5 && ${CMC_STEPS} --resume 2>err; test $? -eq 2 && grep -q 'step_0003.h5) are damaged: not a readable HDF5 file' err && test ! -e o/summary.json && test -z \"$(ls -A o o/.partial | grep tmp)\" && ${CMC_STEPS} && grep -q '\"status\" : \"converged\"' o/summary.json")
 
+# A step file of another run (here a 32² run's, in a 64² run's .partial/) was merged into
+# result.h5 and the run ended "converged": refused like a damaged one.
+cmc_rel_test(resume_step_of_other_grid "CMC_TEST_KILL_AT=step:4 ${CMC_STEPS}; CMC_TEST_KILL_AT=step:4 ${CMC_BIN} run ${CMC_HARDWALL} --set grid.n=32 --set loading.values=[1e4,2e4,4e4,8e4,16e4] --out x --quiet; cp x/.partial/step_0002.h5 o/.partial/step_0002.h5 && ${CMC_STEPS} --resume 2>err; test $? -eq 2 && grep -q \"step_0002/pressure is 32 x 32 points where the run has 64 x 64\" err && test ! -e o/summary.json")
+
 # ---- input errors that were run failures (exit 4 after a solve, or with an internal name)
 # are exit 2 before any solve (the case read, its scene built, or cmc validate checking its
 # reference), naming the key and what is expected; nothing is made.

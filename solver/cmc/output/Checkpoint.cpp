@@ -304,7 +304,7 @@ void Writer::load_partial() {
     std::string missing;
     if (is_root())
       for (const StepRecord& r : resume_.done)
-        if (missing.empty()) missing = step_file_problem(step_file(r.index), r.index);
+        if (missing.empty()) missing = step_file_problem(step_file(r.index), r.index, scene_.grid.nx, scene_.grid.ny);
     broadcast(missing);
     if (!missing.empty()) throw CaseError(missing + ": the partial run cannot be finished; run without --resume");
   }

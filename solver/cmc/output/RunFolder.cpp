@@ -54,7 +54,20 @@ void clear_earlier_results(const fs::path& dir) {
       if (e.is_regular_file(ec) && std::regex_match(e.path().filename().string(), temporary)) fs::remove(e.path(), ec);
 }
 
-std::string step_file_problem(const fs::path& file, int index) {
+namespace {
+// The dimensions of a two-dimensional dataset, or {0, 0} for anything else.
+std::pair<hsize_t, hsize_t> dataset_dims(hid_t file, const std::string& path) {
+  H5Handle d(H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose);
+  if (!d.ok()) return {0, 0};
+  H5Handle space(H5Dget_space(d), H5Sclose);
+  hsize_t dims[2] = {0, 0};
+  if (!space.ok() || H5Sget_simple_extent_ndims(space) != 2 || H5Sget_simple_extent_dims(space, dims, nullptr) != 2)
+    return {0, 0};
+  return {dims[0], dims[1]};
+}
+}  // namespace
+
+std::string step_file_problem(const fs::path& file, int index, int nx, int ny) {
   const std::string which = "the fields of step " + std::to_string(index) + " (" + file.string() + ")";
   std::error_code ec;
   if (!fs::exists(file, ec)) return which + " are missing";
@@ -66,6 +79,12 @@ std::string step_file_problem(const fs::path& file, int index) {
   for (const std::string& path : {std::string(name), std::string(name) + "/pressure", std::string(name) + "/gap",
                                   std::string(name) + "/displacement"})
     if (H5Lexists(f, path.c_str(), H5P_DEFAULT) <= 0) return which + " are damaged: no " + path + " in it";
+  for (const char* field : {"pressure", "gap", "displacement"}) {
+    const auto [rows, columns] = dataset_dims(f, std::string(name) + "/" + field);
+    if (rows != hsize_t(ny) || columns != hsize_t(nx))
+      return which + " are not this run's: " + name + "/" + field + " is " + std::to_string(columns) + " x " +
+             std::to_string(rows) + " points where the run has " + std::to_string(nx) + " x " + std::to_string(ny);
+  }
   return "";
 }
 

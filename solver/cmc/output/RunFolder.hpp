@@ -26,9 +26,9 @@ void check_earlier_results(const std::filesystem::path& dir);
 void clear_earlier_results(const std::filesystem::path& dir);
 
 // Why the fields file of a finished step cannot be used to finish a resumed run (empty:
-// it can): missing, not a readable HDF5 file (truncated, damaged), or without the step's
-// group `step_NNNN`.
-std::string step_file_problem(const std::filesystem::path& file, int index);
+// it can): missing, not a readable HDF5 file (truncated, damaged), without the step's
+// group `step_NNNN`, or with fields of another grid than the run's nx x ny.
+std::string step_file_problem(const std::filesystem::path& file, int index, int nx, int ny);
 
 // The text of DIR/INCOMPLETE: what the folder holds and how to continue the run.
 std::string incomplete_text(const Case& c, const std::filesystem::path& dir);
