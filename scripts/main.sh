@@ -5,7 +5,7 @@
 #   - the reference load (250 kPa) with and without adhesion (quantities 1, 3, 4, 5, 9);
 #   - with adhesion, the load sweep 12.5 kPa .. 100 MPa, to full contact (quantities 2 and
 #     8), and the Tabor sweep mu_T = 0.001 .. 3 (quantities 6 and 7, 15 values).
-# About 16 min on 2 cores after the build (docs/challenge/README.md). The report opens with the stored best estimates
+# About 8 min on 2 cores after the build (docs/challenge/README.md). The report opens with the stored best estimates
 # (reference/challenge/best_estimates.json: the finest runs the project has, CPU or GPU) and
 # puts these runs beside them; scripts/sweeps.sh and scripts/gpu/reference_plan.py make the
 # runs behind the best estimates.
