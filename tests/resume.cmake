@@ -2,7 +2,7 @@
 # checks): runs stopped by SIGKILL at named test points (CMC_TEST_KILL_AT, not timers) and
 # resumed must equal uninterrupted runs bit for bit; one defect per test, named after it.
 # Each works in its own folder under build/resume-tests/.
-foreach(test kill_anywhere inside_step older_checkpoint stopping_limit stopped_run D1_pulloff D2_jump_scale D3_counters D8_stale_summary)
+foreach(test kill_anywhere observables_only inside_step older_checkpoint stopping_limit stopped_run D1_pulloff D2_jump_scale D3_counters D8_stale_summary)
   add_test(NAME resume.${test}
            COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/tests/resume_test.py $<TARGET_FILE:cmc>
                    ${CMAKE_BINARY_DIR}/resume-tests ${test})

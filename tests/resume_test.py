@@ -46,6 +46,10 @@ TEST is one of
                     with that limit bit for bit (one step stopped after 4 of 7 outer steps,
                     continued to 6 and then to the default; a load sweep whose step 1 stops
                     and whose later steps ran from it, continued with fields written)
+  observables_only  a run without fields (output.fields=false) but with observables writes
+                    result.h5 with each step's observables and nothing else (no heights, no
+                    fields, no result.xdmf); killed between steps and resumed, it equals the
+                    uninterrupted run bit for bit
   D7_lock           a second cmc run / validate / refine on a folder in use stops at once
                     with exit code 4, naming the folder and the first run's process id,
                     and the first run's results are intact
@@ -482,6 +486,26 @@ def test_stopped_run(cmc, work):
     check(left == ["step_0000.h5"], f"load sweep at limit 2: the kept .partial/ holds {left}, expected step 0's only")
     resume(cmc, QUASI_STATIC_CASE, out, *fields)
     compare(ref, out, "load sweep stopped at limit 2, continued to the default limit")
+
+
+def test_observables_only(cmc, work):
+    import h5py
+    case = os.path.join(ROOT, "cases", "challenge", "load-sweep-hardwall.toml")
+    args = ["--set", "grid.n=64", "--set", "loading.values=[1e5,2.5e5,5e5]", "--set", "output.fields=false"]
+    ref, _ = reference(cmc, work, case, *args, name="observables-reference")
+    check(not os.path.exists(os.path.join(ref, "result.xdmf")), "a run without fields wrote result.xdmf")
+    with h5py.File(os.path.join(ref, "result.h5"), "r") as f:
+        check("heights" not in f, "a run without fields wrote the heights into result.h5")
+        for k in range(3):
+            g = f"step_{k:04d}"
+            check(f"{g}/observables/gap_hist_density" in f and f"{g}/observables/stress_spectrum_C" in f,
+                  f"result.h5 has no observables for {g}")
+            check(f"{g}/pressure" not in f, f"a run without fields wrote {g}/pressure")
+    out = os.path.join(work, "k-observables")
+    shutil.rmtree(out, ignore_errors=True)
+    if interrupted(cmc, case, out, "step:2", *args):
+        resume(cmc, case, out, *args)
+        compare(ref, out, "a run without fields killed between steps 1 and 2, resumed")
 
 
 def test_D7_lock(cmc, work):

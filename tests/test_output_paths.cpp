@@ -127,7 +127,7 @@ TEST(RunFolder, ReplacesOnlyItsOwnResults) {
 
 TEST(RunFolder, DamagedStepFilesAreNamed) {
   const fs::path d = fresh_dir("steps");
-  EXPECT_NE(step_file_problem(d / "step_0003.h5", 3, 64, 64).find("are missing"), std::string::npos);
+  EXPECT_NE(step_file_problem(d / "step_0003.h5", 3, 64, 64, true).find("are missing"), std::string::npos);
   std::ofstream(d / "step_0003.h5") << std::string(1000, 'x');  // as a truncated file
-  EXPECT_NE(step_file_problem(d / "step_0003.h5", 3, 64, 64).find("not a readable HDF5 file"), std::string::npos);
+  EXPECT_NE(step_file_problem(d / "step_0003.h5", 3, 64, 64, true).find("not a readable HDF5 file"), std::string::npos);
 }

@@ -300,11 +300,12 @@ void Writer::load_partial() {
   for (const auto& what : diff.limits_changed)
     notice("has another stopping limit, " + what + " (the run continues its path and stops at the new limit)");
   if (const auto* path = t["path"].as_table()) read_path(*path, f, scene_.grid, resume_, file);
-  if (case_.write_fields) {
+  if (writes_step_files()) {
     std::string missing;
     if (is_root())
       for (const StepRecord& r : resume_.done)
-        if (missing.empty()) missing = step_file_problem(step_file(r.index), r.index, scene_.grid.nx, scene_.grid.ny);
+        if (missing.empty())
+          missing = step_file_problem(step_file(r.index), r.index, scene_.grid.nx, scene_.grid.ny, case_.write_fields);
     broadcast(missing);
     if (!missing.empty()) throw CaseError(missing + ": the partial run cannot be finished; run without --resume");
   }

@@ -14,7 +14,8 @@ namespace cmc {
 namespace fs = std::filesystem;
 using namespace h5;
 
-void write_step_file(const fs::path& tmp, const StepRecord& rec, const ContactState& st, const Scene& s) {
+void write_step_file(const fs::path& tmp, const StepRecord& rec, const ContactState& st, const Scene& s,
+                     bool fields) {
   const bool root = is_root();
   H5Handle file, grp;
   const Units& u = s.units;
@@ -26,9 +27,11 @@ void write_step_file(const fs::path& tmp, const StepRecord& rec, const ContactSt
     grp = H5Handle(H5Gcreate2(file, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
     check(grp, std::string("group ") + name);
   }
-  dataset(grp, "pressure", s.grid, st.pressure, u.pressure_pa, "Pa", "interfacial pressure, compressive > 0");
-  dataset(grp, "displacement", s.grid, st.displacement, u.length_m, "m", "surface displacement into the solid");
-  dataset(grp, "gap", s.grid, st.gap, u.length_m, "m", "interfacial gap g = h - penetration + u");
+  if (fields) {
+    dataset(grp, "pressure", s.grid, st.pressure, u.pressure_pa, "Pa", "interfacial pressure, compressive > 0");
+    dataset(grp, "displacement", s.grid, st.displacement, u.length_m, "m", "surface displacement into the solid");
+    dataset(grp, "gap", s.grid, st.gap, u.length_m, "m", "interfacial gap g = h - penetration + u");
+  }
   if (!root) return;
   attr_double(grp, "mean_pressure", rec.mean_pressure);
   attr_double(grp, "penetration", rec.penetration);
@@ -44,7 +47,7 @@ void write_step_file(const fs::path& tmp, const StepRecord& rec, const ContactSt
 }
 
 void write_result_file(const fs::path& tmp, const Case& c, const Scene& s, const std::vector<StepRecord>& steps,
-                       const std::vector<fs::path>& step_files) {
+                       const std::vector<fs::path>& step_files, bool fields) {
   H5Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
   if (!file.ok()) throw std::runtime_error(tmp.string() + ": cannot create the HDF5 file");
   const Units& u = s.units;
@@ -57,13 +60,14 @@ void write_result_file(const fs::path& tmp, const Case& c, const Scene& s, const
   attr_double(root, "size_x", u.to_m(g.lx));
   attr_double(root, "size_y", u.to_m(g.ly));
   attr_string(root, "length_units", "m");
-  dataset(root, "heights", g, s.topography.heights, u.length_m, "m",
-          "indenter heights h (gap g = h - penetration + u)");
+  if (fields)
+    dataset(root, "heights", g, s.topography.heights, u.length_m, "m",
+            "indenter heights h (gap g = h - penetration + u)");
   for (std::size_t k = 0; k < steps.size(); ++k) {
     const StepRecord& r = steps[k];
     const fs::path& from = step_files[k];
     H5Handle src(H5Fopen(from.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
-    if (!src.ok()) throw std::runtime_error(from.string() + ": the fields of step " + std::to_string(r.index) +
+    if (!src.ok()) throw std::runtime_error(from.string() + ": the results of step " + std::to_string(r.index) +
                                             " are missing");
     char name[32];
     std::snprintf(name, sizeof name, "step_%04d", r.index);

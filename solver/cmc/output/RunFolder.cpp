@@ -67,8 +67,8 @@ std::pair<hsize_t, hsize_t> dataset_dims(hid_t file, const std::string& path) {
 }
 }  // namespace
 
-std::string step_file_problem(const fs::path& file, int index, int nx, int ny) {
-  const std::string which = "the fields of step " + std::to_string(index) + " (" + file.string() + ")";
+std::string step_file_problem(const fs::path& file, int index, int nx, int ny, bool fields) {
+  const std::string which = std::string(fields ? "the fields" : "the observables") + " of step " + std::to_string(index) + " (" + file.string() + ")";
   std::error_code ec;
   if (!fs::exists(file, ec)) return which + " are missing";
   H5Quiet quiet;
@@ -76,7 +76,9 @@ std::string step_file_problem(const fs::path& file, int index, int nx, int ny) {
   if (!f.ok()) return which + " are damaged: not a readable HDF5 file (truncated?)";
   char name[32];
   std::snprintf(name, sizeof name, "step_%04d", index);
-  for (const std::string& path : {std::string(name), std::string(name) + "/pressure", std::string(name) + "/gap",
+  if (H5Lexists(f, name, H5P_DEFAULT) <= 0) return which + " are damaged: no " + name + " in it";
+  if (!fields) return "";
+  for (const std::string& path : {std::string(name) + "/pressure", std::string(name) + "/gap",
                                   std::string(name) + "/displacement"})
     if (H5Lexists(f, path.c_str(), H5P_DEFAULT) <= 0) return which + " are damaged: no " + path + " in it";
   for (const char* field : {"pressure", "gap", "displacement"}) {

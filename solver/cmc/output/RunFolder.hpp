@@ -25,10 +25,11 @@ namespace cmc {
 void check_earlier_results(const std::filesystem::path& dir);
 void clear_earlier_results(const std::filesystem::path& dir);
 
-// Why the fields file of a finished step cannot be used to finish a resumed run (empty:
+// Why the results file of a finished step cannot be used to finish a resumed run (empty:
 // it can): missing, not a readable HDF5 file (truncated, damaged), without the step's
-// group `step_NNNN`, or with fields of another grid than the run's nx x ny.
-std::string step_file_problem(const std::filesystem::path& file, int index, int nx, int ny);
+// group `step_NNNN`, or, when the run writes `fields`, without them or with fields of
+// another grid than the run's nx x ny.
+std::string step_file_problem(const std::filesystem::path& file, int index, int nx, int ny, bool fields);
 
 // The text of DIR/INCOMPLETE: what the folder holds and how to continue the run.
 std::string incomplete_text(const Case& c, const std::filesystem::path& dir);

@@ -100,11 +100,11 @@ void Writer::add_step(const StepRecord& rec, const ContactState& st) {
   // From the first step stopped at its limit on, the checkpoint stays where it is: the
   // last one before that stop, from which a larger limit continues (finish() keeps it).
   if (stopped_step_ < 0 && stopped_at_limit(rec)) stopped_step_ = rec.index;
-  if (case_.write_fields) {
-    // The step's fields in a file of its own, written atomically: kept only when a
-    // checkpoint names the step (a step redone after an interruption replaces it). In a
-    // distributed run every rank sends rank 0 its slabs (`tmp` is rank 0's).
-    auto fill = [&](const fs::path& tmp) { write_step_file(tmp, rec, st, scene_); };
+  if (writes_step_files()) {
+    // The step's fields and observables in a file of its own, written atomically: kept only
+    // when a checkpoint names the step (a step redone after an interruption replaces it). In
+    // a distributed run every rank sends rank 0 its slabs (`tmp` is rank 0's).
+    auto fill = [&](const fs::path& tmp) { write_step_file(tmp, rec, st, scene_, case_.write_fields); };
     if (is_root()) write_output_file(step_file(rec.index), fill);
     else fill({});
   }
@@ -214,14 +214,15 @@ void Writer::finish(const RunSummary& run, const toml::table& extra) {
     if (case_.write_fields) h5::dataset(-1, "heights", scene_.grid, scene_.topography.heights, 1.0, "", "");
     return;
   }
-  if (case_.write_fields) {
-    // result.h5: the heights, then every step's group copied from its file; result.xdmf.
+  if (writes_step_files()) {
+    // result.h5: the heights, then every step's group copied from its file; result.xdmf
+    // where there are fields for ParaView to show.
     std::vector<fs::path> step_files;
     for (const auto& r : run.steps) step_files.push_back(step_file(r.index));
     write_output_file(dir_ / "result.h5", [&](const fs::path& tmp) {
-      write_result_file(tmp, case_, scene_, run.steps, step_files);
+      write_result_file(tmp, case_, scene_, run.steps, step_files, case_.write_fields);
     });
-    write_output_text(dir_ / "result.xdmf", xdmf_text(run.steps, scene_));
+    if (case_.write_fields) write_output_text(dir_ / "result.xdmf", xdmf_text(run.steps, scene_));
   }
   // Says which limit stopped it: a resume must raise that limit (load_partial). The fields
   // of the stopped step and those after it are in result.h5; a resume redoes them.

@@ -68,7 +68,8 @@ class Writer {
   // run goes on from and its load path's walk (null: none), replacing the last checkpoint.
   // `inside`: where the next step's solve stands (its state is then not written).
   void checkpoint(const ContactState& st, const PathState* path, const OuterPoint* inside = nullptr);
-  // Write summary.json (+ result.h5, result.xdmf when fields were written) and move
+  // Write summary.json (+ result.h5 when fields or observables were written, result.xdmf
+  // when fields were) and move
   // them into place. `extra` entries are merged into the summary's top level.
   void finish(const RunSummary& run, const toml::table& extra = {});
   // A run that failed: summary.json with status "failed" and the message, no fields.
@@ -90,6 +91,8 @@ class Writer {
   std::string fft_plans() const;  // where the transforms ran (summary.json grid.fft_plans)
   void load_partial();
   std::filesystem::path step_file(int index) const;
+  // Whether the steps go into result.h5: with their fields, or with observables alone.
+  bool writes_step_files() const { return case_.write_fields || case_.observables.enabled; }
   // Whether `rec` is a quasi-static solve stopped at the case's outer-step limit.
   bool stopped_at_limit(const StepRecord& rec) const;
   OutputLock lock_;
