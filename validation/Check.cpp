@@ -37,6 +37,8 @@ std::string coverage_reason(const Report& r) {
          "% is needed (" + v.coverage_source + ")";
 }
 
+void stored_reference(const Options& o, Report& r);
+
 // The options' consistency and the reference file: --reference, else the stored one of a
 // challenge quantity (--quantity), which must exist.
 void resolve_reference(const Options& o, bool challenge, Report& r) {
@@ -49,17 +51,35 @@ void resolve_reference(const Options& o, bool challenge, Report& r) {
   if (o.adhesionless && !(challenge && r.reference_file.empty()))
     throw InputError("--adhesionless chooses the stored adhesionless reference of a challenge quantity: give it with "
                      "--quantity Q and without --reference");
-  if (challenge && r.reference_file.empty()) {
-    r.reference_file = default_reference_path(o.quantity, o.adhesionless);
-    std::error_code ec;
-    if (!std::filesystem::exists(r.reference_file, ec))
-      throw InputError("no stored " + std::string(o.adhesionless ? "adhesionless " : "") + "reference for quantity '" +
-                       o.quantity + "' yet (" + r.reference_file + " does not exist" +
-                       (o.adhesionless ? "; the Tabor-parameter quantities have none, the Tabor parameter being one "
-                                         "of adhesion"
-                                       : "; challenge reference curves come from cmc runs") +
-                       "): pass --reference FILE");
+  if (!o.against.empty() && !(challenge && r.reference_file.empty()))
+    throw InputError("--against chooses which stored reference of a challenge quantity to score against: give it "
+                     "with --quantity Q and without --reference");
+  if (!o.against.empty() && o.against != "surface" && o.against != "ensemble" && o.against != "realisation")
+    throw InputError("--against " + o.against + ": expected surface, ensemble or realisation");
+  if (challenge && r.reference_file.empty()) stored_reference(o, r);
+}
+
+// The stored reference of a challenge quantity for the question asked (--against), or for a
+// prediction whose surface is not stated: the realisation reference where it exists, else
+// cmc's own surface, with a note.
+void stored_reference(const Options& o, Report& r) {
+  std::error_code ec;
+  r.against = o.against.empty() ? "realisation" : o.against;
+  r.reference_file = default_reference_path(o.quantity, o.adhesionless, r.against);
+  if (o.against.empty() && !std::filesystem::exists(r.reference_file, ec)) {
+    r.against = "surface";
+    r.reference_file = default_reference_path(o.quantity, o.adhesionless, r.against);
+    r.notes.push_back("no realisation reference is stored for this quantity: scored against cmc's own surface "
+                      "(--against surface), whose band is numerical only");
   }
+  if (!std::filesystem::exists(r.reference_file, ec))
+    throw InputError("no stored " + std::string(o.adhesionless ? "adhesionless " : "") +
+                     (r.against == "surface" ? "" : r.against + " ") + "reference for quantity '" + o.quantity +
+                     "' yet (" + r.reference_file + " does not exist" +
+                     (o.adhesionless ? "; the Tabor-parameter quantities have none, the Tabor parameter being one "
+                                       "of adhesion"
+                                     : "; challenge reference curves come from cmc runs") +
+                     "): pass --reference FILE" + (r.against == "surface" ? "" : " or another --against"));
 }
 
 // The quantity the reference curve holds: the challenge quantity asked for, or a generic
@@ -165,6 +185,7 @@ Report run_check(const Options& o) {
   reference_spec(o, challenge, ref_table, ref_curve, r);
   const auto [min_coverage, coverage_source] = coverage_rule(o, challenge, ref_table, r);
   r.ref = extract(ref_table, r.spec, ref_curve.band);
+  if (!ref_curve.band.empty()) r.band_words = ref_curve.estimated_error;
   std::tie(r.prediction, r.metrics) = score_prediction(o.prediction, o.columns, r.spec, r.ref);
 
   r.verdict = tolerance_verdict(o, challenge, ref_curve, r);
@@ -204,6 +225,8 @@ std::string report_json(const Report& r) {
       {"challenge_item", r.spec.item},
       {"prediction_file", r.prediction_file},
       {"reference_file", r.reference_file},
+      {"against", r.against},
+      {"band_words", r.band_words},
       {"reference_name", r.reference_name},
       {"reference_source", r.reference_source},
       {"representation", representation_name(r.spec.rep)},
@@ -258,6 +281,18 @@ std::string report_json(const Report& r) {
   return cmc::to_json(t);
 }
 
+namespace {
+// What each stored reference answers (--against), for the report.
+std::string question_words(const std::string& against) {
+  if (against == "ensemble") return "ensemble: the mean over all surfaces of the spectrum (for a theory)";
+  if (against == "realisation")
+    return "realisation: any one surface of the spectrum, e.g. the organisers' (for a run on a surface of its own)";
+  return "surface: cmc's own realisation of the spectrum (for a run on the surface cmc surface --write gives)";
+}
+
+std::string shortened(const std::string& s, std::size_t n) { return s.size() <= n ? s : s.substr(0, n) + " ..."; }
+}  // namespace
+
 std::string report_text(const Report& r) {
   const Metrics& m = r.metrics;
   std::ostringstream s;
@@ -267,6 +302,8 @@ std::string report_text(const Report& r) {
   s << "prediction      " << r.prediction_file << "  [" << r.prediction.x_column << ", " << r.prediction.y_column
     << "]\n";
   s << "reference       " << r.reference_file << "  [" << r.ref.x_column << ", " << r.ref.y_column << "]\n";
+  if (!r.against.empty()) s << "against         " << question_words(r.against) << "\n";
+  if (!r.band_words.empty()) s << "its band        " << shortened(r.band_words, 400) << "\n";
   s << "representation  " << representation_name(r.spec.rep) << "; common range " << r.spec.x.label << " "
     << fmt(m.x_lo) << " .. " << fmt(m.x_hi) << " " << axis_unit(r.spec, true) << " (" << fmt(100 * m.coverage)
     << "% of the reference), " << m.points << " points\n";

@@ -169,6 +169,8 @@ Verdict verdict(const Metrics& m, double tolerance, const std::string& metric, c
 struct Report {
   QuantitySpec spec;
   std::string prediction_file, reference_file, reference_name, reference_source;
+  std::string against;  // which question the stored reference answers (surface, ensemble, realisation); "" for --reference
+  std::string band_words;  // how the reference's band was made (its estimated_error), for the verdict
   XY prediction, ref;
   Metrics metrics;
   Verdict verdict;
@@ -186,11 +188,18 @@ struct Options {
   std::optional<double> tolerance, min_coverage;  // min_coverage in [0, 1]
   std::vector<std::string> columns;  // names for the prediction's columns (--columns)
   bool adhesionless = false;  // --adhesionless: the stored adhesionless reference of the quantity
+  // --against: which stored reference of a challenge quantity: "surface" (cmc's own surface,
+  // reference/challenge/), "ensemble" (the mean over surfaces of the spectrum, .../ensemble/) or
+  // "realisation" (any one surface of it, .../realisation/); "" is "realisation" where that
+  // reference exists, else "surface".
+  std::string against;
 };
 Report run_check(const Options& o);
 
 // Path of the stored reference for a challenge quantity.
 // adhesionless: the challenge's surface under the hard wall alone (reference/challenge/adhesionless/).
-std::string default_reference_path(const std::string& quantity, bool adhesionless = false);
+// against: "surface" (or ""), "ensemble" or "realisation" (Options::against).
+std::string default_reference_path(const std::string& quantity, bool adhesionless = false,
+                                   const std::string& against = "surface");
 
 }  // namespace cmc::check

@@ -243,9 +243,10 @@ QuantitySpec generic_spec(const std::string& quantity, const std::string& x, con
   return s;
 }
 
-std::string default_reference_path(const std::string& quantity, bool adhesionless) {
-  return reference::default_reference_dir() + (adhesionless ? "/challenge/adhesionless/" : "/challenge/") + quantity +
-         ".csv";
+std::string default_reference_path(const std::string& quantity, bool adhesionless, const std::string& against) {
+  const std::string question = against.empty() || against == "surface" ? "" : against + "/";
+  return reference::default_reference_dir() + "/challenge/" + question + (adhesionless ? "adhesionless/" : "") +
+         quantity + ".csv";
 }
 
 // ============================================================================ extraction

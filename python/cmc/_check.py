@@ -61,7 +61,7 @@ def _columns(prediction):
 
 
 def check(prediction, quantity=None, *, reference=None, tolerance=None, metric=None, min_coverage=None,
-          adhesionless=False):
+          adhesionless=False, against=None):
     """Score a prediction against a reference curve, as ``cmc check`` does.
 
     `prediction`: a CSV file (the columns ``cmc check --help`` and reference/README.md
@@ -70,7 +70,8 @@ def check(prediction, quantity=None, *, reference=None, tolerance=None, metric=N
     "contact_area_vs_pressure")``. `quantity`: the challenge quantity (its stored reference
     is reference/challenge/QUANTITY.csv), needed for data; `reference`: another reference
     file instead. `tolerance`, `metric`, `min_coverage`, `adhesionless`: as the options of
-    ``cmc check``.
+    ``cmc check``; `against`: which stored reference ("surface", "ensemble" or "realisation";
+    None: as ``cmc check`` without ``--against``).
 
     Returns a :class:`CheckReport`; bad input raises :class:`cmc.InputError` naming the file
     (or the prediction's row), column and what was expected.
@@ -78,7 +79,8 @@ def check(prediction, quantity=None, *, reference=None, tolerance=None, metric=N
     args = ("" if quantity is None else str(quantity),
             "" if reference is None else path_text(reference, "reference"),
             None if tolerance is None else float(tolerance), "" if metric is None else str(metric),
-            None if min_coverage is None else float(min_coverage), bool(adhesionless))
+            None if min_coverage is None else float(min_coverage), bool(adhesionless),
+            "" if against is None else str(against))
     if isinstance(prediction, (str, os.PathLike)):
         json_text, text = _core.check(path_text(prediction, "prediction"), *args)
         return CheckReport(json.loads(json_text), text)

@@ -28,10 +28,10 @@ std::string si_column(const ck::AxisSpec& a) {
 // without writing anything: check.json's content as JSON text, and the printed summary.
 py::tuple check(const std::string& prediction, const std::string& quantity, const std::string& reference,
                 std::optional<double> tolerance, const std::string& metric, std::optional<double> min_coverage,
-                bool adhesionless) {
+                bool adhesionless, const std::string& against) {
   const ck::Options o{.prediction = prediction, .quantity = quantity, .reference_file = reference, .x = {}, .y = {},
                       .metric = metric, .tolerance = tolerance, .min_coverage = min_coverage, .columns = {},
-                      .adhesionless = adhesionless};
+                      .adhesionless = adhesionless, .against = against};
   ck::Report r;
   {
     py::gil_scoped_release free;
@@ -44,7 +44,7 @@ py::tuple check(const std::string& prediction, const std::string& quantity, cons
 
 void bind_check(py::module_& m) {
   m.def("check", &check, py::arg("prediction"), py::arg("quantity"), py::arg("reference"), py::arg("tolerance"),
-        py::arg("metric"), py::arg("min_coverage"), py::arg("adhesionless"),
+        py::arg("metric"), py::arg("min_coverage"), py::arg("adhesionless"), py::arg("against"),
         "Score a prediction file: (check.json as JSON text, the summary `cmc check` prints).");
   m.def(
       "check_columns",

@@ -20,8 +20,8 @@ extern char** environ;
 namespace cmc::app {
 
 namespace {
-const char* kCheckHelp = R"(usage: cmc check PREDICTION.csv --quantity Q [--adhesionless] [--reference FILE] [--out DIR]
-                 [--tolerance T] [--metric M] [--min-coverage F] [--columns A,B,...]
+const char* kCheckHelp = R"(usage: cmc check PREDICTION.csv --quantity Q [--adhesionless] [--against WHICH] [--reference FILE]
+                 [--out DIR] [--tolerance T] [--metric M] [--min-coverage F] [--columns A,B,...]
        cmc check PREDICTION.csv --reference FILE [--x COL --y COL] [--out DIR] ...
        cmc check --list
 
@@ -47,6 +47,16 @@ Extra columns are ignored; rows may run up or down the abscissa.
   --adhesionless  with --quantity: score against the same surface without adhesion
                   (hard wall; reference/challenge/adhesionless/Q.csv), for the
                   quantities that have one (not those against the Tabor parameter)
+  --against WHICH with --quantity: which question the prediction answers, and so which
+                  stored reference it is scored against:
+                    surface      cmc's own surface (reference/challenge/Q.csv): a run
+                                 on the surface `cmc surface --write` gives
+                    ensemble     the mean over all surfaces of the spectrum
+                                 (reference/challenge/ensemble/Q.csv): a theory
+                    realisation  any one surface of the spectrum, e.g. the organisers'
+                                 (reference/challenge/realisation/Q.csv): a run on
+                                 another surface; the default where that reference
+                                 exists (else surface, and the report says so)
   --reference F   the reference curve (cmc reference CSV format); without
                   --quantity the columns are matched by name (--x/--y, default the
                   reference's x and y) and no units are converted
@@ -143,7 +153,8 @@ int cmd_check(int argc, char** argv) {
     else rest.push_back(argv[i]);
   }
   const Args a = parse_args(int(rest.size()), rest.data(), 2,
-                            {"--quantity", "--reference", "--tolerance", "--metric", "--x", "--y", "--min-coverage", "--columns"});
+                            {"--quantity", "--reference", "--tolerance", "--metric", "--x", "--y", "--min-coverage", "--columns",
+                             "--against"});
   if (a.help) return std::fputs(kCheckHelp, stdout), kOk;
   if (list) return list_quantities(), kOk;
   if (!a.overrides.empty()) throw CaseError("cmc check takes no --set (see cmc check --help)");
@@ -153,6 +164,7 @@ int cmd_check(int argc, char** argv) {
   o.prediction = a.positional[0];
   o.quantity = a.option("--quantity");
   o.adhesionless = adhesionless;
+  o.against = a.option("--against");
   o.reference_file = a.option("--reference");
   o.metric = a.option("--metric");
   o.x = a.option("--x");
