@@ -1,0 +1,176 @@
+"""The challenge over many realisations of its spectrum: for each row of a curve (a load, or a
+mu_T), the ensemble mean over surfaces, its standard error, and the spread of one realisation,
+from runs that differ only in surface.seed (scripts/ensemble.py makes them, and
+scripts/ensemble_store.py stores them in reference/challenge/ensemble/runs.json).
+
+Three questions, three references (docs/user-guide/checking-predictions.md):
+- "surface": cmc's own realisation (seed 28), the best estimates: numerical bands only;
+- "ensemble": the mean over all surfaces of the spectrum, for a theory; band = the numerical
+  error (transferred from seed 28's refinement) combined in quadrature with twice the standard
+  error of the mean (95 % confidence for 30 or more seeds);
+- "realisation": what a single surface of the spectrum gives, e.g. the organisers' own; band =
+  the numerical error combined with the half-width of the 95 % prediction interval of a new
+  surface, t(0.975, m-1) s sqrt(1 + 1/m) for m seeds of standard deviation s (Student's t; e.g.
+  Hahn & Meeker, Statistical Intervals, Wiley 1991, section 4.4).
+
+The ensemble's runs are made on a coarser grid than the best estimates (2048²). Each row's value
+is carried to the best estimate's grid by seed 28's own factor, best estimate / seed 28's value
+on the ensemble's grid (the grid correction), whose error is the best estimate's relative error;
+transfer_check tests that a grid's factor is the same on other seeds.
+"""
+import math
+from dataclasses import dataclass
+from typing import Dict, Iterable, List, Optional, Sequence, Tuple
+
+Z975 = 1.959963984540054  # the standard normal's 97.5 % quantile
+OWN_SEED = 28  # cmc's own realisation (cases/challenge/challenge-base.toml)
+
+
+def t975(df: int) -> float:
+    """Student's t 97.5 % quantile for df degrees of freedom, by the Cornish-Fisher expansion
+    (Abramowitz & Stegun 26.7.5), within 2e-4 of the exact value for df >= 5."""
+    if df < 1:
+        raise ValueError("t975 needs at least one degree of freedom")
+    z = Z975
+    g1 = (z ** 3 + z) / 4
+    g2 = (5 * z ** 5 + 16 * z ** 3 + 3 * z) / 96
+    g3 = (3 * z ** 7 + 19 * z ** 5 + 17 * z ** 3 - 15 * z) / 384
+    g4 = (79 * z ** 9 + 776 * z ** 7 + 1482 * z ** 5 - 1920 * z ** 3 - 945 * z) / 92160
+    return z + g1 / df + g2 / df ** 2 + g3 / df ** 3 + g4 / df ** 4
+
+
+@dataclass(frozen=True)
+class RowStats:
+    """One row over the seeds: m values, their mean, standard deviation (m - 1), the standard
+    error of the mean, and the half-width of the 95 % prediction interval for one more surface."""
+    x: float
+    m: int
+    mean: float
+    std: float
+    stderr: float
+    prediction: float
+    seeds: Tuple[int, ...]
+
+
+def row_stats(x: float, values: Dict[int, float]) -> Optional[RowStats]:
+    """The statistics of one row from {seed: value}; None with fewer than 3 finite values."""
+    vals = {s: v for s, v in values.items() if isinstance(v, (int, float)) and math.isfinite(v)}
+    m = len(vals)
+    if m < 3:
+        return None
+    mean = sum(vals.values()) / m
+    std = math.sqrt(sum((v - mean) ** 2 for v in vals.values()) / (m - 1))
+    return RowStats(x=x, m=m, mean=mean, std=std, stderr=std / math.sqrt(m),
+                    prediction=t975(m - 1) * std * math.sqrt(1 + 1 / m), seeds=tuple(sorted(vals)))
+
+
+def _same(a: float, b: float, tol: float = 0.01) -> bool:
+    return abs(a / b - 1) <= tol if b else a == b
+
+
+def table(records: Iterable[dict], key: str, x_key: str, seeds: Optional[Sequence[int]] = None
+          ) -> List[Tuple[float, Dict[int, float]]]:
+    """[(x, {seed: value})] of converged points, x ascending (points within 1 % are one row):
+    x_key "pressure_Pa" takes every step of the records' load sweeps, "tabor" each record's
+    mu_T; key is a record key ("a_r", "a_rep", "mean_gap_m", or "mean_gap_over_h_rms")."""
+    rows: List[Tuple[float, Dict[int, float]]] = []
+    for r in records:
+        seed = (r.get("physics") or {}).get("surface.seed")
+        if seed is None or (seeds is not None and seed not in seeds):
+            continue
+        for pt in _points(r):
+            if not pt.get("converged") or pt.get(x_key) is None:
+                continue
+            v = _value(pt, r, key)
+            if v is None:
+                continue
+            row = next((vals for x, vals in rows if _same(pt[x_key], x)), None)
+            if row is None:
+                row = {}
+                rows.append((pt[x_key], row))
+            row[seed] = v
+    return sorted(rows, key=lambda xr: xr[0])
+
+
+def _points(r: dict) -> List[dict]:
+    """A record's points: its sweep's steps, or the run itself."""
+    if r.get("steps"):
+        return [dict(s, tabor=r.get("tabor")) for s in r["steps"]]
+    return [{"pressure_Pa": r.get("pressure_Pa"), "tabor": r.get("tabor"), "a_r": r.get("a_r"),
+             "a_rep": r.get("a_rep"), "mean_gap_m": r.get("mean_gap_m"), "converged": r.get("status") == "converged"}]
+
+
+def _value(pt: dict, r: dict, key: str) -> Optional[float]:
+    if key == "mean_gap_over_h_rms":
+        g, h = pt.get("mean_gap_m"), r.get("rms_height_m")
+        return g / h if g is not None and h else None
+    return pt.get(key)
+
+
+def stats(records: Iterable[dict], key: str, x_key: str, seeds: Optional[Sequence[int]] = None) -> List[RowStats]:
+    """row_stats of every row of table()."""
+    out = [row_stats(x, vals) for x, vals in table(list(records), key, x_key, seeds)]
+    return [s for s in out if s is not None]
+
+
+@dataclass(frozen=True)
+class Correction:
+    """The grid correction of one row: the factor best / own, and its relative error."""
+    x: float
+    factor: float
+    relative_error: float
+    own: float
+    best: float
+
+
+def correction(x: float, own: Optional[float], best: Optional[float], best_error: Optional[float]
+               ) -> Optional[Correction]:
+    """The factor that carries seed 28's value on the ensemble's grid (own) to its best estimate
+    (best +- best_error); None where a value is missing or own is 0."""
+    if own is None or best is None or best_error is None or not own:
+        return None
+    return Correction(x=x, factor=best / own, relative_error=abs(best_error / best) if best else 0.0,
+                      own=own, best=best)
+
+
+@dataclass(frozen=True)
+class Row:
+    """One row of an ensemble or realisation reference: x, value and band half-width, and how the
+    band is made (relative parts)."""
+    x: float
+    value: float
+    band: float
+    numerical: float
+    statistical: float
+    m: int
+
+
+def reference_rows(rows: Sequence[RowStats], corrections: Sequence[Correction], question: str) -> List[Row]:
+    """The rows of the "ensemble" or "realisation" reference: each row's mean times its grid
+    correction; band = value x (the correction's relative error) (+) the statistical half-width
+    (2 standard errors, or the prediction interval), combined in quadrature. Rows without a
+    correction at their x are left out."""
+    if question not in ("ensemble", "realisation"):
+        raise ValueError(f"question {question!r}: expected ensemble or realisation")
+    out = []
+    for s in rows:
+        c = next((c for c in corrections if _same(c.x, s.x)), None)
+        if c is None or not s.mean:
+            continue
+        value = s.mean * c.factor
+        stat = (2 * s.stderr if question == "ensemble" else s.prediction) / abs(s.mean)
+        rel = math.hypot(c.relative_error, stat)
+        out.append(Row(x=s.x, value=value, band=rel * abs(value), numerical=c.relative_error, statistical=stat, m=s.m))
+    return out
+
+
+def transfer_check(ratios: Dict[int, float], own_seed: int = OWN_SEED) -> Optional[dict]:
+    """Whether a refinement factor (fine / coarse value of one row) measured on seed 28 holds on
+    other seeds: {seed: ratio} with seed 28 among them. Returns the largest relative difference
+    of another seed's factor from seed 28's, or None without seed 28 and one other seed."""
+    if own_seed not in ratios or len(ratios) < 2:
+        return None
+    own = ratios[own_seed]
+    diffs = {s: abs(r / own - 1) for s, r in ratios.items() if s != own_seed}
+    worst = max(diffs, key=diffs.get)
+    return {"own": own, "others": {s: ratios[s] for s in diffs}, "largest": diffs[worst], "seed": worst}

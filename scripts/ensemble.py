@@ -1,0 +1,168 @@
+#!/usr/bin/python3
+"""Run the challenge on many realisations of its surface spectrum (surface.seed), for the
+ensemble and realisation references (python/cmc/analysis/ensemble.py):
+
+    /usr/bin/python3 scripts/ensemble.py --out DIR [--kinds K1,K2,...] [--seeds 1-32] [--holdout 101-110]
+        [--n 2048] [--backend cpu|cuda] [--workers W] [--threads T] [--block B] [--deadline S]
+        [--cmc build/cmc] [--set KEY=VALUE ...] [--dry-run]
+
+Kinds, in the order given (the default is every kind, in the order below):
+  hardwall_load       the hard-wall load sweep (cases/challenge/load-sweep-hardwall.toml), on the
+                      ensemble's seeds and the held-out ones
+  reference_hardwall  the hard wall at 250 kPa with its observables (distributions, spectrum)
+  reference           the same with the challenge's adhesion (cases/challenge/reference-load.toml)
+  load                the adhesive load sweep, plain (cases/challenge/load-sweep.toml)
+  tabor               the Tabor sweep's points (cases/challenge/tabor-values) at 250 kPa
+
+Each unit of work is one kind on a block of B seeds: one `cmc sweep` over surface.seed (and
+interaction.tabor for the Tabor points) into DIR/<kind>/<backend>-n<N>-s<first>-<last>/. W units
+run at a time, each with CMC_THREADS=T. A unit still running at the deadline is stopped; its
+sweep is resumable, so the same command later finishes it and skips what is done. Without fields:
+result.h5 holds the observables alone. Exit 0 when every unit finished, 3 when the deadline
+stopped some, 2 for bad arguments.
+"""
+import argparse
+import os
+import signal
+import subprocess
+import sys
+import time
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
+CASES = {"hardwall_load": "load-sweep-hardwall.toml", "reference_hardwall": "reference-load-hardwall.toml",
+         "reference": "reference-load.toml", "load": "load-sweep.toml", "tabor": "tabor-sweep.toml"}
+HOLDOUT_KINDS = ("hardwall_load",)  # the held-out seeds test the realisation band on the hard-wall curves
+
+
+def tabor_values():
+    """The Tabor sweep's mu_T as written in cases/challenge/tabor-values."""
+    with open(os.path.join(ROOT, "cases", "challenge", "tabor-values")) as f:
+        return [v for line in f if not line.startswith("#") for v in line.split()]
+
+
+def seed_range(text, what):
+    """'1-32' or '1,5,9' (or both, comma-separated) as a sorted list of distinct seeds >= 0."""
+    out = set()
+    try:
+        for part in filter(None, (p.strip() for p in text.split(","))):
+            a, _, b = part.partition("-")
+            lo, hi = int(a), int(b or a)
+            if lo < 0 or hi < lo or hi - lo > 100000:
+                raise ValueError
+            out.update(range(lo, hi + 1))
+    except ValueError:
+        raise SystemExit(f"ensemble: {what} {text!r}: expected seeds like 1-32 or 1,5,9 (whole numbers >= 0)")
+    return sorted(out)
+
+
+def units(kinds, seeds, holdout, block):
+    """[(kind, [seeds])] in the order of the kinds, blocks of `block` seeds."""
+    out = []
+    for kind in kinds:
+        these = seeds + ([s for s in holdout if s not in seeds] if kind in HOLDOUT_KINDS else [])
+        out += [(kind, these[i:i + block]) for i in range(0, len(these), block)]
+    return out
+
+
+def command(a, kind, block):
+    """The cmc sweep of one unit, and its folder."""
+    folder = os.path.join(a.out, kind, f"{a.backend}-n{a.n}-s{block[0]}-{block[-1]}")
+    cmd = [a.cmc, "sweep", os.path.join(ROOT, "cases", "challenge", CASES[kind]), "--out", folder, "--quiet",
+           "--over", "surface.seed=" + ",".join(str(s) for s in block)]
+    if kind == "tabor":
+        cmd += ["--over", "interaction.tabor=" + ",".join(tabor_values())]
+    for kv in [f"grid.n={a.n}", f"grid.backend={a.backend}", "output.fields=false"] + a.set:
+        cmd += ["--set", kv]
+    return cmd, folder
+
+
+def stop(p):
+    """Stop a unit's process group (the sweep and anything it started)."""
+    try:
+        os.killpg(p.pid, signal.SIGTERM)
+        p.wait(timeout=20)
+    except (ProcessLookupError, subprocess.TimeoutExpired):
+        try:
+            os.killpg(p.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+        p.wait()
+
+
+def run_units(a, todo):
+    """Run the units, a.workers at a time, until done or the deadline; returns (finished, stopped)."""
+    t0 = time.monotonic()
+    env = dict(os.environ, CMC_THREADS=str(a.threads))
+    running, finished, stopped = [], [], []
+    while todo or running:
+        left = a.deadline - (time.monotonic() - t0)
+        while todo and len(running) < a.workers and left > 0:
+            kind, block = todo.pop(0)
+            cmd, folder = command(a, kind, block)
+            os.makedirs(os.path.dirname(folder), exist_ok=True)
+            log = open(folder + ".log", "w")
+            p = subprocess.Popen(cmd, stdout=log, stderr=subprocess.STDOUT, env=env, start_new_session=True)
+            running.append((p, kind, block, log, time.monotonic()))
+            print(f"ensemble: started {kind} seeds {block[0]}-{block[-1]} ({left:.0f} s left)", flush=True)
+        for item in list(running):
+            p, kind, block, log, started = item
+            if p.poll() is None and left > 0:
+                continue
+            if p.poll() is None:
+                stop(p)
+                stopped.append((kind, block))
+                print(f"ensemble: stopped {kind} seeds {block[0]}-{block[-1]} at the deadline", flush=True)
+            else:
+                finished.append((kind, block, p.returncode, time.monotonic() - started))
+                print(f"ensemble: {kind} seeds {block[0]}-{block[-1]}: exit {p.returncode} after "
+                      f"{time.monotonic() - started:.0f} s", flush=True)
+            log.close()
+            running.remove(item)
+        if left <= 0:
+            stopped += todo
+            todo = []
+        time.sleep(0.2)
+    return finished, stopped
+
+
+def main(argv):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--out", required=True, help="where the units' sweeps go")
+    ap.add_argument("--kinds", default=",".join(CASES), help="kinds in the order to run them (default: all)")
+    ap.add_argument("--seeds", default="1-32", help="the ensemble's seeds (default %(default)s)")
+    ap.add_argument("--holdout", default="101-110", help="seeds held out of the ensemble (default %(default)s)")
+    ap.add_argument("--n", type=int, default=2048, help="points a side (default %(default)s)")
+    ap.add_argument("--backend", choices=("cpu", "cuda"), default="cpu")
+    ap.add_argument("--workers", type=int, default=1, help="units at a time (default %(default)s)")
+    ap.add_argument("--threads", type=int, default=1, help="CMC_THREADS of each unit (default %(default)s)")
+    ap.add_argument("--block", type=int, default=1, help="seeds per unit (default %(default)s)")
+    ap.add_argument("--deadline", type=float, default=float("inf"), help="seconds for everything (default: none)")
+    ap.add_argument("--cmc", default=os.path.join(ROOT, "build", "cmc"))
+    ap.add_argument("--set", action="append", default=[], help="a case override for every run (as cmc's --set)")
+    ap.add_argument("--dry-run", action="store_true", help="print the units and stop")
+    a = ap.parse_args(argv)
+    kinds = [k.strip() for k in a.kinds.split(",") if k.strip()]
+    bad = [k for k in kinds if k not in CASES]
+    if bad or not kinds or len(set(kinds)) != len(kinds):
+        print(f"ensemble: --kinds {a.kinds!r}: expected distinct kinds among {', '.join(CASES)}", file=sys.stderr)
+        return 2
+    if a.n < 16 or a.workers < 1 or a.threads < 1 or a.block < 1 or not a.deadline > 0:
+        print("ensemble: --n must be >= 16, --workers, --threads and --block >= 1, --deadline > 0", file=sys.stderr)
+        return 2
+    if not a.dry_run and not os.access(a.cmc, os.X_OK):
+        print(f"ensemble: {a.cmc}: no cmc program there (build it, or name it with --cmc)", file=sys.stderr)
+        return 2
+    todo = units(kinds, seed_range(a.seeds, "--seeds"), seed_range(a.holdout, "--holdout"), a.block)
+    if a.dry_run:
+        for kind, block in todo:
+            print(" ".join(command(a, kind, block)[0]))
+        return 0
+    finished, stopped = run_units(a, todo)
+    failed = [f for f in finished if f[2] not in (0, 3)]
+    print(f"ensemble: {len(finished)} units finished ({len(failed)} failed), {len(stopped)} stopped or not started",
+          flush=True)
+    return 1 if failed else 3 if stopped else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

@@ -1,0 +1,66 @@
+"""Unit tests of python/cmc/analysis/ensemble.py, each against a case computed by hand."""
+import math
+import os
+import sys
+
+import pytest
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
+from cmc.analysis import ensemble  # noqa: E402
+
+
+def test_t_quantile_matches_the_tables():
+    # Student's t, 97.5 %: 2.5706 (5), 2.2281 (10), 2.0395 (31), 1.9840 (100); A&S table 26.10
+    for df, t in ((5, 2.5706), (10, 2.2281), (31, 2.0395), (100, 1.9840)):
+        assert ensemble.t975(df) == pytest.approx(t, abs=3e-4)
+    with pytest.raises(ValueError):
+        ensemble.t975(0)
+
+
+def test_row_stats_by_hand():
+    # values 1, 2, 3, 4: mean 2.5, s = sqrt(5/3), se = s/2, prediction t(3) s sqrt(5/4)
+    s = ensemble.row_stats(7.0, {1: 1.0, 2: 2.0, 3: 3.0, 4: 4.0, 5: float("nan")})
+    assert (s.m, s.mean, s.seeds) == (4, 2.5, (1, 2, 3, 4))
+    assert s.std == pytest.approx(math.sqrt(5 / 3)) and s.stderr == pytest.approx(math.sqrt(5 / 3) / 2)
+    assert s.prediction == pytest.approx(ensemble.t975(3) * math.sqrt(5 / 3) * math.sqrt(1.25))
+    assert ensemble.row_stats(1.0, {1: 1.0, 2: 2.0}) is None  # fewer than three surfaces
+
+
+def _sweep(seed, values, h=1e-6):
+    steps = [{"pressure_Pa": p, "a_r": a, "a_rep": a, "mean_gap_m": g, "converged": True} for p, a, g in values]
+    return {"physics": {"surface.seed": seed}, "steps": steps, "rms_height_m": h}
+
+
+def test_table_takes_sweep_steps_and_single_runs_by_seed():
+    recs = [_sweep(1, [(1e5, 0.01, 2e-6), (2.5e5, 0.02, 1e-6)]),
+            _sweep(2, [(1.001e5, 0.011, 2.2e-6), (2.5e5, 0.021, 1.1e-6)], h=2e-6),
+            {"physics": {"surface.seed": 3}, "pressure_Pa": 2.5e5, "a_r": 0.019, "mean_gap_m": 0.9e-6,
+             "status": "converged", "rms_height_m": 1e-6},
+            {"physics": {"surface.seed": 4}, "pressure_Pa": 2.5e5, "a_r": 0.5, "status": "not_converged"}]
+    rows = ensemble.table(recs, "a_r", "pressure_Pa")
+    assert [x for x, _ in rows] == [1e5, 2.5e5]  # 1.001e5 is the same row (within 1 %)
+    assert rows[0][1] == {1: 0.01, 2: 0.011} and rows[1][1] == {1: 0.02, 2: 0.021, 3: 0.019}
+    gaps = dict(ensemble.table(recs, "mean_gap_over_h_rms", "pressure_Pa"))
+    assert gaps[2.5e5] == pytest.approx({1: 1.0, 2: 0.55, 3: 0.9})
+    assert ensemble.table(recs, "a_r", "pressure_Pa", seeds=[2])[0][1] == {2: 0.011}
+
+
+def test_reference_rows_carry_the_correction_and_combine_bands():
+    s = ensemble.RowStats(x=2.5e5, m=32, mean=2.0, std=0.4, stderr=0.4 / math.sqrt(32), prediction=0.83, seeds=())
+    c = ensemble.correction(2.5e5, own=1.9, best=1.71, best_error=0.0342)  # factor 0.9, 2 %
+    assert c.factor == pytest.approx(0.9) and c.relative_error == pytest.approx(0.02)
+    ens = ensemble.reference_rows([s], [c], "ensemble")[0]
+    assert ens.value == pytest.approx(1.8)
+    assert ens.band == pytest.approx(1.8 * math.hypot(0.02, 2 * 0.4 / math.sqrt(32) / 2.0))
+    one = ensemble.reference_rows([s], [c], "realisation")[0]
+    assert one.band == pytest.approx(1.8 * math.hypot(0.02, 0.83 / 2.0))
+    assert ensemble.reference_rows([s], [], "ensemble") == []  # no correction at that load: no row
+    with pytest.raises(ValueError):
+        ensemble.reference_rows([s], [c], "surface")
+    assert ensemble.correction(1.0, own=0.0, best=1.0, best_error=0.1) is None
+
+
+def test_transfer_check_names_the_worst_seed():
+    got = ensemble.transfer_check({28: 1.02, 1: 1.025, 2: 1.0})
+    assert got["seed"] == 2 and got["largest"] == pytest.approx(abs(1.0 / 1.02 - 1))
+    assert ensemble.transfer_check({1: 1.0, 2: 1.0}) is None
