@@ -42,7 +42,7 @@ def main(argv):
         tgz = os.path.join(tmp, "plan.tgz")
         env = dict(os.environ, CMC_THREADS="1")
         r = subprocess.run([sys.executable, os.path.join(ROOT, "scripts", "gpu", "reference_plan.py"), "--scale", "64",
-                            "--cpu", "--deadline", "400", "--pack", pack, "--work", os.path.join(tmp, "work"),
+                            "--cpu", "--deadline", "400", "--keep-all", "--pack", pack, "--work", os.path.join(tmp, "work"),
                             "--tar", tgz], capture_output=True, text=True, env=env, cwd=ROOT)
         out = r.stdout + r.stderr
         if r.returncode != 0 or not os.path.isfile(tgz):
@@ -69,8 +69,8 @@ def main(argv):
             fails.append(f"the store holds {len(recs)} records, or records without the pack's commit and device")
         best = json.load(open(os.path.join(scratch, "ref", "best_estimates.json")))
         hw = best["reference_load"]["hardwall"]
-        if not hw or not hw["run"].startswith("cpu-hardwall_load-"):
-            fails.append(f"the scaled hard-wall sweeps made no best estimate at 250 kPa: {hw}")
+        if not hw or not hw["run"].startswith("cpu-hardwall"):
+            fails.append(f"the scaled hard-wall runs made no best estimate at 250 kPa: {hw}")
         text = open(os.path.join(scratch, "ref", "adhesionless", "contact_area_vs_pressure.csv")).read()
         if "# best_estimate: rows at 12.5 kPa" not in text:
             fails.append("adhesionless/contact_area_vs_pressure.csv was not rebuilt from the best estimates")

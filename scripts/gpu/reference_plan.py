@@ -3,17 +3,19 @@
 file that scripts/gpu/ingest.py turns into the run store and reference/challenge/.
 
     scripts/gpu/reference_plan.py [--deadline S] [--scale K] [--cpu] [--pack DIR] [--tar FILE]
-                                  [--work DIR] [--skip P,...] [--dry-run]
+                                  [--work DIR] [--skip P,...] [--keep-all] [--dry-run]
 
 The plan, in order of what the references gain (each stage capped; a stage whose estimate does
 not fit in the time left is dropped before anything starts, and the plan says so):
-  1. the challenge at 250 kPa with the shape coarse-graining on 16384² (the headline with
-     adhesion and its distributions, spectrum and cross sections);
-  2. the Tabor sweep on 8192²: plain where that grid resolves rho (mu_T <= 0.562), shape above;
-  3. the hard-wall load sweep on 4096² and 8192² (the adhesionless curves at every load);
-  4. the plain challenge on 16384² with its fields, then on 32768² started from it (the
-     challenge's own check of the shape strategy: plain approaching it from below);
-  5. the adhesive load sweep with shape on 4096² and 8192² (items 2 and 8 at every load).
+  1. the hard wall at 250 kPa on 8192² and 16384², and the challenge with the shape
+     coarse-graining on 8192², with their observables (distributions, spectrum, cross sections:
+     result.h5 without fields);
+  2. the hard-wall load sweep on 2048² to 16384² (the adhesionless curves at every load);
+  3. the adhesive load sweep with shape on 2048², 4096² and 8192² (items 2 and 8 at every load);
+  4. the challenge with shape on 16384², with its observables (the headline's own run);
+  5. the Tabor sweep on 8192²: plain where that grid resolves rho (mu_T <= 0.562), shape above;
+  6. the plain challenge on 16384² with its fields, then on 32768² started from it (the
+     challenge's own check of the shape strategy: plain approaching it from below).
 Estimates come from the run store (reference/challenge/runs.json: the same kind of run on the
 same backend, scaled by the grid's points where only another grid was run) plus a start-up
 allowance. Stages are kept in order while their estimates fit in the deadline; each stage's cap
@@ -45,16 +47,19 @@ def stages(scale):
     """[(priority, stage, overrides, kind, n)] of the full plan, grids divided by scale."""
     def g(n):
         return max(16, n // scale)
-    out = [(1, f"shape:{g(16384)}", [], "shape", g(16384))]
+    fine = ["solver.tolerance=1e-8"]  # the shape runs' tolerance on the finest grids (the stored 16384² run's)
+    out = [(1, f"hardwall:{g(8192)}", [], "hardwall", g(8192)), (1, f"hardwall:{g(16384)}", [], "hardwall", g(16384)),
+           (1, f"shape:{g(8192)}", fine, "shape", g(8192))]
+    out += [(2, f"hardwall_load:{g(n)}", [], "hardwall_load", g(n)) for n in (2048, 4096, 8192, 16384)]
+    out += [(3, f"shape_load:{g(n)}", [], "shape_load", g(n)) for n in (2048, 4096, 8192)]
+    out += [(4, f"shape:{g(16384)}", fine, "shape", g(16384))]
     for mu in TABOR:
         if float(mu) <= PLAIN_TABOR_MAX:
-            out.append((2, f"tabor:{g(8192)}:{mu}", [], f"tabor_mu{float(mu):g}", g(8192)))
+            out.append((5, f"tabor:{g(8192)}:{mu}", [], f"tabor_mu{float(mu):g}", g(8192)))
         elif float(mu) < 3.0:  # mu_T = 3 with shape is stage 1's case
-            out.append((2, f"shape_tabor:{g(8192)}:{mu}", [], f"shape_tabor_mu{float(mu):g}", g(8192)))
-    out += [(3, f"hardwall_load:{g(n)}", [], "hardwall_load", g(n)) for n in (4096, 8192)]
-    out += [(4, f"adhesive:{g(16384)}", ["output.fields=true"], "adhesive", g(16384)),
-            (4, f"adhesive_from:{g(32768)}:{g(16384)}", [], "adhesive", g(32768))]
-    out += [(5, f"shape_load:{g(n)}", [], "shape_load", g(n)) for n in (4096, 8192)]
+            out.append((5, f"shape_tabor:{g(8192)}:{mu}", [], f"shape_tabor_mu{float(mu):g}", g(8192)))
+    out += [(6, f"adhesive:{g(16384)}", ["output.fields=true"], "adhesive", g(16384)),
+            (6, f"adhesive_from:{g(32768)}:{g(16384)}", [], "adhesive", g(32768))]
     return out
 
 
@@ -63,8 +68,13 @@ def estimate(kind, n, backend, records):
     the points (n²), plus STARTUP_S; where none is stored, the nearest adhesive or hard-wall run
     of any kind on this backend, times 3 (a guess, printed as one)."""
     base = "shape" if kind.startswith("shape_tabor") else "tabor_mu" if kind.startswith("tabor_mu") else kind
+    # A sweep with none of its own stored is estimated from its single-load kind (hardwall_load
+    # from hardwall, shape_load from shape): its 14 loads, no more a guess than that run.
+    single = {"hardwall_load": "hardwall", "shape_load": "shape", "load": "adhesive"}.get(kind)
     same = [r for r in records if r.get("backend") == backend and r.get("run_s") and
             (r["kind"] == kind or r["kind"].startswith(base))]
+    if not same and single:
+        same = [r for r in records if r.get("backend") == backend and r.get("run_s") and r["kind"] == single]
     guess = False
     if not same:
         family = "hardwall" if kind.startswith("hardwall") else "adhesive"
@@ -72,7 +82,8 @@ def estimate(kind, n, backend, records):
         guess = True
     if not same:
         return 60.0, True
-    r = min(same, key=lambda r: abs((r["n"] or 1) - n))
+    # The nearest grid, a converged run before one stopped at a cap (which says little of a whole solve).
+    r = min(same, key=lambda r: (r.get("status") != "converged", abs((r["n"] or 1) - n)))
     t = r["run_s"] * (n / r["n"]) ** 2 * (3.0 if guess else 1.0)
     if kind.endswith("load"):
         t *= 14 if r.get("steps") is None else 1  # a sweep of 14 loads from a single-load run
@@ -92,7 +103,7 @@ def plan(a, records):
             continue
         est, guess = estimate(kind, n, backend, records)
         needs = stage.startswith("adhesive_from") and not any(k[1].endswith(f"adhesive:{stage.split(':')[2]}") for k in kept)
-        if needs or total + est > a.deadline - PACK_S:
+        if needs or (total + est > a.deadline - PACK_S and not a.keep_all):
             dropped.append((prio, stage, est, guess))
             continue
         total += est
@@ -122,12 +133,15 @@ def main(argv):
     ap.add_argument("--tar", default=os.path.join(os.environ.get("OUT", "."), "reference-plan.tgz"))
     ap.add_argument("--store", default=os.path.join(ROOT, "reference", "challenge", "runs.json"))
     ap.add_argument("--skip", default="", help="priorities to leave out, e.g. 1,2 for a second call (default: none)")
+    ap.add_argument("--keep-all", action="store_true",
+                    help="keep every stage whatever its estimate: the deadline alone stops them (estimates "
+                         "from runs of an older program can be far off)")
     ap.add_argument("--dry-run", action="store_true", help="print the plan and stop")
     a = ap.parse_args(argv)
     try:
         a.skip = {int(p) for p in a.skip.split(",") if p.strip()}
     except ValueError:
-        print(f"reference_plan: --skip {a.skip}: expected priorities 1-5 separated by commas", file=sys.stderr)
+        print(f"reference_plan: --skip {a.skip}: expected priorities 1-6 separated by commas", file=sys.stderr)
         return 2
     if a.scale < 1 or a.deadline < 60:
         print("reference_plan: --scale must be >= 1 and --deadline >= 60 s", file=sys.stderr)
