@@ -2,15 +2,16 @@
 # Everything the challenge references need from one GPU machine, in one deadline
 # (docs/user-guide/gpu.md, "Regenerating the challenge references on one GPU"):
 #   scripts/gpu/full_plan.sh [--deadline S] [--out DIR] [--work DIR] [--pack DIR] [--gpu-workers W]
-#                            [--cpu-workers C] [--scale K --cpu] [--skip P,...]
+#                            [--cpu-workers C] [--scale K --cpu] [--skip P,...] [--keep-all]
 # Three tracks side by side:
 #   1. the reference plan (scripts/gpu/reference_plan.py) on the GPU: the finest grids, one run at
 #      a time, into OUT/reference-plan.tgz;
-#   2. the seed ensemble with adhesion (scripts/ensemble.py: reference, load, tabor) on the GPU,
-#      W sweeps at a time, blocks of 4 seeds: the 2048² runs leave the GPU idle between their
+#   2. the seed ensemble at 250 kPa, with and without adhesion, and the adhesive load and Tabor
+#      sweeps (scripts/ensemble.py: reference_hardwall, reference, load, tabor) on the GPU, W
+#      sweeps at a time, blocks of 4 seeds: the 2048² runs leave the GPU idle between their
 #      small transforms, and the plan's runs fill it;
-#   3. the seed ensemble of the hard wall (hardwall_load, reference_hardwall) on the host's
-#      cores, C single-threaded runs at a time.
+#   3. the seed ensemble's hard-wall load sweeps (hardwall_load) on the host's cores, C
+#      single-threaded runs at a time.
 # The ensemble's summaries (and the 250 kPa runs' result.h5, observables only) are packed into
 # OUT/ensemble.tgz at the end; what the deadline stopped is resumable where it stands (the same
 # command with --work pointing at it). --scale K --cpu runs all of it on the CPU backend at
@@ -19,7 +20,7 @@
 #   /usr/bin/python3 scripts/ensemble_store.py OUT/ensemble.tgz
 set -uo pipefail
 cd "$(dirname "$0")/../.."
-deadline=540 out=${OUT:-.} work=full-plan pack=.gpucarry gpu_workers=4 cpu_workers=$(($(nproc) - 6)) scale=1 cpu=0 skip=""
+deadline=540 out=${OUT:-.} work=full-plan pack=.gpucarry gpu_workers=4 cpu_workers=$(($(nproc) - 6)) scale=1 cpu=0 skip="" keep=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --deadline) deadline=$2; shift 2 ;;
@@ -31,6 +32,7 @@ while [ $# -gt 0 ]; do
     --scale) scale=$2; shift 2 ;;
     --cpu) cpu=1; shift ;;
     --skip) skip=$2; shift 2 ;;
+    --keep-all) keep=(--keep-all); shift ;;
     *) echo "scripts/gpu/full_plan.sh: unknown argument $1 (see the comment at its top)" >&2; exit 2 ;;
   esac
 done
@@ -55,12 +57,12 @@ gpu_backend=cuda plan_cpu=()
 [ "$cpu" = 1 ] && gpu_backend=cpu plan_cpu=(--cpu)
 # The plan's own runs take the host threads they need; the ensembles one each.
 CMC_THREADS=4 /usr/bin/python3 scripts/gpu/reference_plan.py --deadline "$deadline" --scale "$scale" "${plan_cpu[@]}" \
-  --pack "$pack" --work "$work/plan" --tar "$out/reference-plan.tgz" ${skip:+--skip "$skip"} >"$work/plan.log" 2>&1 &
+  --pack "$pack" --work "$work/plan" --tar "$out/reference-plan.tgz" ${skip:+--skip "$skip"} "${keep[@]}" >"$work/plan.log" 2>&1 &
 plan=$!
-"${ens[@]}" --backend "$gpu_backend" --workers "$gpu_workers" --block 4 --kinds reference,load,tabor \
+"${ens[@]}" --backend "$gpu_backend" --workers "$gpu_workers" --block 4 --kinds reference_hardwall,reference,load,tabor \
   >"$work/ensemble-gpu.log" 2>&1 &
 gpu=$!
-"${ens[@]}" --backend cpu --workers "$cpu_workers" --block 1 --kinds hardwall_load,reference_hardwall \
+"${ens[@]}" --backend cpu --workers "$cpu_workers" --block 1 --kinds hardwall_load \
   >"$work/ensemble-cpu.log" 2>&1 &
 host=$!
 wait $gpu $host
