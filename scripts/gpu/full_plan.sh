@@ -75,7 +75,7 @@ cp -f "$pack/build.txt" "$work/ensemble/build.txt" 2>/dev/null
   mv "$out/ensemble.tgz.tmp" "$out/ensemble.tgz"
 wait $plan
 rc=$?
-tail -4 "$work/ensemble-gpu.log" "$work/ensemble-cpu.log"
+tail -n 4 "$work/ensemble-gpu.log" "$work/ensemble-cpu.log"
 cat "$work/plan.log"
 ls -la "$out"
 echo "full_plan: done after $(($(date +%s) - t0)) s (reference plan exit $rc)"
