@@ -34,8 +34,9 @@ def test_sequence_error_methods():
     # order 0.2 < MIN_ORDER: not asymptotic either
     got = refinement.sequence_error([1.0, 1.1, 1.1 + 0.1 * 2 ** -0.2])
     assert got["method"] == "largest change" and got["error"] == pytest.approx(0.1)
+    # two grids: twice the change, the bound for any order down to 0.58
     got = refinement.sequence_error([3.0, 2.5])
-    assert got["method"] == "last change" and got["error"] == pytest.approx(0.5)
+    assert got["method"] == "first-order bound" and got["error"] == pytest.approx(1.0)
     assert refinement.sequence_error([1.0]) is None
     assert refinement.sequence_error([1.0, float("nan")]) is None
 

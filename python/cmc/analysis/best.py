@@ -181,3 +181,44 @@ def ratio(a, b):
     v = a["value"] / b["value"]
     rel = a["relative_error"] + b["relative_error"]
     return {"value": v, "relative_error": rel, "error": rel * abs(v)}
+
+
+def leave_one_out(records, members, conditions, roundoff=None):
+    """The band rules tested on the stored sequences: at every point, for every sequence whose
+    finest converged grid has at least two coarser ones below it, the candidate made without that
+    finest grid, and whether the finest grid's value lies inside its band, per quantity. Returns
+    [{"problem", "pressure_Pa", "tabor", "sequence", "quantity", "n", "value", "error", "finest_n",
+    "finest", "deviation" (|finest - value| / error), "inside"}]."""
+    out = []
+    for problem, pressure, tabor in _points(records):
+        for key, seq in sequences(at_point(records, problem, pressure, tabor)).items():
+            done = [r for r in seq if r.get("status") == "converged"]
+            if len(done) < 3:
+                continue
+            top = done[-1]
+            cand = sequence_candidate([r for r in seq if r["n"] < top["n"]], members, conditions, roundoff)
+            if not cand or not cand["usable"]:
+                continue
+            for short, key_ in QUANTITIES:
+                q = cand["quantities"].get(short)
+                if q is None or q["error"] is None or top.get(key_) is None:
+                    continue
+                dev = abs(top[key_] - q["value"])
+                out.append({"problem": problem, "pressure_Pa": pressure, "tabor": tabor, "sequence": list(key),
+                            "quantity": short, "n": cand["n"], "value": q["value"], "error": q["error"],
+                            "finest_n": top["n"], "finest": top[key_],
+                            "deviation": dev / q["error"] if q["error"] else math.inf,
+                            "inside": dev <= q["error"]})
+    return out
+
+
+def _points(records):
+    """The distinct (problem, load, mu_T) of the records, loads and mu_T within SAME_POINT."""
+    pts = []
+    for r in records:
+        if r.get("pressure_Pa") is None or r.get("problem") not in ("adhesive", "hardwall"):
+            continue
+        tabor = r.get("tabor") if r["problem"] == "adhesive" else None
+        if not any(p[0] == r["problem"] and _same(p[1], r["pressure_Pa"]) and _same(p[2], tabor) for p in pts):
+            pts.append((r["problem"], r["pressure_Pa"], tabor))
+    return sorted(pts, key=lambda p: (p[0], p[1], p[2] or 0.0))

@@ -58,8 +58,11 @@ def sequence_error(values, ratio=2.0):
     - Three grids or more that are not in the asymptotic range: the largest of the last two
       changes, no extrapolation ("largest change"): the value may still move by a step like
       the last ones.
-    - Two grids: the last change, which is Richardson's estimate for order 1, the slowest order
-      the counted contact area shows ("last change").
+    - Two grids: twice the last change ("first-order bound"). The order is not known from two
+      grids; twice the change covers every order down to log2(1.5) = 0.58 (the finer value's
+      error is change / (2^p - 1)), about MIN_ORDER, below which three grids are not
+      extrapolated either. For order 1, the counted contact area's, the finer value lies at
+      half the band (the leave-one-out test, tests/analysis/test_leave_one_out.py).
 
     Returns {"error", "method", "order", "v_inf", "changes"}, or None with fewer than two finite
     values."""
@@ -73,7 +76,7 @@ def sequence_error(values, ratio=2.0):
             v_inf = richardson(values[-2], values[-1], p, ratio)
             return dict(out, error=abs(values[-1] - v_inf), method="richardson", order=p, v_inf=v_inf)
         return dict(out, error=max(abs(changes[-1]), abs(changes[-2])), method="largest change", order=p)
-    return dict(out, error=abs(changes[-1]), method="last change")
+    return dict(out, error=2.0 * abs(changes[-1]), method="first-order bound")
 
 
 def own_refinement(grids):
