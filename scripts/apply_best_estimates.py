@@ -21,47 +21,18 @@ import argparse
 import json
 import os
 import sys
+import tomllib
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
 sys.path.insert(0, os.path.join(ROOT, "python"))
 from challenge_reference import write_atomically, write_curve  # noqa: E402
 from cmc.analysis import best as best_mod  # noqa: E402
+from cmc.reference_files import read_curve  # noqa: E402
 
 P0 = 250e3
-PROVENANCE = ("cmc_version", "case_file", "grid", "solver_tolerance", "date", "command")
-STANDARD = {"cmc-reference-csv", "name", "quantity", "title", "source", "columns", "x", "y", "representation",
-            "band", "estimated_error"} | set(PROVENANCE)
 BEGIN, END = "<!-- best-estimates:begin -->", "<!-- best-estimates:end -->"
 QUANTITY = {"contact_fraction": ("a_r", "relative contact area a_r"), "mean_gap_m": ("mean_gap", "mean gap")}
-
-
-def read_curve(path):
-    """A stored reference CSV as the curve that writes it again: every metadata key in its order,
-    the columns with unit and meaning; None where the file is missing."""
-    if not os.path.isfile(path):
-        return None
-    meta, names, rows = {}, None, []
-    with open(path, encoding="utf-8") as f:
-        for line in f:
-            s = line.rstrip("\n")
-            if s.startswith("#"):
-                if names is None and ":" in s:
-                    k, v = s[1:].split(":", 1)
-                    meta[k.strip()] = v.strip()
-            elif s.strip():
-                if names is None:
-                    names = s.split(",")
-                else:
-                    rows.append([float(v) for v in s.split(",")])
-    cols = []
-    for i, n in enumerate(names):
-        unit, _, meaning = meta.get(f"unit.{n}", "").partition(" (")
-        cols.append([n, unit, meaning[:-1] if meaning.endswith(")") else meaning, [r[i] for r in rows]])
-    return {"name": meta["name"], "quantity": meta["quantity"], "title": meta.get("title", ""), "x": meta["x"],
-            "y": meta["y"], "representation": meta["representation"], "band": meta.get("band"),
-            "estimated_error": meta.get("estimated_error", ""), "columns": cols,
-            "extra": [(k, v) for k, v in meta.items() if k in PROVENANCE or (k not in STANDARD and not k.startswith("unit."))]}
 
 
 def run_words(est):
@@ -122,6 +93,56 @@ def with_best_rows(curve, ests, short):
     curve["title"] = curve["title"].split(" [")[0] + " [best estimates at " + \
         ", ".join(f"{p / 1e3:g}" for p, _ in used) + " kPa]"
     return curve
+
+
+# The bands the challenge's load curves aim at (relative, up to a load), and the GPU stage of
+# scripts/gpu/reference_plan.py that narrows a row still wider.
+TARGETS = {("hardwall", "a_r"): (0.02, 10e6), ("hardwall", "mean_gap"): (0.002, 10e6),
+           ("adhesive", "a_r"): (0.05, 2.5e6), ("adhesive", "mean_gap"): (0.01, 2.5e6)}
+NARROWING = {"hardwall": "hardwall_load:16384 (priority 2)", "adhesive": "shape_load:8192 (priority 3)"}
+
+
+def sweep_loads(problem):
+    """The loads of the challenge's load sweep (cases/challenge/load-sweep*.toml), Pa."""
+    name = "load-sweep-hardwall.toml" if problem == "hardwall" else "load-sweep.toml"
+    with open(os.path.join(ROOT, "cases", "challenge", name), "rb") as f:
+        return [float(p) for p in tomllib.load(f)["loading"]["values"]]
+
+
+def best_load_curve(old, ests, short, problem):
+    """A load curve made of best estimates alone (ests ascending in load): each row its estimate's
+    value and error, a column with the grid of the run behind it; rows of the old curve without a
+    best estimate are left out and named, and so are the rows wider than the targets, with the GPU
+    stage that would narrow them."""
+    rows = [(e["pressure_Pa"], e["quantities"][short], e) for e in ests
+            if short in e["quantities"] and e["quantities"][short].get("error")]
+    missing = [p for p in sweep_loads(problem) if not any(abs(p / r[0] - 1) < best_mod.SAME_POINT for r in rows)]
+    cols = [list(c[:3]) for c in old["columns"][:3]]
+    for c, vals in zip(cols, ([p for p, _, _ in rows], [q["value"] for _, q, _ in rows],
+                              [q["error"] for _, q, _ in rows])):
+        c.append(vals)
+    cols.append(["grid_n", "1", "points a side of the finest grid behind the row", [e["n"] for _, _, e in rows]])
+    target, upto = TARGETS[(problem, short)]
+    wide = [p for p, q, _ in rows if p <= upto * (1 + best_mod.SAME_POINT) and (q["relative_error"] or 0) > target]
+    per = "; ".join(f"{p / 1e3:g} kPa: {run_words(e)}, {error_words(e, short)}" for p, _, e in rows)
+    notes = [("best_estimate", "every row is the best estimate at its load (reference/challenge/best_estimates.json); "
+                               "column grid_n names its grid, estimated_error its run and band")]
+    if missing:
+        notes.append(("rows_left_out", "loads without a refinement sequence in the run store yet: "
+                      + ", ".join(f"{p / 1e3:g} kPa" for p in missing)))
+    if wide:
+        notes.append(("still_wide", f"bands wider than {100 * target:g} % at " + ", ".join(f"{p / 1e3:g}" for p in wide)
+                      + f" kPa; the GPU stage that narrows them: {NARROWING[problem]} of scripts/gpu/reference_plan.py"))
+    kept = ("cmc_version", "case_file", "date")  # the rest described the sweep the rows no longer come from
+    extra = [(k, v) for k, v in old["extra"] if k in kept]
+    grids = sorted({e["n"] for _, _, e in rows})
+    extra += [("grid", "per row, its best estimate's (column grid_n: " + ", ".join(f"{n}^2" for n in grids) + ")"),
+              ("solver_tolerance", "per run, in reference/challenge/runs.json"),
+              ("command", "scripts/best_estimates.py; scripts/apply_best_estimates.py"),
+              ("sampling", f"{len(rows)} loads, each its own best estimate"),
+              ("generator", "scripts/apply_best_estimates.py (python/cmc/analysis/best.py)")] + notes
+    title = old["title"].split(", cmc ")[0].split(" [")[0].split(", best estimates")[0] + ", best estimates"
+    return dict(old, title=title, columns=cols, extra=extra, estimated_error=f"band per row, its best estimate's error ({per})")
 
 
 def tabor_curve(old, points, ycol, short):
@@ -219,9 +240,14 @@ def apply(best, out_dir, cmc):
         for q, short in (("contact_area_vs_pressure", "a_r"), ("mean_gap_vs_pressure", "mean_gap")):
             path = os.path.join(folder, q + ".csv")
             old = read_curve(path)
-            if ests and old:
-                write_curve(cmc, with_best_rows(old, ests, short), path)
-                done.append(path)
+            if not (ests and old):
+                continue
+            with_errors = [e for e in ests if short in e["quantities"] and e["quantities"][short].get("error")]
+            # Two rows or more: the curve is made of best estimates alone; one (250 kPa): joined to the sweep.
+            curve = (best_load_curve(old, ests, short, problem) if len(with_errors) >= 2
+                     else with_best_rows(old, ests, short))
+            write_curve(cmc, curve, path)
+            done.append(path)
     for q, ycol, short in (("contact_area_vs_tabor", "contact_fraction", "a_r"), ("mean_gap_vs_tabor", "mean_gap_m", "mean_gap")):
         path = os.path.join(out_dir, q + ".csv")
         if best["tabor"]:

@@ -35,9 +35,7 @@ import datetime
 import glob
 import json
 import os
-import subprocess
 import sys
-import tempfile
 
 import h5py
 import numpy as np
@@ -49,6 +47,7 @@ sys.path.insert(0, os.path.join(ROOT, "scripts"))
 from challenge_report import (Run, _centers, _find_runs, _merged_sweeps, _observables,  # noqa: E402
                               _reference_load_runs, _stopped, band_floor, finer_sweep, grid_change, hardwall_sweep_band,
                               profile_band, sweep_band)  # (the report's extraction)
+from cmc import reference_files  # noqa: E402
 from cmc.analysis import bands  # noqa: E402
 from cmc.analysis.conditions import condition_checks, load_bands, run_band, run_strategy_error  # noqa: E402
 from cmc.analysis.family import FAMILY_STORE  # noqa: E402
@@ -62,57 +61,15 @@ GENERATOR = "scripts/challenge_reference.py (extraction: reports/challenge_repor
 
 
 # ------------------------------------------------------------------ the format: cmc writes it
-def _toml_str(v):
-    return json.dumps(str(v), ensure_ascii=False)  # a JSON string is a valid TOML basic string
-
-
-def curve_spec(c):
-    """The TOML spec `cmc reference --run-curve` reads (solver/app/run_curve.cpp)."""
-    lines = [f"{k} = {_toml_str(c[k])}" for k in ("name", "quantity", "title", "x", "y", "representation",
-                                                   "estimated_error")]
-    if c.get("band"):
-        lines.append(f"band = {_toml_str(c['band'])}")
-    prov_keys = ("cmc_version", "case_file", "grid", "solver_tolerance", "date", "command")
-    more = [(k, v) for k, v in c["extra"] if k not in prov_keys]
-    lines.append("extra = [" + ", ".join(f"[{_toml_str(k)}, {_toml_str(v)}]" for k, v in more) + "]")
-    lines.append("[provenance]")
-    lines += [f"{k} = {_toml_str(v)}" for k, v in c["extra"] if k in prov_keys]
-    for name, unit, meaning, values in c["columns"]:
-        lines += ["[[columns]]", f"name = {_toml_str(name)}", f"unit = {_toml_str(unit)}",
-                  f"meaning = {_toml_str(meaning)}",
-                  "values = [" + ", ".join(repr(float(v)) for v in values) + "]"]
-    return "\n".join(lines) + "\n"
-
-
 def write_curve(cmc, c, path):
-    """Has cmc format and write the curve (validation/References.cpp make_run_curve, write_curve)."""
-    os.makedirs(os.path.dirname(path), exist_ok=True)
-    with tempfile.NamedTemporaryFile("w", suffix=".toml", encoding="utf-8", delete=False) as f:
-        f.write(curve_spec(c))
-        spec = f.name
+    """Has cmc format and write the curve (cmc.reference_files.write_curve); a refusal ends the script."""
     try:
-        r = subprocess.run([cmc, "reference", "--run-curve", spec, "--out", path], capture_output=True, text=True)
-    finally:
-        os.remove(spec)
-    if r.returncode != 0:
-        sys.exit(f"challenge_reference: cmc reference --run-curve failed for {c['name']} "
-                 f"(exit {r.returncode}): {r.stderr.strip()}")
-    with open(path, encoding="utf-8") as f:
-        return f.read()
+        return reference_files.write_curve(cmc, c, path)
+    except reference_files.CurveError as e:
+        sys.exit(f"challenge_reference: {e}")
 
 
-def write_atomically(path, text):
-    os.makedirs(os.path.dirname(path), exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=os.path.dirname(path), prefix=".tmp-")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as f:
-            f.write(text)
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise
+write_atomically = reference_files.write_atomically
 
 
 # ------------------------------------------------------------------ provenance

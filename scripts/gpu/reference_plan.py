@@ -118,7 +118,9 @@ def machine_text(a):
     else:
         r = subprocess.run(["nvidia-smi", "--query-gpu=name,memory.total,driver_version", "--format=csv,noheader"],
                            capture_output=True, text=True)
-        dev = r.stdout.strip().splitlines()[0] if r.returncode == 0 and r.stdout.strip() else "GPU (nvidia-smi failed)"
+        fields = [x.strip() for x in r.stdout.strip().splitlines()[0].split(",")] if r.returncode == 0 and r.stdout.strip() else []
+        # As the run store names devices: "NVIDIA H200 143771 MiB (driver 580.159.04)".
+        dev = f"{fields[0]} {fields[1]} (driver {fields[2]})" if len(fields) == 3 else "GPU (nvidia-smi failed)"
     now = datetime.datetime.now(datetime.timezone.utc)
     return f"device {dev}\ncores {os.cpu_count()}\ndate {now:%Y-%m-%d}\nstarted {now:%Y-%m-%dT%H:%M:%SZ}\n"
 
