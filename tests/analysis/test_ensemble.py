@@ -64,3 +64,20 @@ def test_transfer_check_names_the_worst_seed():
     got = ensemble.transfer_check({28: 1.02, 1: 1.025, 2: 1.0})
     assert got["seed"] == 2 and got["largest"] == pytest.approx(abs(1.0 / 1.02 - 1))
     assert ensemble.transfer_check({1: 1.0, 2: 1.0}) is None
+
+
+def test_simultaneous_factor_is_an_order_statistic_of_the_largest_deviations():
+    # two rows, four seeds: row 1 values 1, 2, 3, 4 (mean 2.5, s = sqrt(5/3)); row 2 all equal but
+    # seed 4 (mean 1.25, s = 0.5): z per seed = max over rows of |v - mean| / s
+    rows = [(1.0, {1: 1.0, 2: 2.0, 3: 3.0, 4: 4.0}), (2.0, {1: 1.0, 2: 1.0, 3: 1.0, 4: 2.0})]
+    stats = [ensemble.row_stats(x, v) for x, v in rows]
+    s1 = math.sqrt(5 / 3)
+    z = sorted([max(1.5 / s1, 0.5), max(0.5 / s1, 0.5), max(0.5 / s1, 0.5), max(1.5 / s1, 1.5)])
+    # ceil(0.95 x 5) = 5 > 4 seeds: the largest; at 50 % coverage ceil(2.5) = 3: the third smallest
+    assert ensemble.simultaneous_factor(rows, stats) == pytest.approx(z[-1])
+    assert ensemble.simultaneous_factor(rows, stats, coverage=0.5) == pytest.approx(z[2])
+    s = stats[0]
+    c = ensemble.correction(1.0, own=2.5, best=2.5, best_error=0.0)
+    one = ensemble.reference_rows([s], [c], "realisation", factor=3.0)[0]
+    assert one.band == pytest.approx(3.0 * s.std * math.sqrt(1.25))
+    assert ensemble.reference_rows([s], [c], "ensemble", factor=3.0)[0].band == pytest.approx(3.0 * s.stderr)

@@ -6,12 +6,18 @@ scripts/ensemble_store.py stores them in reference/challenge/ensemble/runs.json)
 Three questions, three references (docs/user-guide/checking-predictions.md):
 - "surface": cmc's own realisation (seed 28), the best estimates: numerical bands only;
 - "ensemble": the mean over all surfaces of the spectrum, for a theory; band = the numerical
-  error (transferred from seed 28's refinement) combined in quadrature with twice the standard
-  error of the mean (95 % confidence for 30 or more seeds);
+  error (transferred from seed 28's refinement) combined in quadrature with k times the standard
+  error of the mean;
 - "realisation": what a single surface of the spectrum gives, e.g. the organisers' own; band =
-  the numerical error combined with the half-width of the 95 % prediction interval of a new
-  surface, t(0.975, m-1) s sqrt(1 + 1/m) for m seeds of standard deviation s (Student's t; e.g.
-  Hahn & Meeker, Statistical Intervals, Wiley 1991, section 4.4).
+  the numerical error combined with k s sqrt(1 + 1/m) for m seeds of standard deviation s.
+
+A prediction is scored at every row at once, so k is a simultaneous factor, not Student's
+pointwise t: each seed's largest standardised deviation over the curve's rows, z = max |v - mean|
+/ s, and k the ceil(0.95 (m + 1))-th smallest of the m values of z. A new surface's z lies below
+it with probability at least 95 % (the distribution-free prediction bound of order statistics,
+P(Z_new <= Z_(k)) = k / (m + 1); Wilks, Ann. Math. Statist. 12, 91 (1941)), so its whole curve
+lies inside the band. The mean's own deviation, in units of its standard error, is such a z too
+(central limit theorem), and takes the same k.
 
 The ensemble's runs are made on a coarser grid than the best estimates (2048²). Each row's value
 is carried to the best estimate's grid by seed 28's own factor, best estimate / seed 28's value
@@ -145,11 +151,34 @@ class Row:
     m: int
 
 
-def reference_rows(rows: Sequence[RowStats], corrections: Sequence[Correction], question: str) -> List[Row]:
+def simultaneous_factor(rows: Sequence[Tuple[float, Dict[int, float]]], stats_: Sequence[RowStats],
+                        coverage: float = 0.95) -> Optional[float]:
+    """k of the module's doc: the ceil(coverage (m + 1))-th smallest of the seeds' largest
+    standardised deviations over the rows (table() rows, their row_stats), the largest where that
+    rank exceeds m; None with fewer than 3 seeds."""
+    by_x = {s.x: s for s in stats_}
+    z: Dict[int, float] = {}
+    for x, vals in rows:
+        st = next((s for sx, s in by_x.items() if _same(sx, x)), None)
+        if st is None or not st.std:
+            continue
+        for seed, v in vals.items():
+            if seed in st.seeds:
+                z[seed] = max(z.get(seed, 0.0), abs(v - st.mean) / st.std)
+    if len(z) < 3:
+        return None
+    ordered = sorted(z.values())
+    k = math.ceil(coverage * (len(ordered) + 1))
+    return ordered[min(k, len(ordered)) - 1]
+
+
+def reference_rows(rows: Sequence[RowStats], corrections: Sequence[Correction], question: str,
+                   factor: Optional[float] = None) -> List[Row]:
     """The rows of the "ensemble" or "realisation" reference: each row's mean times its grid
     correction; band = value x (the correction's relative error) (+) the statistical half-width
-    (2 standard errors, or the prediction interval), combined in quadrature. Rows without a
-    correction at their x are left out."""
+    (factor standard errors, or factor s sqrt(1 + 1/m)), combined in quadrature; factor None:
+    pointwise, 2 for the ensemble and the row's prediction interval for a realisation. Rows
+    without a correction at their x are left out."""
     if question not in ("ensemble", "realisation"):
         raise ValueError(f"question {question!r}: expected ensemble or realisation")
     out = []
@@ -158,7 +187,11 @@ def reference_rows(rows: Sequence[RowStats], corrections: Sequence[Correction], 
         if c is None or not s.mean:
             continue
         value = s.mean * c.factor
-        stat = (2 * s.stderr if question == "ensemble" else s.prediction) / abs(s.mean)
+        if factor is None:
+            half = 2 * s.stderr if question == "ensemble" else s.prediction
+        else:
+            half = factor * (s.stderr if question == "ensemble" else s.std * math.sqrt(1 + 1 / s.m))
+        stat = half / abs(s.mean)
         rel = math.hypot(c.relative_error, stat)
         out.append(Row(x=s.x, value=value, band=rel * abs(value), numerical=c.relative_error, statistical=stat, m=s.m))
     return out
