@@ -110,6 +110,7 @@ def headline(best, user, reference_dir="reference"):
         L.append(f"- Items {', '.join(str(i) for i in items)} (distributions, spectrum, cross sections): the finest "
                  f"stored run with these observables is still {grid}; their references carry that grid's band.")
     L.append("")
+    L += questions_table(reference_dir)
     L += [statement_sentence(rl), ""]
     ex = best.get("mean_gap_extremum")
     if ex:
@@ -118,6 +119,39 @@ def headline(best, user, reference_dir="reference"):
     if mono:
         L += [mono, ""]
     return L
+
+
+QUESTIONS = (("a_r", "a_r", 1.0, 4), ("a_rep", "repulsive a_r", 1.0, 4), ("mean_gap", "mean gap ū (µm)", 1e6, 5),
+             ("kappa", "κ = a_r / p̃", 1.0, 4), ("mean_gap_over_h_rms", "ū / h_rms", 1.0, 4))
+
+
+def questions_table(reference_dir):
+    """The headline's numbers for the three questions a prediction can answer (cmc check --against):
+    cmc's own surface, the mean over surfaces, one surface of the spectrum; from
+    reference/challenge/ensemble/summary.json (scripts/ensemble_references.py)."""
+    try:
+        with open(os.path.join(reference_dir, "challenge", "ensemble", "summary.json")) as f:
+            data = json.load(f)
+    except (OSError, ValueError):
+        return []
+    rl = data.get("reference_load") or {}
+    rows = []
+    for problem, words in (("adhesive", "with adhesion"), ("hardwall", "without adhesion")):
+        for key, name, scale, digits in QUESTIONS:
+            e = (rl.get(problem) or {}).get(key)
+            if e:
+                rows.append([f"{name}, {words}"] + [f"{e[q]['value'] * scale:.{digits}g} ± {e[q]['band'] * scale:.2g}"
+                                                    for q in ("surface", "ensemble", "realisation")])
+    if not rows:
+        return []
+    m = len(data.get("seeds") or [])
+    head = ["at 250 kPa", "this surface (seed 28): best estimate", f"ensemble mean ({m} surfaces)",
+            "one realisation (95 % of surfaces)"]
+    return ["**Which surface a prediction answers** (`cmc check --against surface|ensemble|realisation`): the best "
+            "estimates are for cmc's own surface; a theory predicts the ensemble mean (band: twice its standard error "
+            "and the grid correction's error); a run on another surface, the organisers' included, falls inside the "
+            "realisation band (95 % of surfaces). ū / h_rms is the mean gap that transfers best between surfaces.",
+            "", _table(head, rows), ""]
 
 
 def monotonicity_sentence(m):
@@ -237,3 +271,20 @@ def draw_point(ax, est, short, scale, x=P0):
         return
     ax.errorbar([x], [q["value"] * scale], yerr=[q["error"] * scale], fmt="*", color="k", ms=9, capsize=4, zorder=5,
                 label=f"best estimate at 250 kPa ({est['n']}², {est['strategy']})")
+
+
+def draw_realisation(ax, reference_dir, quantity, scale, x_scale):
+    """The realisation band of a load curve (reference/challenge/realisation/[adhesionless/]Q.csv:
+    where 95 % of surfaces of the spectrum lie), hatched, for each interaction that has one."""
+    for sub, words in (("", "with adhesion"), ("adhesionless", "without adhesion")):
+        path = os.path.join(reference_dir, "challenge", "realisation", sub, quantity + ".csv")
+        try:
+            rows = np.array([[float(v) for v in line.split(",")[:3]] for line in open(path, encoding="utf-8")
+                             if line[:1].isdigit()])
+        except (OSError, ValueError):
+            continue
+        if rows.ndim != 2 or len(rows) < 2:
+            continue
+        x, y, b = rows[:, 0] / x_scale, rows[:, 1] * scale, rows[:, 2] * scale
+        ax.fill_between(x, y - b, y + b, facecolor="none", edgecolor="0.45", hatch="///", lw=0.0, zorder=0,
+                        label=f"one realisation, {words} (95 % of surfaces)")

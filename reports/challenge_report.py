@@ -26,7 +26,7 @@ from common import (CHALLENGE, condition_check_lines, condition_summary, realiza
                     read_reference_csv, rel, roundoff_note, s_extrapolation_verdict, savefig, step_groups,
                     transfer_caveat, write_csv)  # common puts python/ on the path for cmc.analysis
 
-from best_report import draw_point, draw_tabor, headline, load_best  # noqa: E402
+from best_report import draw_point, draw_realisation, draw_tabor, headline, load_best  # noqa: E402
 from cmc.analysis import bands, refinement  # noqa: E402
 from cmc.analysis.conditions import condition_checks, load_bands, run_band  # noqa: E402
 from cmc.analysis.family import FAMILY_QUANTITIES, STRATEGIES  # noqa: E402
@@ -568,6 +568,7 @@ def _load_sweep(runs, out_dir, data_dir, case_dir, reference_dir, best=None):
     ests = ((best or {}).get("reference_load") or {})
     for est in (ests.get("adhesive"), ests.get("hardwall")):
         draw_point(a1, est, "a_r", 1.0, x=P0 / Es)
+    draw_realisation(a1, reference_dir, "contact_area_vs_pressure", 1.0, Es)
     a1.axhline(0.75, color="gray", ls=":", lw=0.8)
     a1.set_xlabel("p / (E* ḡ)   (E* ḡ = 25 MPa)")
     a1.set_ylabel("relative contact area a_r")
@@ -608,6 +609,7 @@ def _load_sweep(runs, out_dir, data_dir, case_dir, reference_dir, best=None):
     if any_gap:
         for est in (ests.get("adhesive"), ests.get("hardwall")):
             draw_point(ax, est, "mean_gap", 1e6, x=P0 / Es)
+        draw_realisation(ax, reference_dir, "mean_gap_vs_pressure", 1e6, Es)
         ax.set_xlabel("p / (E* ḡ)   (E* ḡ = 25 MPa)")
         ax.set_ylabel("mean gap ū (µm)")
         ax.set_title("8. mean gap vs pressure", fontsize=10)

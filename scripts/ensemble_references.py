@@ -155,8 +155,12 @@ def main(argv):
     except CurveError as e:
         print(f"ensemble_references: {e}", file=sys.stderr)
         return 1
+    rl = best["reference_load"]
+    at_p0 = {problem: ensemble.reference_load_questions(
+        [r for r in records if r["tag"].startswith(f"ens-{kind}-")], rl.get(problem), seeds, rl["p_tilde"])
+        for problem, kind in (("hardwall", "reference_hardwall"), ("adhesive", "reference"))}
     write_atomically(os.path.join(a.out, "ensemble", "summary.json"),
-                     json.dumps({"generator": "scripts/ensemble_references.py", "seeds": seeds,
+                     json.dumps({"generator": "scripts/ensemble_references.py", "seeds": seeds, "reference_load": at_p0,
                                  "rows": summary(records, seeds)}, indent=1, sort_keys=True) + "\n")
     return 0
 

@@ -81,3 +81,22 @@ def test_simultaneous_factor_is_an_order_statistic_of_the_largest_deviations():
     one = ensemble.reference_rows([s], [c], "realisation", factor=3.0)[0]
     assert one.band == pytest.approx(3.0 * s.std * math.sqrt(1.25))
     assert ensemble.reference_rows([s], [c], "ensemble", factor=3.0)[0].band == pytest.approx(3.0 * s.stderr)
+
+
+def test_reference_load_questions_by_hand():
+    # seeds 1, 2, 28 at 250 kPa: a_r 0.02, 0.022, 0.021 on the ensemble's grid; seed 28's best
+    # estimate 0.0231 +- 1 % (factor 1.1); rms heights 1 um (mean gap over h_rms: 1.0, 1.2, 1.1)
+    recs = [{"physics": {"surface.seed": s}, "pressure_Pa": 2.5e5, "a_r": a, "a_rep": a, "mean_gap_m": 1e-6 * g,
+             "status": "converged", "rms_height_m": 1e-6} for s, a, g in ((1, 0.02, 1.0), (2, 0.022, 1.2), (28, 0.021, 1.1))]
+    est = {"quantities": {"a_r": {"value": 0.0231, "error": 0.000231, "relative_error": 0.01},
+                          "mean_gap": {"value": 1.1e-6, "error": 1.1e-9, "relative_error": 0.001}}}
+    got = ensemble.reference_load_questions(recs, est, [1, 2, 28], p_tilde=0.01)
+    s = ensemble.row_stats(2.5e5, {1: 0.02, 2: 0.022, 28: 0.021})
+    assert got["a_r"]["surface"] == {"value": 0.0231, "band": pytest.approx(0.000231)}
+    assert got["a_r"]["ensemble"]["value"] == pytest.approx(0.021 * 1.1)
+    assert got["a_r"]["ensemble"]["band"] == pytest.approx(0.0231 * math.hypot(0.01, 2 * s.stderr / 0.021))
+    assert got["a_r"]["realisation"]["band"] == pytest.approx(0.0231 * math.hypot(0.01, s.prediction / 0.021))
+    assert got["kappa"]["surface"]["value"] == pytest.approx(2.31) and got["kappa"]["ensemble"]["m"] == 3
+    assert got["mean_gap_over_h_rms"]["surface"]["value"] == pytest.approx(1.1)
+    assert "a_rep" not in got  # no best estimate of it given
+    assert ensemble.reference_load_questions(recs, None, [1, 2, 28], 0.01) == {}

@@ -207,3 +207,49 @@ def transfer_check(ratios: Dict[int, float], own_seed: int = OWN_SEED) -> Option
     diffs = {s: abs(r / own - 1) for s, r in ratios.items() if s != own_seed}
     worst = max(diffs, key=diffs.get)
     return {"own": own, "others": {s: ratios[s] for s in diffs}, "largest": diffs[worst], "seed": worst}
+
+
+# The reference load's quantities: (name, record key, best-estimate quantity).
+HEADLINE = (("a_r", "a_r", "a_r"), ("a_rep", "a_rep", "a_rep"), ("mean_gap", "mean_gap_m", "mean_gap"))
+
+
+def reference_load_questions(records: Sequence[dict], estimate: Optional[dict], seeds: Sequence[int],
+                             p_tilde: float) -> Dict[str, dict]:
+    """The headline's three answers at the reference load for one problem: records are the
+    ensemble's 250 kPa runs of that problem, estimate its best estimate (best_estimates.json's
+    reference_load entry). Per quantity (and kappa = a_r / p_tilde, and the mean gap over the rms
+    height, which transfers best between surfaces): "surface" (the best estimate), "ensemble" and
+    "realisation" ({value, band, m}; pointwise: one number is scored here, 2 standard errors and
+    the row's prediction interval), each carried to the best estimate's grid by seed 28's
+    correction. {} without a best estimate."""
+    if not estimate:
+        return {}
+    out: Dict[str, dict] = {}
+    for name, key, short in HEADLINE + (("mean_gap_over_h_rms", "mean_gap_over_h_rms", "mean_gap"),):
+        q = estimate["quantities"].get(short)
+        rows = table(records, key, "pressure_Pa", seeds)
+        if not q or q.get("error") is None or len(rows) != 1:
+            continue
+        _, vals = rows[0]
+        own = table(records, key, "pressure_Pa", [OWN_SEED])
+        st = row_stats(rows[0][0], vals)
+        own_v = own[0][1].get(OWN_SEED) if own else None
+        own_best = q["value"] if key != "mean_gap_over_h_rms" else _scaled_best(q, records)
+        c = correction(rows[0][0], own_v, own_best, abs(own_best) * (q["relative_error"] or 0.0))
+        if st is None or c is None:
+            continue
+        entry = {"surface": {"value": own_best, "band": c.relative_error * abs(own_best)}}
+        for question in ("ensemble", "realisation"):
+            r = reference_rows([st], [c], question)[0]
+            entry[question] = {"value": r.value, "band": r.band, "m": r.m}
+        out[name] = entry
+    if "a_r" in out:
+        out["kappa"] = {k: {kk: (vv / p_tilde if kk in ("value", "band") else vv) for kk, vv in v.items()}
+                        for k, v in out["a_r"].items()}
+    return out
+
+
+def _scaled_best(q: dict, records: Sequence[dict]) -> float:
+    """Seed 28's best mean gap over its rms height (the height is the surface's, grid-independent)."""
+    h = next((r.get("rms_height_m") for r in records if (r.get("physics") or {}).get("surface.seed") == OWN_SEED), None)
+    return q["value"] / h if h else math.nan
