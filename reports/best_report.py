@@ -70,6 +70,23 @@ def stored_grids(reference_dir):
     return out
 
 
+def still_wide(reference_dir):
+    """A bullet per stored load curve whose rows are left out or wider than the targets (their
+    `rows_left_out` and `still_wide` lines, written by scripts/apply_best_estimates.py)."""
+    out = []
+    for sub, words in (("", "with adhesion"), ("adhesionless", "without adhesion")):
+        for q in ("contact_area_vs_pressure", "mean_gap_vs_pressure"):
+            try:
+                with open(os.path.join(reference_dir, "challenge", sub, q + ".csv"), encoding="utf-8") as f:
+                    meta = {k.strip(): v for k, v in (ln[1:].split(":", 1) for ln in f if ln.startswith("#") and ":" in ln)}
+            except OSError:
+                continue
+            notes = [meta[k].strip() for k in ("rows_left_out", "still_wide") if k in meta]
+            if notes:
+                out.append(f"- `{q}` {words}: " + "; ".join(notes) + ".")
+    return out
+
+
 def headline(best, user, reference_dir="reference"):
     """The report's opening section. user: {True: (run, step) or None, False: ...} (with and without
     adhesion, the user's runs at 250 kPa, as the report finds them)."""
@@ -106,6 +123,7 @@ def headline(best, user, reference_dir="reference"):
     L += cross_check(ests[True])
     L += ["- Your run: the step at 250 kPa of your `results/` run, its deviation in % and in units of the best "
           "estimate's error (σ here is that error, not a standard deviation)."]
+    L += still_wide(reference_dir)
     for grid, items in stored_grids(reference_dir).items():
         L.append(f"- Items {', '.join(str(i) for i in items)} (distributions, spectrum, cross sections): the finest "
                  f"stored run with these observables is still {grid}; their references carry that grid's band.")
