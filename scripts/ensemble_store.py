@@ -119,7 +119,7 @@ def records(files, a, origin):
             device = f"host CPU of the machine of {device}" + (f" ({meta['cores']} cores)" if meta.get("cores") else "")
         try:
             summary = json.loads(data)
-            rec = runs.record(summary, tag=tag, command=f"scripts/ensemble.py ({name})",
+            rec = runs.record(summary, tag=tag, command=f"scripts/ensemble.py ({name[m.start(1):]})",
                               device=device,
                               date=a.date or meta.get("date"), commit=a.commit or meta.get("commit"), origin=origin)
         except (ValueError, TypeError, AttributeError, KeyError) as e:

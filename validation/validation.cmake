@@ -199,3 +199,7 @@ set_tests_properties(challenge_reference.best_estimates PROPERTIES LABELS "quick
 add_test(NAME challenge_reference.against
          COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/tests/ensemble_check_test.py $<TARGET_FILE:cmc>)
 set_tests_properties(challenge_reference.against PROPERTIES LABELS "quick;python")
+# The seed ensemble end to end at 32²: runs, store (from a folder and an archive, a hostile member
+# refused) and the ensemble and realisation references, into a scratch folder.
+add_test(NAME ensemble.end_to_end COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/tests/ensemble_test.py $<TARGET_FILE:cmc>)
+set_tests_properties(ensemble.end_to_end PROPERTIES LABELS "quick;python" TIMEOUT 300)
