@@ -20,6 +20,8 @@ import sys
 import tarfile
 import tempfile
 
+from archive import Refused, check_tree, checked_component, checked_date, copy_plain, inside, safe_extract
+
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 PY = sys.executable or "/usr/bin/python3"
 
@@ -37,16 +39,18 @@ def machine(folder):
     return out
 
 
-def safe_extract(path, dest):
-    """Extract the archive's regular files and folders under dest; refuse links, devices and
-    names that leave dest."""
-    with tarfile.open(path) as t:
-        members = t.getmembers()
-        for m in members:
-            target = os.path.realpath(os.path.join(dest, m.name))
-            if not (m.isfile() or m.isdir()) or not target.startswith(os.path.realpath(dest) + os.sep):
-                raise tarfile.TarError(f"member {m.name!r} is not a plain file or folder inside the archive")
-        t.extractall(dest, members=members)
+def run_destinations(folder, date, results):
+    """(run folder in the archive, RESULTS/gpu/<date>/<run>) for each run with a summary.json; the
+    date and every run's name checked as plain path components, each destination proven to lie
+    inside RESULTS. Refused otherwise, before anything is written."""
+    dest = inside(results, "gpu", checked_date(date))
+    out = []
+    for d in sorted(os.listdir(os.path.join(folder, "runs"))):
+        src = os.path.join(folder, "runs", d)
+        if os.path.exists(os.path.join(src, "summary.json")):
+            out.append((src, inside(dest, checked_component(d, "run folder"))))
+            check_tree(src)
+    return out
 
 
 def step(args, what):
@@ -70,8 +74,8 @@ def main(argv):
     with tempfile.TemporaryDirectory(prefix="cmc-ingest-") as tmp:
         try:
             safe_extract(a.plan, tmp)
-        except (tarfile.TarError, OSError) as e:
-            print(f"ingest: {a.plan}: not a readable .tgz ({e})", file=sys.stderr)
+        except (tarfile.TarError, OSError, EOFError, Refused) as e:
+            print(f"ingest: {a.plan}: not a readable .tgz of plain files ({e})", file=sys.stderr)
             return 2
         folders = [os.path.join(tmp, d) for d in sorted(os.listdir(tmp)) if os.path.isdir(os.path.join(tmp, d, "runs"))]
         if len(folders) != 1:
@@ -83,15 +87,19 @@ def main(argv):
             print(f"ingest: {a.plan}: no machine.txt with device and date (made by scripts/gpu/reference_plan.py)",
                   file=sys.stderr)
             return 2
+        try:
+            copies = run_destinations(folder, m["date"], a.results)
+        except Refused as e:
+            print(f"ingest: {a.plan}: {e}; nothing was written", file=sys.stderr)
+            return 2
         step([os.path.join(ROOT, "scripts", "gpu", "store.py"), "--device", m["device"], "--date", m["date"],
               "--origin", os.path.basename(a.plan), "--store", a.store, folder], "storing the runs")
-        dest = os.path.join(a.results, "gpu", m["date"])
-        for d in sorted(os.listdir(os.path.join(folder, "runs"))):
-            src = os.path.join(folder, "runs", d)
-            if os.path.exists(os.path.join(src, "summary.json")):
-                shutil.rmtree(os.path.join(dest, d), ignore_errors=True)
-                shutil.copytree(src, os.path.join(dest, d), ignore=shutil.ignore_patterns(".cmc.lock", ".partial"))
-        print(f"ingest: run folders in {os.path.relpath(dest, ROOT)}")
+        for src, dst in copies:
+            shutil.rmtree(dst, ignore_errors=True)
+            os.makedirs(os.path.dirname(dst), mode=0o755, exist_ok=True)
+            copy_plain(src, dst)
+        if copies:
+            print(f"ingest: run folders in {os.path.dirname(copies[0][1])}")
     best = os.path.join(a.out, "best_estimates.json")
     step([os.path.join(ROOT, "scripts", "best_estimates.py"), "--store", a.store, "--out", best]
          + (["--any-physics"] if a.any_physics else []), "the best estimates")
