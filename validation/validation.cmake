@@ -167,12 +167,17 @@ set_tests_properties(gpu_scripts.batch PROPERTIES LABELS "quick;python")
 add_test(NAME gpu_scripts.reference_plan
          COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/tests/reference_plan_test.py $<TARGET_FILE:cmc>)
 set_tests_properties(gpu_scripts.reference_plan PROPERTIES LABELS "quick;python" TIMEOUT 300)
-# scripts/gpu/ingest.py against archives made hostile by the tests (tests/gpu_store): names that
-# leave the results folder, special mode bits; nothing outside a scratch store is touched.
-add_test(NAME gpu_scripts.ingest_untrusted
-         COMMAND /usr/bin/python3 -m pytest -q -p no:cacheprovider ${CMAKE_SOURCE_DIR}/tests/gpu_store)
-set_tests_properties(gpu_scripts.ingest_untrusted PROPERTIES LABELS "quick;python" TIMEOUT 300
-                     ENVIRONMENT "CMC_EXE=$<TARGET_FILE:cmc>")
+# The run store as a trust boundary (tests/gpu_store, one test per file): scripts/gpu/ingest.py,
+# store.py, best_estimates.py and reference_plan.py against archives and runs made hostile by
+# the tests (names that leave the results folder, special modes, impossible or outlying values,
+# corrupt files, failing steps; property tests with hypothesis, a fixed seed); nothing outside a
+# scratch store is touched.
+foreach(test ingest_paths ingest_trust store_trust store_properties reference_plan_exit)
+  add_test(NAME gpu_scripts.${test}
+           COMMAND /usr/bin/python3 -m pytest -q -p no:cacheprovider ${CMAKE_SOURCE_DIR}/tests/gpu_store/test_${test}.py)
+  set_tests_properties(gpu_scripts.${test} PROPERTIES LABELS "quick;python" TIMEOUT 300
+                       ENVIRONMENT "CMC_EXE=$<TARGET_FILE:cmc>")
+endforeach()
 
 # The docs check (scripts/check_docs.py; docs/developer/testing.md): every relative link and
 # every repository path named in README.md and docs/ exists, and the README's quickstarts run

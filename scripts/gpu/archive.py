@@ -16,6 +16,13 @@ SPECIAL_BITS = 0o7000  # setuid, setgid, sticky
 COMPONENT = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
 SKIP = (".cmc.lock", ".partial")  # a run's lock and unfinished files: not copied
 DATE = re.compile(r"[0-9]{4}-[0-9]{2}-[0-9]{2}")
+# What nvidia-smi or reference_plan.py names a device: printable text on one line.
+DEVICE = re.compile(r"[ -~]{1,200}")
+# A plan's archive holds a few dozen runs of a few files each and result.h5 files of at most
+# 8 MiB (reference_plan.py's --keep-h5): far below these bounds, which stop an archive that
+# expands without end before it fills the disk.
+MAX_MEMBERS = 2000
+MAX_BYTES = 1 << 30
 
 
 class Refused(Exception):
@@ -38,6 +45,13 @@ def checked_date(text, what="machine.txt: date"):
         datetime.date.fromisoformat(text)
     except ValueError:
         raise Refused(f"{what} {text!r} is not a calendar day") from None
+    return text
+
+
+def checked_device(text, what="machine.txt: device"):
+    """text, if it is printable text on one line of at most 200 characters; else Refused."""
+    if not isinstance(text, str) or not DEVICE.fullmatch(text):
+        raise Refused(f"{what} {str(text)[:80]!r} is not a device name (printable text, at most 200 characters)")
     return text
 
 
@@ -70,10 +84,16 @@ def _member_target(dest, m):
 
 def safe_extract(path, dest):
     """Extract the archive's plain files and folders under dest, with plain modes and the current
-    user as owner; Refused for links, devices, special mode bits and names that leave dest.
-    Every member is checked before anything is written."""
+    user as owner; Refused for links, devices, special mode bits, names that leave dest, more than
+    MAX_MEMBERS members or MAX_BYTES of files. Every member is checked before anything is written."""
     with tarfile.open(path) as t:
-        members = t.getmembers()
+        members = []
+        for m in t:
+            members.append(m)
+            if len(members) > MAX_MEMBERS:
+                raise Refused(f"more than {MAX_MEMBERS} members (a plan's archive holds a few hundred)")
+        if sum(m.size for m in members if m.isfile()) > MAX_BYTES:
+            raise Refused(f"its files add up to more than {MAX_BYTES >> 20} MiB")
         targets = [(m, _member_target(dest, m)) for m in members]
         for m, target in targets:
             if target is None:

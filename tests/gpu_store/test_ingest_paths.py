@@ -11,8 +11,8 @@ from hostile import ingest, plan_archive, scratch_repo, snapshot, summary
 
 def _victim(folder):
     """A folder with a run-like subfolder and a file that must survive."""
-    os.makedirs(os.path.join(folder, "cpu-hardwall-64"), exist_ok=True)
-    with open(os.path.join(folder, "cpu-hardwall-64", "keep.txt"), "w") as f:
+    os.makedirs(os.path.join(folder, "cuda-hardwall-64"), exist_ok=True)
+    with open(os.path.join(folder, "cuda-hardwall-64", "keep.txt"), "w") as f:
         f.write("not ingest's to touch\n")
 
 
@@ -33,7 +33,7 @@ def test_date_that_is_not_a_day_is_refused(tmp_path, date):
     _victim(victim)
     _victim(tmp)  # what ../../.. from results/gpu reaches
     date = victim if date == "ABSOLUTE" else date
-    archive = plan_archive(os.path.join(tmp, "plan.tgz"), [("cpu-hardwall-64", summary(64, 0.02))], date=date)
+    archive = plan_archive(os.path.join(tmp, "plan.tgz"), [("cuda-hardwall-64", summary(64, 0.02))], date=date)
     _refused(tmp, archive, "date")
 
 
@@ -49,20 +49,20 @@ def test_run_folder_that_is_not_a_plain_name_is_refused(tmp_path, tag):
 def test_member_with_special_mode_bits_is_refused(tmp_path, mode):
     tmp = str(tmp_path)
     scratch_repo(tmp)
-    archive = plan_archive(os.path.join(tmp, "plan.tgz"), [("cpu-hardwall-64", summary(64, 0.02))],
-                           extra=[("plan/runs/cpu-hardwall-64/tool", "#!/bin/sh\n", mode)])
+    archive = plan_archive(os.path.join(tmp, "plan.tgz"), [("cuda-hardwall-64", summary(64, 0.02))],
+                           extra=[("plan/runs/cuda-hardwall-64/tool", "#!/bin/sh\n", mode)])
     _refused(tmp, archive, "mode")
 
 
 def test_copied_files_have_plain_modes(tmp_path):
     tmp = str(tmp_path)
     scratch_repo(tmp)
-    archive = plan_archive(os.path.join(tmp, "plan.tgz"), [("cpu-hardwall-64", summary(64, 0.02))],
-                           extra=[("plan/runs/cpu-hardwall-64/notes", "x\n", 0o777),
-                                  ("plan/runs/cpu-hardwall-64/sub/more", "y\n", 0o700)])
+    archive = plan_archive(os.path.join(tmp, "plan.tgz"), [("cuda-hardwall-64", summary(64, 0.02))],
+                           extra=[("plan/runs/cuda-hardwall-64/notes", "x\n", 0o777),
+                                  ("plan/runs/cuda-hardwall-64/sub/more", "y\n", 0o700)])
     r = ingest(tmp, archive)
     assert r.returncode == 0, r.stdout + r.stderr
-    run = os.path.join(tmp, "scratch", "results", "gpu", "2026-01-02", "cpu-hardwall-64")
+    run = os.path.join(tmp, "scratch", "results", "gpu", "2026-01-02", "cuda-hardwall-64")
     seen = snapshot(run)
     assert {"notes", "sub", "sub/more", "summary.json"} <= set(seen)
     for name, (mode, digest) in seen.items():
