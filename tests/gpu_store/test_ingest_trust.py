@@ -100,16 +100,21 @@ def test_stored_tag_and_run_folder_are_replaced_only_with_replace(tmp_path):
     assert next(x for x in stored if x["tag"] == TAG)["a_r"] == A_R * (1 + 1e-4)
 
 
+def _refused_beside(tmp, path, text, words):
+    """A good archive refused because of what the scratch folder holds: `text` written to `path`."""
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path, "w") as f:
+        f.write(text)
+    archive = _archive(tmp)
+    before = snapshot(tmp)
+    _unchanged(tmp, ingest(tmp, archive), 2, words, before=before)
+
+
 def test_run_folder_holding_something_else_needs_replace(tmp_path):
     tmp = str(tmp_path)
     scratch_repo(tmp)
-    mine = os.path.join(tmp, "scratch", "results", "gpu", "2026-01-02", TAG)
-    os.makedirs(mine)
-    with open(os.path.join(mine, "notes.txt"), "w") as f:
-        f.write("the user's\n")
-    archive = _archive(tmp)
-    before = snapshot(tmp)
-    _unchanged(tmp, ingest(tmp, archive), 2, "--replace", before=before)
+    mine = os.path.join(tmp, "scratch", "results", "gpu", "2026-01-02", TAG, "notes.txt")
+    _refused_beside(tmp, mine, "the user's\n", "--replace")
 
 
 def _truncated(tmp):
@@ -161,11 +166,7 @@ def test_corrupt_archive_is_refused(tmp_path, kind):
 def test_malformed_run_store_is_refused(tmp_path):
     tmp = str(tmp_path)
     ref = scratch_repo(tmp)
-    with open(os.path.join(ref, "runs.json"), "w") as f:
-        f.write('{"records": {"tag": 1}}')
-    archive = _archive(tmp)
-    before = snapshot(tmp)
-    _unchanged(tmp, ingest(tmp, archive), 2, "runs.json", before=before)
+    _refused_beside(tmp, os.path.join(ref, "runs.json"), '{"records": {"tag": 1}}', "runs.json")
 
 
 def test_archive_written_from_inside_its_folder_is_read(tmp_path):
