@@ -91,3 +91,7 @@ cmc_rel_test(wisdom_fifo "mkfifo w && CMC_FFTW_PLANNER=measure CMC_FFTW_WISDOM=$
 cmc_rel_test(refine_output_fifo "mkdir o && mkfifo o/refinement.md && ${CMC_BIN} refine ${CMC_HARDWALL} --grids 16 32 --out o 2>err; test $? -eq 2 && test -p o/refinement.md && test ! -e o/n16")
 # A Dugdale smoothing of 2 h0 or more was exit 4 with an internal name.
 cmc_rel_test(dugdale_smoothing "${CMC_BIN} run ${CMAKE_SOURCE_DIR}/cases/validation/maugis-dugdale-lambda1.toml --set grid.n=32 --set interaction.smoothing=1 --out o 2>err; test $? -eq 2 && grep -q '\\[interaction\\] smoothing = 1 m: expected a width below 2 h0' err && test ! -e o")
+
+# ---- a single-value option given twice is refused, naming it (the first one silently won:
+# --tolerance 10 --tolerance 0.01 passed a prediction twice the answer).
+cmc_rel_test(option_given_twice "${CMC_BIN} check ${CMC_AREA_REF} --quantity contact_area_vs_pressure --tolerance 10 --tolerance 0.01 >out 2>err; test $? -eq 2 && grep -q -- '--tolerance is given twice' err && test ! -s out && ${CMC_BIN} run ${CMC_WAVY} --set grid.nx=64 --out a -o b 2>err; test $? -eq 2 && grep -q -- '-o is given twice' err && test ! -e a && test ! -e b")

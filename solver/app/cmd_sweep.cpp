@@ -93,7 +93,8 @@ SweepRequest read_request(int argc, char** argv) {
   for (char* a : rest)
     if (std::string(a) == "--dry-run") r.dry_run = true;
     else args.push_back(a);
-  const Args a = parse_args(int(args.size()), args.data(), 2, {"--over", "--folder", "--table", "--checkpoint-every"});
+  const Args a = parse_args(int(args.size()), args.data(), 2, {"--over", "--folder", "--table", "--checkpoint-every"},
+                            {"--over"});
   if (a.positional.size() != 1) throw CaseError("cmc sweep takes exactly one case file (see cmc sweep --help)");
   if (a.out.empty()) throw CaseError("cmc sweep needs --out DIR (see cmc sweep --help)");
   r.file = a.positional[0];
