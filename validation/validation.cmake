@@ -28,6 +28,13 @@ add_test(NAME tabor_sweep.refusals COMMAND sh -c "S=${CMAKE_SOURCE_DIR}/scripts/
   $S --tabor 0.0 2>&1 >/dev/null | grep -q -- \"--tabor: '0.0' is not a positive number\" && \
   $S --tabor '' 2>&1 >/dev/null | grep -q -- '--tabor needs a list' && { $S --tabor '' >/dev/null 2>&1; test $? -eq 2; }")
 set_tests_properties(tabor_sweep.refusals PROPERTIES LABELS quick)
+# scripts/test.sh reads its arguments before it installs or builds anything: --help prints its
+# header, an argument that is not one of ctest's selections is refused (exit 2; ctest would
+# ignore it and run everything).
+add_test(NAME test_sh.arguments COMMAND sh -c "T=${CMAKE_SOURCE_DIR}/scripts/test.sh; \
+  $T --help | head -1 | grep -q '^The test command' && { $T --bogus 2>${CMAKE_BINARY_DIR}/test_sh.err; test $? -eq 2; } && \
+  grep -q \"unknown argument '--bogus'\" ${CMAKE_BINARY_DIR}/test_sh.err && { $T -R 2>/dev/null; test $? -eq 2; }")
+set_tests_properties(test_sh.arguments PROPERTIES LABELS quick TIMEOUT 30)
 
 # The analysis package (python/cmc/analysis: refinement, family errors, best estimates, the
 # extremum), each formula against a hand-computed case.
