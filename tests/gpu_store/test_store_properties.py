@@ -10,6 +10,9 @@ import sys
 import tempfile
 
 from hypothesis import HealthCheck, given, settings, strategies as st
+from hypothesis.configuration import set_hypothesis_home_dir
+
+set_hypothesis_home_dir(os.path.join(tempfile.gettempdir(), "cmc-hypothesis"))  # its caches, not in the tree
 
 from hostile import A_R, MEAN_GAP, ingest, plan_archive, scratch_repo, snapshot, summary
 
