@@ -57,6 +57,18 @@ def error_words(est, short):
     return text
 
 
+OTHER_ROWS = "the other rows: "
+
+
+def sweep_words(estimated_error):
+    """The sweep's own words of an estimated_error line, without what best estimates put before
+    them (by an earlier application, once or several times)."""
+    words = estimated_error.split(" || ")[-1]
+    while words.startswith(OTHER_ROWS):
+        words = words[len(OTHER_ROWS):]
+    return words
+
+
 def with_best_rows(curve, ests, short):
     """The load-sweep curve with each row that has a best estimate at its load (ests, ascending in
     load) replaced by it, its error the band; a best estimate at 250 kPa is joined where the
@@ -83,10 +95,10 @@ def with_best_rows(curve, ests, short):
         used.append((p, est))
     if not used:
         return curve
-    old = curve["estimated_error"].split(" || ")[-1]
+    old = sweep_words(curve["estimated_error"])
     per = "; ".join(f"{p / 1e3:g} kPa: {run_words(e)}, {error_words(e, short)}" for p, e in used)
     curve["estimated_error"] = (f"rows with a best estimate (reference/challenge/best_estimates.json): {per} || "
-                                f"the other rows: {old}")
+                                f"{OTHER_ROWS}{old}")
     curve["extra"] = [(k, v) for k, v in curve["extra"] if k != "best_estimate"] + [
         ("best_estimate", "rows at " + ", ".join(f"{p / 1e3:g} kPa" for p, _ in used)
          + ": the best estimates (estimated_error); the other rows: the sweep named in command")]
@@ -145,6 +157,12 @@ def best_load_curve(old, ests, short, problem):
     return dict(old, title=title, columns=cols, extra=extra, estimated_error=f"band per row, its best estimate's error ({per})")
 
 
+def _kept_date(curve):
+    """The stored curve's date, kept where the estimates name none (else cmc writes the time of
+    writing, and the same estimates would not give the same file twice)."""
+    return dict(curve["extra"]).get("date", "") if curve else ""
+
+
 def tabor_curve(old, points, ycol, short):
     """Item 6 or 7 as the best estimates at every mu_T, keeping the stored file's columns and words."""
     pts = [p for p in points if short in p["quantities"] and p["quantities"][short]["error"]]
@@ -166,7 +184,7 @@ def tabor_curve(old, points, ycol, short):
             "extra": [("cmc_version", "0.1.0"), ("case_file", "cases/challenge/tabor-sweep.toml and the reference load's"),
                       ("grid", "per point, its best estimate's (estimated_error)"),
                       ("solver_tolerance", "per run, in reference/challenge/runs.json"),
-                      ("date", max(p.get("date") or "" for p in pts) if pts else ""),
+                      ("date", (max(p.get("date") or "" for p in pts) if pts else "") or _kept_date(old)),
                       ("command", "scripts/best_estimates.py; scripts/apply_best_estimates.py"),
                       ("sampling", f"{len(pts)} mu_T, each from its own finest converged run"),
                       ("generator", "scripts/apply_best_estimates.py (python/cmc/analysis/best.py)")]}

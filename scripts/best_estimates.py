@@ -16,7 +16,7 @@ import sys
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 sys.path.insert(0, os.path.join(ROOT, "python"))
-from cmc.analysis import challenge, family, runs  # noqa: E402
+from cmc.analysis import challenge, family, plausibility, runs  # noqa: E402
 
 OUT = os.path.join(ROOT, "reference", "challenge", "best_estimates.json")
 
@@ -24,7 +24,8 @@ OUT = os.path.join(ROOT, "reference", "challenge", "best_estimates.json")
 def _pm(q, scale=1.0, digits=4):
     if not q or q.get("error") is None:
         return "–"
-    return f"{q['value'] * scale:.{digits}g} ± {q['error'] * scale:.2g} ({100 * q['relative_error']:.2g} %)"
+    rel = "" if q.get("relative_error") is None else f" ({100 * q['relative_error']:.2g} %)"
+    return f"{q['value'] * scale:.{digits}g} ± {q['error'] * scale:.2g}{rel}"
 
 
 def describe(est):
@@ -34,6 +35,19 @@ def describe(est):
     q = est["quantities"]
     return [f"  {est['run']} ({est['n']}², {est['strategy']}, {est['device']})",
             f"    a_r {_pm(q.get('a_r'))}   repulsive a_r {_pm(q.get('a_rep'))}   mean gap {_pm(q.get('mean_gap'), 1e6, 6)} µm"]
+
+
+def stored_records(path):
+    """The store's records; (None, message) where the store cannot be read or holds a record
+    with an impossible value (python/cmc/analysis/plausibility.py), which no estimate may use."""
+    try:
+        records = runs.load_store(path)
+    except runs.StoreError as e:
+        return None, f"best_estimates: {e}"
+    bad = [f"  {r['tag']}: " + "; ".join(p) for r in records for p in [plausibility.record_problems(r)] if p]
+    if bad:
+        return None, f"best_estimates: {path}: records with impossible values (remove them):\n" + "\n".join(bad)
+    return records, None
 
 
 def main(argv):
@@ -49,7 +63,11 @@ def main(argv):
               file=sys.stderr)
         return 2
     store_dir = os.path.dirname(a.family)
-    data = challenge.build(runs.load_store(a.store), family.measured_members(a.family),
+    records, refused = stored_records(a.store)
+    if refused:
+        print(refused, file=sys.stderr)
+        return 2
+    data = challenge.build(records, family.measured_members(a.family),
                            family.condition_members(store_dir), physics=None if a.any_physics else challenge.PHYSICS)
     data = {"generator": "scripts/best_estimates.py (python/cmc/analysis/challenge.py)",
             "run_store": os.path.relpath(a.store, ROOT), "family_store": os.path.relpath(a.family, ROOT), **data}

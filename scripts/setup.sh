@@ -13,6 +13,8 @@ packages=(build-essential cmake pkg-config libfftw3-dev libgsl-dev libhdf5-dev l
           libopenmpi-dev openmpi-bin libfftw3-mpi-dev)
 # The Python module cmc and its tests (python/python.cmake): pybind11, Python's headers, pytest.
 packages+=(python3-dev pybind11-dev python3-pybind11 python3-pytest)
+# Property tests of the run store and the Python API (tests/gpu_store, tests/python): hypothesis.
+packages+=(python3-hypothesis)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

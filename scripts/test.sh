@@ -14,6 +14,24 @@
 # CMC_TEST_MPI=0 step 4.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# The arguments are checked before anything is installed or built: --help prints the lines
+# above, and an option that is not one of ctest's selections below is refused (ctest itself
+# would ignore it and run everything).
+usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; }
+args=("$@")
+for ((i = 0; i < ${#args[@]}; i++)); do
+  case "${args[i]}" in
+    -h | --help) usage; exit 0 ;;
+    -R | -E | -L | -LE | -j | --timeout | --repeat | -I | --tests-regex | --exclude-regex | --label-regex | \
+      --label-exclude | --parallel)
+      ((i + 1 < ${#args[@]})) || { echo "scripts/test.sh: ${args[i]} needs a value (see scripts/test.sh --help)" >&2; exit 2; }
+      ((i += 1)) ;;
+    -j[0-9]* | -V | -VV | -N | --output-on-failure | --stop-on-failure | --rerun-failed | --schedule-random | \
+      --no-tests=error | --timeout=* | --repeat=* | --parallel=*) ;;
+    *) echo "scripts/test.sh: unknown argument '${args[i]}': expected ctest's -R, -E, -L, -LE, -j, -V, -N, ..." \
+         "(see scripts/test.sh --help)" >&2; exit 2 ;;
+  esac
+done
 scripts/setup.sh
 status=0
 stage() {  # stage NAME COMMAND...: run it, say how long it took, remember a failure

@@ -91,3 +91,12 @@ cmc_rel_test(wisdom_fifo "mkfifo w && CMC_FFTW_PLANNER=measure CMC_FFTW_WISDOM=$
 cmc_rel_test(refine_output_fifo "mkdir o && mkfifo o/refinement.md && ${CMC_BIN} refine ${CMC_HARDWALL} --grids 16 32 --out o 2>err; test $? -eq 2 && test -p o/refinement.md && test ! -e o/n16")
 # A Dugdale smoothing of 2 h0 or more was exit 4 with an internal name.
 cmc_rel_test(dugdale_smoothing "${CMC_BIN} run ${CMAKE_SOURCE_DIR}/cases/validation/maugis-dugdale-lambda1.toml --set grid.n=32 --set interaction.smoothing=1 --out o 2>err; test $? -eq 2 && grep -q '\\[interaction\\] smoothing = 1 m: expected a width below 2 h0' err && test ! -e o")
+
+# ---- a single-value option given twice is refused, naming it (the first one silently won:
+# --tolerance 10 --tolerance 0.01 passed a prediction twice the answer).
+cmc_rel_test(option_given_twice "${CMC_BIN} check ${CMC_AREA_REF} --quantity contact_area_vs_pressure --tolerance 10 --tolerance 0.01 >out 2>err; test $? -eq 2 && grep -q -- '--tolerance is given twice' err && test ! -s out && ${CMC_BIN} run ${CMC_WAVY} --set grid.nx=64 --out a -o b 2>err; test $? -eq 2 && grep -q -- '-o is given twice' err && test ! -e a && test ! -e b")
+# ---- messages say what is wrong: a regular file where a folder belongs ("is not a regular
+# file" before), checked before anything is printed; a FAIL for want of coverage says so first
+# (its first line read "inside the reference's error band").
+cmc_rel_test(out_is_a_file "echo mine > f && ${CMC_BIN} check ${CMC_AREA_REF} --quantity contact_area_vs_pressure --out f >out 2>err; test $? -eq 2 && grep -q 'f: is a regular file, expected a folder' err && test ! -s out && test \"$(cat f)\" = mine")
+cmc_rel_test(check_fail_reason_first "{ echo pressure_Pa,contact_fraction; ${CMC_AREA_ROWS} | awk -F, 'NR == 5 || NR == 6 {print $1 \",\" $2}'; } > p.csv && ${CMC_BIN} check p.csv --quantity contact_area_vs_pressure >out; test $? -eq 5 && grep -q '^verdict *FAIL: the prediction covers' out && grep -q '^ *though inside the reference.s error band' out")

@@ -20,10 +20,13 @@ TEST is one of
   refusals      bad input exits 2 naming the argument before anything is written: an unknown
                 key, a malformed value, an empty list or value, a repeated value or key, a
                 --set of the swept key, grid.n beside --grids, a folder pattern that gives two
-                points one folder or leaves --out, a table name with a folder, a bad grid
-                size; and a point folder holding a run of another case, or a summary.json that
-                is not cmc's, stops the sweep before its first point runs, the folder left as
-                it was
+                points one folder, leaves --out, names the table or cmc's own files, a table
+                name with a folder, a bad grid size, a single-value option given twice; and a
+                point folder holding a run of another case, or a summary.json that is not
+                cmc's, stops the sweep before its first point runs, the folder left as it was
+  many_values   10,000 values of one key with --dry-run: checked in linear time
+  folders       a symbolic link on the way to a point's folder is refused before anything
+                runs; a damaged checkpoint's message says how to start the point afresh
   scaled_family scripts/scaled_family.py's runs go through cmc sweep: member s = 32 on 64² and
                 128², plain and with the range strategy, and under the hard wall (--store into
                 the work folder): every stored run's recorded command, `cmc run` into another
@@ -218,6 +221,13 @@ REFUSALS = [  # (arguments, what the message must name)
     (["--over", "interaction.tabor=1", "--table", "a/b"], "--table 'a/b': expected a file name"),
     (["--grids", "32", "abc"], "--grids: 'abc' is neither a whole number"),
     ([], "cmc sweep needs --over"),
+    (["--over", "interaction.tabor=1", "--folder", ".partial"], "'.partial' is the name of cmc's own files"),
+    (["--over", "interaction.tabor=1", "--folder", "x/.cmc.lock"], "'.cmc.lock' is the name of cmc's own files"),
+    (["--over", "interaction.tabor=1", "--folder", "sweep.json/x"], "where the sweep writes its table (--table sweep)"),
+    (["--over", "interaction.tabor=1", "--folder", "t.md", "--table", "t"], "where the sweep writes its table"),
+    (["--over", "interaction.tabor=1", "--folder", "a", "--folder", "b"], "--folder is given twice"),
+    (["--over", "interaction.tabor=1", "--checkpoint-every", "5", "--checkpoint-every", "6"],
+     "--checkpoint-every is given twice"),
 ]
 
 
@@ -247,6 +257,59 @@ def test_refusals(binary, work):
     check(p.returncode == 2 and "not a cmc run summary" in p.stderr and not os.path.exists(folder(out, "1.0", 32)) and
           open(os.path.join(wrong, "summary.json"), encoding="utf-8").read() == '{"mine": 1}\n',
           f"a foreign summary.json: exit {p.returncode} (expected 2, left as it was):\n{p.stderr}")
+
+
+def dry_run_cpu(binary, work, n):
+    """CPU seconds of `cmc sweep --dry-run` over n values of one key, and the process."""
+    import resource
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    values = ",".join(str(k) for k in range(1, n + 1))
+    p = cmc(binary, "sweep", TABOR, "--out", os.path.join(work, "many"), "--over", f"solver.max_iterations={values}",
+            "--dry-run")
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime, p
+
+
+def test_many_values(binary, work):
+    """Checking an --over list takes time linear in its values: 10,000 values, --dry-run, took
+    0.9 s of CPU (2,500: 0.25 s) on two busy cores, where one pair check per two values took
+    19 s for 4,000. Four times the values must cost less than 8 times the time (quadratic: 16)."""
+    small, p = dry_run_cpu(binary, work, 2500)
+    check(p.returncode == 0 and p.stdout.count("would run") == 2500, f"2,500 values: exit {p.returncode}\n{p.stderr}")
+    large, p = dry_run_cpu(binary, work, 10000)
+    check(p.returncode == 0 and p.stdout.count("would run") == 10000, f"10,000 values: exit {p.returncode}\n{p.stderr}")
+    check(large < 8 * max(small, 0.05) and large < 10.0,
+          f"10,000 values took {large:.2f} s of CPU, 2,500 took {small:.2f} s: not linear")
+    check(not os.path.exists(os.path.join(work, "many")), "--dry-run wrote into --out")
+
+
+def test_folders(binary, work):
+    """A link on the way to a point's folder is refused before anything runs, so is a second
+    --out, and a point whose checkpoint is damaged says how to start it afresh within the sweep
+    (there is no --resume to drop)."""
+    out = os.path.join(work, "linked")
+    elsewhere = os.path.join(work, "elsewhere")
+    for d in (out, elsewhere):
+        shutil.rmtree(d, ignore_errors=True)
+    os.makedirs(out)
+    os.makedirs(elsewhere)
+    os.symlink(elsewhere, os.path.join(out, "interaction.tabor_1.0"))
+    p = sweep(binary, out)
+    check(p.returncode == 2 and "is a symbolic link" in p.stderr and os.listdir(elsewhere) == [],
+          f"a linked point folder: exit {p.returncode} (expected 2, nothing written through it):\n{p.stderr}")
+    twice = os.path.join(work, "twice")
+    p = sweep(binary, os.path.join(work, "once"), "--out", twice)
+    check(p.returncode == 2 and "--out is given twice" in p.stderr and not os.path.exists(twice),
+          f"--out given twice: exit {p.returncode} (expected 2, nothing written):\n{p.stderr}")
+    out = os.path.join(work, "damaged")
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(os.path.join(folder(out, "1.0", 32), ".partial"))
+    with open(os.path.join(folder(out, "1.0", 32), ".partial", "checkpoint.h5"), "wb") as f:
+        f.write(b"not an HDF5 file")
+    p = sweep(binary, out)
+    check(p.returncode != 0 and "without --resume" not in p.stderr and
+          f"remove {os.path.join(folder(out, '1.0', 32), '.partial')} and run the sweep again" in p.stderr,
+          f"a damaged checkpoint: exit {p.returncode}, expected advice for a sweep:\n{p.stderr}")
 
 
 def main(argv):

@@ -317,16 +317,22 @@ std::string report_text(const Report& r) {
   for (const auto& n : r.notes) s << "note            " << n << "\n";
   const Verdict& v = r.verdict;
   const bool within = v.value <= v.tolerance;
-  if (v.metric == "max_band")
-    s << "verdict         " << (v.pass ? "PASS" : "FAIL") << ": "
-      << (within ? "inside the reference's error band (max_band = " + fmt(v.value) + " <= 1"
-                 : "outside the reference's error band by up to " + fmt(v.value) + " times its half-width (at " +
-                       fmt(m.x_at_max_band) + " " + axis_unit(r.spec, true))
-      << "; " << v.source << ")\n";
-  else
-    s << "verdict         " << (v.pass ? "PASS" : "FAIL") << ": " << v.metric << " = " << fmt(v.value)
-      << (within ? " <= " : " > ") << "tolerance " << fmt(v.tolerance) << " (" << v.source << ")\n";
-  if (!v.reason.empty()) s << "                FAIL: " << v.reason << "\n";
+  const std::string measured =
+      v.metric == "max_band"
+          ? (within ? "inside the reference's error band (max_band = " + fmt(v.value) + " <= 1"
+                    : "outside the reference's error band by up to " + fmt(v.value) + " times its half-width (at " +
+                          fmt(m.x_at_max_band) + " " + axis_unit(r.spec, true)) +
+                "; " + v.source + ")"
+          : v.metric + " = " + fmt(v.value) + (within ? " <= " : " > ") + "tolerance " + fmt(v.tolerance) + " (" +
+                v.source + ")";
+  if (!v.pass && within && !v.reason.empty()) {
+    // The error is within the tolerance: the reason for the FAIL comes first, the error after.
+    s << "verdict         FAIL: " << v.reason << "\n";
+    s << "                though " << measured << "\n";
+  } else {
+    s << "verdict         " << (v.pass ? "PASS" : "FAIL") << ": " << measured << "\n";
+    if (!v.reason.empty()) s << "                FAIL: " << v.reason << "\n";
+  }
   return s.str();
 }
 

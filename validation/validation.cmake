@@ -28,6 +28,13 @@ add_test(NAME tabor_sweep.refusals COMMAND sh -c "S=${CMAKE_SOURCE_DIR}/scripts/
   $S --tabor 0.0 2>&1 >/dev/null | grep -q -- \"--tabor: '0.0' is not a positive number\" && \
   $S --tabor '' 2>&1 >/dev/null | grep -q -- '--tabor needs a list' && { $S --tabor '' >/dev/null 2>&1; test $? -eq 2; }")
 set_tests_properties(tabor_sweep.refusals PROPERTIES LABELS quick)
+# scripts/test.sh reads its arguments before it installs or builds anything: --help prints its
+# header, an argument that is not one of ctest's selections is refused (exit 2; ctest would
+# ignore it and run everything).
+add_test(NAME test_sh.arguments COMMAND sh -c "T=${CMAKE_SOURCE_DIR}/scripts/test.sh; \
+  $T --help | head -1 | grep -q '^The test command' && { $T --bogus 2>${CMAKE_BINARY_DIR}/test_sh.err; test $? -eq 2; } && \
+  grep -q \"unknown argument '--bogus'\" ${CMAKE_BINARY_DIR}/test_sh.err && { $T -R 2>/dev/null; test $? -eq 2; }")
+set_tests_properties(test_sh.arguments PROPERTIES LABELS quick TIMEOUT 30)
 
 # The analysis package (python/cmc/analysis: refinement, family errors, best estimates, the
 # extremum), each formula against a hand-computed case.
@@ -167,6 +174,17 @@ set_tests_properties(gpu_scripts.batch PROPERTIES LABELS "quick;python")
 add_test(NAME gpu_scripts.reference_plan
          COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/tests/reference_plan_test.py $<TARGET_FILE:cmc>)
 set_tests_properties(gpu_scripts.reference_plan PROPERTIES LABELS "quick;python" TIMEOUT 300)
+# The run store as a trust boundary (tests/gpu_store, one test per file): scripts/gpu/ingest.py,
+# store.py, best_estimates.py and reference_plan.py against archives and runs made hostile by
+# the tests (names that leave the results folder, special modes, impossible or outlying values,
+# corrupt files, failing steps; property tests with hypothesis, a fixed seed); nothing outside a
+# scratch store is touched.
+foreach(test ingest_paths ingest_trust store_trust store_properties reference_plan_exit)
+  add_test(NAME gpu_scripts.${test}
+           COMMAND /usr/bin/python3 -m pytest -q -p no:cacheprovider ${CMAKE_SOURCE_DIR}/tests/gpu_store/test_${test}.py)
+  set_tests_properties(gpu_scripts.${test} PROPERTIES LABELS "quick;python" TIMEOUT 300
+                       ENVIRONMENT "CMC_EXE=$<TARGET_FILE:cmc>")
+endforeach()
 
 # The docs check (scripts/check_docs.py; docs/developer/testing.md): every relative link and
 # every repository path named in README.md and docs/ exists, and the README's quickstarts run

@@ -6,7 +6,7 @@ import tempfile
 
 import numpy as np
 
-from ._native import _core, path_text, CaseError, InputError
+from ._native import _core, flag, path_text, CaseError, InputError
 
 
 class CheckReport:
@@ -60,6 +60,18 @@ def _columns(prediction):
     return a
 
 
+# The file cmc.check writes for an array: line N (after its header) is row N - 2 of the array;
+# line 1, the header, stands for the array as a whole.
+def _file_line(match):
+    line = int(match.group(1))
+    return f"prediction row {line - 2}" if line >= 2 else "prediction (array)"
+
+
+def _line_note(match):
+    line = int(match.group(1))
+    return f" (row {line - 2})" if line >= 2 else ""
+
+
 def check(prediction, quantity=None, *, reference=None, tolerance=None, metric=None, min_coverage=None,
           adhesionless=False, against=None):
     """Score a prediction against a reference curve, as ``cmc check`` does.
@@ -79,7 +91,7 @@ def check(prediction, quantity=None, *, reference=None, tolerance=None, metric=N
     args = ("" if quantity is None else str(quantity),
             "" if reference is None else path_text(reference, "reference"),
             None if tolerance is None else float(tolerance), "" if metric is None else str(metric),
-            None if min_coverage is None else float(min_coverage), bool(adhesionless),
+            None if min_coverage is None else float(min_coverage), flag(adhesionless, "adhesionless"),
             "" if against is None else str(against))
     if isinstance(prediction, (str, os.PathLike)):
         json_text, text = _core.check(path_text(prediction, "prediction"), *args)
@@ -95,9 +107,8 @@ def check(prediction, quantity=None, *, reference=None, tolerance=None, metric=N
         try:
             json_text, text = _core.check(path, *args)
         except (InputError, CaseError) as e:
-            # The file's line N (after the header) is row N - 2 of the array.
-            message = re.sub(re.escape(path) + r":(\d+)", lambda m: f"prediction row {int(m.group(1)) - 2}", str(e))
-            message = re.sub(r"\(line (\d+)\)", lambda m: f"(row {int(m.group(1)) - 2})", message)
+            message = re.sub(re.escape(path) + r":(\d+)", _file_line, str(e))
+            message = re.sub(r" ?\(line (\d+)\)", _line_note, message)
             raise type(e)(message.replace(path, "prediction (array)")) from None
     report = json.loads(json_text)
     report["prediction_file"] = "(array)"

@@ -5,6 +5,8 @@ import numbers
 import os
 import re
 
+import numpy as np
+
 try:
     from . import _core
 except ImportError as e:  # the pure-Python files alone (python/ on sys.path), or a stale build
@@ -80,8 +82,20 @@ def renamed(error, label, names):
 
 
 def path_text(path, what):
-    """A file or folder name given as str or os.PathLike."""
+    """A file or folder name given as str or os.PathLike (bytes decoded as the file system does);
+    CaseError for anything else and for a name with a NUL character, which no file has."""
     try:
-        return os.fspath(path)
-    except TypeError:
+        text = os.fsdecode(os.fspath(path))
+    except (TypeError, UnicodeDecodeError):
         raise CaseError(f"{what}: expected a path (str or os.PathLike), got {type(path).__name__}") from None
+    if "\0" in text:
+        raise CaseError(f"{what}: {text!r} holds a NUL character; expected a file or folder name")
+    return text
+
+
+def flag(value, what):
+    """A yes/no argument: True or False (numpy's bools too); CaseError for anything else, such as
+    the string 'no', which Python would take as true."""
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    raise CaseError(f"{what}: expected True or False, got {type(value).__name__} {value!r}")

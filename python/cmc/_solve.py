@@ -4,7 +4,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._cases import Result
-from ._native import _core, plain, renamed, CaseError
+from ._native import _core, flag, plain, renamed, CaseError
 
 
 @dataclass(frozen=True)
@@ -92,12 +92,22 @@ _ARGUMENTS = {
 _LOADS = {"pressure": "mean_pressure", "penetration": "penetration", "force": "force", "mean_gap": "mean_gap"}
 
 
-def _heights_array(heights):
-    try:
-        h = np.ascontiguousarray(heights, dtype=np.float64)
-    except (TypeError, ValueError) as e:
-        raise CaseError(f"{_LABEL}: heights: expected an array of numbers (metres), "
-                        f"got {type(heights).__name__} ({e})") from None
+def _heights_view(heights):
+    """`heights` as a numpy array of real numbers, 1-D or 2-D and not empty, checked without a
+    copy of an array given as one (a broadcast view stays a view until the case, its memory
+    checked, says the grid fits)."""
+    if isinstance(heights, np.ndarray):
+        h = heights
+    else:
+        try:
+            h = np.asarray(heights)
+        except (TypeError, ValueError) as e:
+            raise CaseError(f"{_LABEL}: heights: expected an array of numbers (metres), "
+                            f"got {type(heights).__name__} ({e})") from None
+    if h.dtype.kind not in "fiu":
+        got = type(heights).__name__ if h.dtype.kind == "O" and h.ndim == 0 else f"an array of {h.dtype}"
+        raise CaseError(f"{_LABEL}: heights: expected an array of real numbers (float or integer, metres), "
+                        f"got {got}")
     if h.ndim not in (1, 2) or h.size == 0:
         raise CaseError(f"{_LABEL}: heights: expected a non-empty 2-D array (ny, nx) or a 1-D line, "
                         f"got shape {h.shape}")
@@ -135,7 +145,7 @@ def solve(heights, size, modulus, pressure=None, *, penetration=None, force=None
     :class:`cmc.CaseError` naming it; so does a height that is NaN or infinite.
     Returns a :class:`Solution` (SI units).
     """
-    h = _heights_array(heights)
+    h = _heights_view(heights)
     ny, nx = h.shape
     if interaction is None:
         interaction = HardWall()
@@ -157,10 +167,11 @@ def solve(heights, size, modulus, pressure=None, *, penetration=None, force=None
     sections = {"case": {"name": "python-solve"}, "grid": grid, "material": {"contact_modulus": modulus},
                 "surface": {"kind": "flat"}, "interaction": interaction._keys(),
                 "loading": loading,
-                "solver": solver, "output": {"fields": True}, "observables": {"enabled": bool(observables)}}
+                "solver": solver, "output": {"fields": True},
+                "observables": {"enabled": flag(observables, f"{_LABEL}: observables")}}
     sections = {s: {k: plain(v, f"{_LABEL}: [{s}] {k}") for k, v in keys.items()} for s, keys in sections.items()}
     try:
-        case = _core.case_from_sections(sections, _LABEL)
-        return Solution(_core.run(case, h, "", progress))
+        case = _core.case_from_sections(sections, _LABEL)  # the grid's memory checked before h is copied
+        return Solution(_core.run(case, np.ascontiguousarray(h, dtype=np.float64), "", progress))
     except CaseError as e:
         raise renamed(e, _LABEL, {**_ARGUMENTS, "[loading] values": load}) from None

@@ -34,6 +34,8 @@ import json
 import os
 import subprocess
 import sys
+import tarfile
+import time
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 TABOR = [v for line in open(os.path.join(ROOT, "cases", "challenge", "tabor-values"))
@@ -125,6 +127,43 @@ def machine_text(a):
     return f"device {dev}\ncores {os.cpu_count()}\ndate {now:%Y-%m-%d}\nstarted {now:%Y-%m-%dT%H:%M:%SZ}\n"
 
 
+def unusable_paths(a):
+    """Why the plan cannot save its results (a message), or None: the folder of --tar must
+    exist, and --pack must be a pack (bin/cmc and env.sh, scripts/gpu/pack.sh)."""
+    folder = os.path.dirname(os.path.abspath(a.tar))
+    if not os.path.isdir(folder):
+        return f"--tar {a.tar}: the folder {folder} does not exist (the results could not be saved)"
+    missing = [f for f in ("bin/cmc", "env.sh") if not os.path.isfile(os.path.join(a.pack, f))]
+    if missing:
+        return f"--pack {a.pack}: no {' or '.join(missing)} (expected a pack made by scripts/gpu/pack.sh)"
+    return None
+
+
+def saved_runs(tar, since):
+    """How many runs with a summary the archive `tar` holds, if this plan wrote it (not older
+    than `since`); None where it did not."""
+    try:
+        if os.path.getmtime(tar) < since - 1:
+            return None
+        with tarfile.open(tar) as t:
+            return sum(1 for n in t.getnames() if n.endswith("/summary.json") and "/runs/" in n)
+    except (OSError, tarfile.TarError, EOFError):
+        return None
+
+
+def saved_report(tar, since, batch_code):
+    """Say what was saved; the exit code: batch.sh's, or 1 where no run's summary was saved."""
+    count = saved_runs(tar, since)
+    if not count:
+        what = "no archive was written" if count is None else "no run left its summary (every stage failed)"
+        print(f"reference_plan: {tar}: {what}; nothing was saved", file=sys.stderr)
+        return batch_code or 1
+    size = os.path.getsize(tar) / 2 ** 20
+    print(f"reference_plan: {tar}: {count} runs, {size:.2f} MiB"
+          + (f" (more than {MAX_PACK_MIB} MiB)" if size > MAX_PACK_MIB else ""))
+    return batch_code
+
+
 def main(argv):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--deadline", type=int, default=540, help="seconds for the whole plan (default %(default)s)")
@@ -159,6 +198,10 @@ def main(argv):
         print(f"  [{prio}] {stage:32s} estimate {est:6.0f} s: dropped, it does not fit")
     if a.dry_run or not kept:
         return 0
+    refused = unusable_paths(a)
+    if refused:
+        print(f"reference_plan: {refused}; nothing was run", file=sys.stderr)
+        return 2
     os.makedirs(a.work, exist_ok=True)
     with open(os.path.join(a.work, "machine.txt"), "w") as f:
         f.write(machine_text(a))
@@ -168,11 +211,10 @@ def main(argv):
     scaled = [f"surface.cutoff_wavelength={0.1e-6 * a.scale:g}"] if a.scale > 1 else []
     specs = [f"{stage}@{cap}" + "".join("," + s for s in sets + scaled) for _, stage, sets, _, _, cap in kept]
     env = dict(os.environ, DEADLINE=str(a.deadline))
+    started = time.time()
     r = subprocess.run([os.path.join(ROOT, "scripts", "gpu", "batch.sh"), "--pack", a.pack, "--work", a.work,
                         "--tar", a.tar, "--keep-h5", "8", "--deadline", str(a.deadline)] + specs, env=env, cwd=ROOT)
-    size = os.path.getsize(a.tar) / 2 ** 20 if os.path.exists(a.tar) else 0
-    print(f"reference_plan: {a.tar}: {size:.2f} MiB" + (f" (more than {MAX_PACK_MIB} MiB)" if size > MAX_PACK_MIB else ""))
-    return r.returncode
+    return saved_report(a.tar, started, r.returncode)
 
 
 if __name__ == "__main__":

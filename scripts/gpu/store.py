@@ -9,7 +9,11 @@ it, <tag>.command (the command as check.sh ran it), <tag>.gpu-memory (nvidia-smi
 build.txt (the commit the pack was built from, scripts/gpu/pack.sh). Each run becomes one record
 (python/cmc/analysis/runs.py), replacing a record of the same tag. --commit overrides build.txt
 (for packs made before it was written); --origin names the batch the runs came in (default: the
-folder's name). A run that left no summary (stopped at its cap) is listed and not stored.
+folder's name). A run that left no summary (stopped at its cap) or did not converge is listed
+and not stored. A converged run is checked before it is stored (python/cmc/analysis/plausibility.py):
+one with an impossible value, out of force balance, or whose tag does not match its grid makes
+store.py exit 2 and store nothing. A tag the store holds with another record is replaced only
+with --replace.
 """
 import argparse
 import glob
@@ -17,18 +21,22 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
-from cmc.analysis import runs  # noqa: E402
+from archive import Refused, checked_date  # noqa: E402
+from cmc.analysis import plausibility, runs  # noqa: E402
 
 KINDS = ("hardwall", "hardwall_plain", "adhesive", "shape", "load", "shape_load", "hardwall_load")  # check.sh's stages
 TABOR = ("tabor_mu", "shape_tabor_mu")  # check.sh's tabor:N:MU and shape_tabor:N:MU stages
 
 
 def read_text(path):
+    """The file's text, stripped; None where there is none; Refused where it is not UTF-8 text."""
     try:
-        with open(path) as f:
+        with open(path, encoding="utf-8") as f:
             return f.read().strip()
     except FileNotFoundError:
         return None
+    except (OSError, ValueError) as e:
+        raise Refused(f"{path}: not a readable text file ({e})") from None
 
 
 def gpu_peak(path):
@@ -46,13 +54,31 @@ def build_commit(out):
     return None
 
 
+def run_tag(d):
+    """The folder's tag (<backend>-<kind>-<n>), or None where it is not a check.sh run's."""
+    parts = os.path.basename(d).split("-")
+    if len(parts) != 3 or parts[0] not in ("cpu", "cuda") or not parts[2].isdigit() \
+            or not (parts[1] in KINDS or parts[1].startswith(TABOR)):
+        return None
+    return os.path.basename(d)
+
+
+def checked_record(d, rec, summary):
+    """rec, if the run may be stored: Refused naming what is impossible or out of balance."""
+    problems = plausibility.record_problems(rec) + plausibility.balance_problems(summary)
+    if rec["n"] != int(rec["tag"].split("-")[2]) or rec["backend"] != rec["tag"].split("-")[0]:
+        problems.append(f"its grid {rec['n']!r} and backend {rec['backend']!r} are not its tag's")
+    if problems:
+        raise Refused(f"{d}: refused, " + "; ".join(problems))
+    return rec
+
+
 def store_folder(out, a):
-    """The records of one check.sh output folder; exits 2 naming what is missing."""
+    """The records of one check.sh output folder; Refused naming what is missing or wrong."""
     got = []
     for d in sorted(glob.glob(os.path.join(out, "runs", "*"))):
-        tag = os.path.basename(d)
-        parts = tag.split("-")
-        if len(parts) != 3 or not (parts[1] in KINDS or parts[1].startswith(TABOR)):
+        tag = run_tag(d)
+        if tag is None:
             print(f"store.py: {d}: not a check.sh run (<backend>-<kind>-<n>); skipped", file=sys.stderr)
             continue
         if not os.path.exists(os.path.join(d, "summary.json")):
@@ -60,12 +86,19 @@ def store_folder(out, a):
             continue
         command = read_text(os.path.join(out, tag + ".command"))
         if command is None:
-            sys.exit(f"store.py: {d}: no {tag}.command beside it: run the stage again with a check.sh that records it")
+            raise Refused(f"{d}: no {tag}.command beside it: run the stage again with a check.sh that records it")
         summary = runs.read_summary(os.path.join(d, "summary.json"))
-        device = a.device if parts[0] == "cuda" else "host CPU of the GPU machine"
-        got.append(runs.record(summary, tag=tag, command=command, device=device, date=a.date,
-                               commit=a.commit or build_commit(out), origin=a.origin or os.path.basename(out.rstrip("/")),
-                               gpu_peak_mib=gpu_peak(os.path.join(out, tag + ".gpu-memory"))))
+        if summary.get("status") != "converged":
+            print(f"store.py: {d}: {summary.get('status')!r}, not converged; not stored", file=sys.stderr)
+            continue
+        device = a.device if tag.startswith("cuda-") else "host CPU of the GPU machine"
+        try:
+            rec = runs.record(summary, tag=tag, command=command, device=device, date=a.date,
+                              commit=a.commit or build_commit(out), origin=a.origin or os.path.basename(out.rstrip("/")),
+                              gpu_peak_mib=gpu_peak(os.path.join(out, tag + ".gpu-memory")))
+        except (AttributeError, TypeError, ValueError, KeyError) as e:
+            raise Refused(f"{d}/summary.json: not a cmc run's summary ({type(e).__name__}: {e})") from None
+        got.append(checked_record(d, rec, summary))
     return got
 
 
@@ -77,15 +110,28 @@ def main(argv):
     ap.add_argument("--commit", help="the commit the pack was built from (default: the pack's build.txt)")
     ap.add_argument("--origin", help="the batch the runs came in, e.g. the archive's name (default: the folder's)")
     ap.add_argument("--store", default=runs.RUN_STORE)
+    ap.add_argument("--replace", action="store_true", help="replace stored records of the same tags")
     a = ap.parse_args(argv)
     new = []
-    for out in a.outs:
-        if not os.path.isdir(out):
-            print(f"store.py: {out}: no such folder (expected a check.sh --out folder)", file=sys.stderr)
-            return 2
-        new += store_folder(out, a)
-    total = runs.add_to_store(new, a.store)
-    print(f"store.py: {len(new)} runs stored; {total} records in {a.store}", file=sys.stderr)
+    try:
+        checked_date(a.date, "--date")
+        for out in a.outs:
+            if not os.path.isdir(out):
+                print(f"store.py: {out}: no such folder (expected a check.sh --out folder)", file=sys.stderr)
+                return 2
+            new += store_folder(out, a)
+        old = runs.load_store(a.store)
+    except (Refused, runs.StoreError) as e:
+        print(f"store.py: {e}; nothing stored", file=sys.stderr)
+        return 2
+    changed = runs.changed_tags(old, new)
+    if changed and not a.replace:
+        print(f"store.py: {a.store} holds other records of {', '.join(changed)}: give --replace to replace them; "
+              "nothing stored", file=sys.stderr)
+        return 2
+    runs.save_store(runs.merge(old, new), a.store)
+    print(f"store.py: {len(new)} runs stored{' (replacing ' + ', '.join(changed) + ')' if changed else ''}; "
+          f"{len(runs.merge(old, new))} records in {a.store}", file=sys.stderr)
     return 0
 
 

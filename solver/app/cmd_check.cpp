@@ -196,6 +196,11 @@ int cmd_check(int argc, char** argv) {
       throw CaseError("--min-coverage " + t + ": expected a fraction from 0 to 1");
     o.min_coverage = v;
   }
+  const std::filesystem::path dir(a.out);
+  if (!a.out.empty()) {  // before anything is scored or printed
+    check_output_folder(dir);
+    for (const char* f : {"check.json", "check.png"}) check_output_file(dir / f);
+  }
   check::Report r;
   try {
     r = check::run_check(o);
@@ -205,9 +210,6 @@ int cmd_check(int argc, char** argv) {
   }
   std::fputs(check::report_text(r).c_str(), stdout);
   if (!a.out.empty()) {
-    const std::filesystem::path dir(a.out);
-    check_output_folder(dir);
-    for (const char* f : {"check.json", "check.png"}) check_output_file(dir / f);  // before either is written
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     if (ec || !std::filesystem::is_directory(dir))

@@ -53,7 +53,8 @@ Progress on stderr: a line per point; --quiet silences the runs' own progress li
 Refused before anything runs (exit 2, naming the argument): an unknown key or a malformed
 value (each point's case is read and checked first), an empty list or value, a value or
 key given twice, a --set of a swept key, grid.n/nx/ny in --set or --over beside --grids,
-and a folder pattern that gives two points one folder.
+a folder pattern that gives two points one folder (or a point the table's name, .partial
+or .cmc.lock), and a symbolic link on the way from DIR to a point's folder.
 One cmc process at a time writes into DIR (DIR/.cmc.lock) and into each point's folder.
 Exit codes: 0 every point converged, 2 bad input, 3 a point did not converge (the others
 run; the table says which), 4 a point failed (the sweep stops there; the table is
@@ -93,7 +94,8 @@ SweepRequest read_request(int argc, char** argv) {
   for (char* a : rest)
     if (std::string(a) == "--dry-run") r.dry_run = true;
     else args.push_back(a);
-  const Args a = parse_args(int(args.size()), args.data(), 2, {"--over", "--folder", "--table", "--checkpoint-every"});
+  const Args a = parse_args(int(args.size()), args.data(), 2, {"--over", "--folder", "--table", "--checkpoint-every"},
+                            {"--over"});
   if (a.positional.size() != 1) throw CaseError("cmc sweep takes exactly one case file (see cmc sweep --help)");
   if (a.out.empty()) throw CaseError("cmc sweep needs --out DIR (see cmc sweep --help)");
   r.file = a.positional[0];
@@ -113,18 +115,53 @@ SweepRequest read_request(int argc, char** argv) {
   return r;
 }
 
-// Every point's case, read and checked (keys, values, memory, backend) before any runs.
+// Every point's case, read and checked (keys, values, memory, backend) before any runs: the
+// case file (with its bases) is read once, each point's overrides applied to a copy of it, as
+// load_case would (a sweep of 10,000 points reads one file, not 10,000).
 std::vector<Case> load_point_cases(const SweepRequest& r, const std::vector<SweepPoint>& points) {
   std::vector<Case> cases;
+  const toml::table file = read_case_file(r.file);
   for (const SweepPoint& p : points) {
     try {
-      cases.push_back(load_case(r.file, p.sets));
+      toml::table t = file;
+      for (const std::string& o : p.sets) apply_override(t, o);
+      cases.push_back(parse_case(t, r.file));
     } catch (const CaseError& e) {
       throw CaseError("cmc sweep, the point " + p.label() + ": " + e.what());
     }
     require_backend(cases.back());
   }
   return cases;
+}
+
+// Each point's folder, before anything runs: not the name of the sweep's table, and no link
+// on the way from --out to it (a point is written into a folder of its own, not through one).
+void check_point_folders(const SweepRequest& r, const std::vector<SweepPoint>& points) {
+  for (const SweepPoint& p : points) {
+    const fs::path folder(p.folder);
+    const std::string first = folder.begin()->string();
+    if (first == r.table + ".json" || first == r.table + ".md")
+      throw CaseError("--folder " + r.pattern + ": the point " + p.label() + " gets the folder '" + p.folder +
+                      "', where the sweep writes its table (--table " + r.table + "); expected another folder");
+    fs::path at = r.out;
+    for (const fs::path& part : folder) {
+      at /= part;
+      std::error_code ec;
+      if (fs::is_symlink(fs::symlink_status(at, ec)))
+        throw OutputPathError(at.string() + ": is a symbolic link; cmc sweep writes each point into a folder of its own "
+                              "below --out, not through a link: remove it, or choose another --out");
+    }
+  }
+}
+
+// A refusal to resume a point, with the advice a sweep takes (there is no --resume to drop).
+CaseError for_sweep(const CaseError& e, const fs::path& dir) {
+  std::string text = e.what();
+  const std::string drop = "run without --resume";
+  const std::string instead = "remove " + (dir / ".partial").string() + " and run the sweep again";
+  for (auto at = text.find(drop); at != std::string::npos; at = text.find(drop, at + instead.size()))
+    text.replace(at, drop.size(), instead);
+  return CaseError(text);
 }
 
 // What a point's folder asks for.
@@ -180,6 +217,9 @@ PointResult run_point(const SweepRequest& r, const SweepPoint& p, const Case& c,
     } catch (const RunStopped& e) {  // stopped at the same limit again: the folder is as it was
       std::fprintf(stderr, "cmc sweep: %s\n", e.what());
       how = "kept";
+    } catch (const CaseError& e) {
+      if (todo == Todo::Resume) throw for_sweep(e, dir);
+      throw;
     }
   }
   return point_result(read_json_file(dir / "summary.json"), how);
@@ -242,13 +282,20 @@ int cmd_sweep(int argc, char** argv) {
   std::vector<SweepPoint> points = sweep_points(r.axes, r.grids, r.sets);
   const std::vector<Case> cases = load_point_cases(r, points);
   sweep_folders(points, cases, r.pattern);
+  check_point_folders(r, points);
   // Every folder and file the sweep writes, checked before the first point runs.
   check_output_folder(r.out);
   for (const char* ext : {".json", ".md"}) check_output_file(r.out / (r.table + ext));
   std::vector<Todo> todo;
   for (std::size_t i = 0; i < points.size(); ++i) {
-    check_output_folder(r.out / points[i].folder);
-    todo.push_back(plan_point(r.out / points[i].folder, cases[i]));
+    const fs::path dir = r.out / points[i].folder;
+    std::error_code ec;
+    if (fs::symlink_status(dir, ec).type() == fs::file_type::not_found) {  // nothing there yet: a run
+      todo.push_back(Todo::Run);
+      continue;
+    }
+    check_output_folder(dir);
+    todo.push_back(plan_point(dir, cases[i]));
   }
   if (r.dry_run) {
     for (std::size_t i = 0; i < points.size(); ++i)

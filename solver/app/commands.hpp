@@ -26,8 +26,10 @@ struct Args {
 
 // Common options: --help, --quiet, --out DIR, --set k=v. A command lists its own
 // options (taking one value each) in `valued`; anything else starting with '-' is an
-// error (CaseError, exit code 2).
-Args parse_args(int argc, char** argv, int first, const std::vector<std::string>& valued = {});
+// error (CaseError, exit code 2), and so is --out or a valued option given twice, unless
+// it is listed in `repeatable` (--set always is).
+Args parse_args(int argc, char** argv, int first, const std::vector<std::string>& valued = {},
+                const std::vector<std::string>& repeatable = {});
 
 // Progress on stderr without --quiet: step (*step, numbered as in summary.json),
 // iteration, residual (for the quasi-static solver: outer steps done and the last one's

@@ -50,10 +50,12 @@ void check_threads_variable() {
                     std::to_string(kMaxThreads) + " (unset: all of this machine's)");
 }
 
-Args parse_args(int argc, char** argv, int first, const std::vector<std::string>& valued) {
+Args parse_args(int argc, char** argv, int first, const std::vector<std::string>& valued,
+                const std::vector<std::string>& repeatable) {
   progress_every();  // a malformed value is refused before anything is read or written
   check_threads_variable();
   Args a;
+  bool out_given = false;
   a.quiet = !is_root();  // in a distributed run rank 0 alone prints
   for (int i = first; i < argc; ++i) {
     const std::string s = argv[i];
@@ -67,15 +69,35 @@ Args parse_args(int argc, char** argv, int first, const std::vector<std::string>
     };
     const auto eq = s.find('=');
     const std::string name = s.substr(0, eq);
+    // A single-value option given twice is refused: which one was meant is not for cmc to guess.
+    auto once = [&](bool given) {
+      if (given) throw CaseError(name + " is given twice: give it once");
+    };
     auto take = [&]() { return eq == std::string::npos ? value(name) : s.substr(eq + 1); };
-    if (s == "-h" || s == "--help") a.help = true;
-    else if (s == "--quiet" || s == "-q") a.quiet = true;
-    else if (s == "--resume") a.resume = true;
-    else if (name == "--out" || name == "-o") a.out = take();
-    else if (name == "--set") a.overrides.push_back(take());
-    else if (std::find(valued.begin(), valued.end(), name) != valued.end()) a.options.emplace_back(name, take());
-    else if (s.size() > 1 && s[0] == '-') throw CaseError("unknown option " + s + " (see --help)");
-    else a.positional.push_back(s);
+    auto in = [&](const std::vector<std::string>& names) {
+      return std::find(names.begin(), names.end(), name) != names.end();
+    };
+    const bool seen = std::any_of(a.options.begin(), a.options.end(), [&](const auto& o) { return o.first == name; });
+    if (s == "-h" || s == "--help") {
+      a.help = true;
+    } else if (s == "--quiet" || s == "-q") {
+      a.quiet = true;
+    } else if (s == "--resume") {
+      a.resume = true;
+    } else if (name == "--out" || name == "-o") {
+      once(out_given);
+      out_given = true;
+      a.out = take();
+    } else if (name == "--set") {
+      a.overrides.push_back(take());
+    } else if (in(valued)) {
+      once(seen && !in(repeatable));
+      a.options.emplace_back(name, take());
+    } else if (s.size() > 1 && s[0] == '-') {
+      throw CaseError("unknown option " + s + " (see --help)");
+    } else {
+      a.positional.push_back(s);
+    }
   }
   return a;
 }

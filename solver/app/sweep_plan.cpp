@@ -5,8 +5,11 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <cstdio>
 #include <map>
 #include <optional>
+#include <unordered_map>
 
 #include <toml++/toml.h>
 
@@ -48,42 +51,56 @@ std::vector<std::string> split_values(const std::string& list, const std::string
   return values;
 }
 
-// Whether two TOML values mean the same: numbers compared as numbers (1 and 1.0, 1e4 and
-// 10000), arrays and tables element by element, strings and booleans by value.
-bool same_toml(const toml::node& a, const toml::node& b) {
-  if (a.is_number() && b.is_number()) return a.value<double>() == b.value<double>();
-  if (a.is_array() && b.is_array()) {
-    const toml::array &x = *a.as_array(), &y = *b.as_array();
-    if (x.size() != y.size()) return false;
-    for (std::size_t i = 0; i < x.size(); ++i)
-      if (!same_toml(x[i], y[i])) return false;
-    return true;
+// One text per meaning of a TOML value, so that equal values are found by a hash: numbers by
+// their value as a double (1 and 1.0, 1e4 and 10000; -0 as 0), strings and booleans by value,
+// arrays element by element, tables key by key (toml++ keeps keys sorted). Nothing for a NaN,
+// a date or a time (anywhere inside): those are the same only as written.
+std::optional<std::string> meaning(const toml::node& v) {
+  if (v.is_number()) {
+    const std::optional<double> as_double = v.value<double>();
+    if (!as_double || std::isnan(*as_double)) return std::nullopt;
+    double d = *as_double;
+    if (d == 0.0) d = 0.0;
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "n%a", d);
+    return std::string(buf);
   }
-  if (a.is_table() && b.is_table()) {
-    const toml::table &x = *a.as_table(), &y = *b.as_table();
-    if (x.size() != y.size()) return false;
-    for (const auto& [key, value] : x)
-      if (!y.contains(key.str()) || !same_toml(value, *y.get(key.str()))) return false;
-    return true;
+  if (v.is_string()) {
+    const std::string s = *v.value<std::string>();
+    return "s" + std::to_string(s.size()) + ":" + s;
   }
-  if (a.is_string() && b.is_string()) return a.value<std::string>() == b.value<std::string>();
-  if (a.is_boolean() && b.is_boolean()) return a.value<bool>() == b.value<bool>();
-  return false;  // dates and times: compared as written only
+  if (v.is_boolean()) return std::string(*v.value<bool>() ? "b1" : "b0");
+  std::string out;
+  if (const toml::array* a = v.as_array()) {
+    out = "[" + std::to_string(a->size());
+    for (const toml::node& e : *a) {
+      const auto m = meaning(e);
+      if (!m) return std::nullopt;
+      out += "," + *m;
+    }
+    return out + "]";
+  }
+  if (const toml::table* t = v.as_table()) {
+    out = "{" + std::to_string(t->size());
+    for (const auto& [key, e] : *t) {
+      const auto m = meaning(e);
+      if (!m) return std::nullopt;
+      out += "," + std::to_string(key.str().size()) + ":" + std::string(key.str()) + "=" + *m;
+    }
+    return out + "}";
+  }
+  return std::nullopt;
 }
 
-// The value V as TOML reads it, or nothing where it does not parse (the run then says why).
-std::optional<toml::table> parsed_value(const std::string& v) {
+// The key two values share exactly when they mean the same: their meaning where TOML reads
+// them and it has one, else the text as written.
+std::string value_key(const std::string& v) {
   try {
-    return toml::parse("v = " + v);
+    const toml::table t = toml::parse("v = " + v);
+    if (const auto m = meaning(*t.get("v"))) return "m" + *m;
   } catch (const toml::parse_error&) {
-    return std::nullopt;
   }
-}
-
-bool same_value(const std::string& a, const std::string& b) {
-  if (a == b) return true;
-  const auto x = parsed_value(a), y = parsed_value(b);
-  return x && y && same_toml(*x->get("v"), *y->get("v"));
+  return "w" + v;
 }
 
 }  // namespace
@@ -98,14 +115,17 @@ SweepAxis parse_over(const std::string& argument) {
   const std::string list = trim(argument.substr(eq + 1));
   if (list.empty()) throw CaseError("--over " + argument + ": an empty list of values; expected " + axis.key + "=V1,V2,...");
   axis.values = split_values(list, argument);
+  std::unordered_map<std::string, std::size_t> seen;  // each value's key: one look-up per value
   for (std::size_t i = 0; i < axis.values.size(); ++i) {
     if (axis.values[i].empty())
       throw CaseError("--over " + argument + ": value " + std::to_string(i + 1) + " is empty; expected " + axis.key +
                       "=V1,V2,... with a TOML value between each two commas");
-    for (std::size_t j = 0; j < i; ++j)
-      if (same_value(axis.values[j], axis.values[i]))
-        throw CaseError("--over " + argument + ": the value " + axis.values[i] +
-                        (axis.values[j] == axis.values[i] ? "" : " (the same as " + axis.values[j] + ")") + " comes twice");
+    const auto [it, fresh] = seen.emplace(value_key(axis.values[i]), i);
+    if (!fresh) {
+      const std::string& first = axis.values[it->second];
+      throw CaseError("--over " + argument + ": the value " + axis.values[i] +
+                      (first == axis.values[i] ? "" : " (the same as " + first + ")") + " comes twice");
+    }
   }
   return axis;
 }
@@ -192,6 +212,9 @@ void check_relative_folder(const std::string& folder, const std::string& pattern
     const std::string part = folder.substr(start, slash == std::string::npos ? std::string::npos : slash - start);
     if (part.empty() || part == "." || part == "..")
       throw CaseError(where + ": expected a relative path below --out, each part a name (not empty, '.' or '..')");
+    if (part == ".partial" || part == ".cmc.lock")
+      throw CaseError(where + ": '" + part + "' is the name of cmc's own files (a run's unfinished part, a folder's "
+                      "lock); expected another name");
     if (slash == std::string::npos) return;
     start = slash + 1;
   }

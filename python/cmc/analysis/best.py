@@ -177,7 +177,10 @@ def _passed_over(c):
 
 
 def ratio(a, b):
-    """a/b of two estimates' quantity entries (values not 0), relative errors added."""
+    """a/b of two estimates' quantity entries, relative errors added; None where b's value is 0
+    or a relative error is unknown (a value of 0 has none): no ratio to give."""
+    if not b["value"] or a.get("relative_error") is None or b.get("relative_error") is None:
+        return None
     v = a["value"] / b["value"]
     rel = a["relative_error"] + b["relative_error"]
     return {"value": v, "relative_error": rel, "error": rel * abs(v)}

@@ -165,23 +165,39 @@ def record(summary, *, tag, command, device, date, commit=None, origin=None, gpu
     }
 
 
+class StoreError(ValueError):
+    """A run store or a summary that cannot be read as one; the message names the file."""
+
+
 def load_store(path=RUN_STORE):
-    """The store's records ([] when there is no store yet)."""
+    """The store's records ([] when there is no store yet); StoreError where the file is not a
+    run store (not JSON, no list of records, a record without its tag, kind, backend or grid)."""
     try:
-        with open(path) as f:
-            return json.load(f).get("records", [])
+        with open(path, encoding="utf-8") as f:
+            data = json.load(f)
     except FileNotFoundError:
         return []
+    except (OSError, ValueError) as e:
+        raise StoreError(f"{path}: not a readable run store ({e})") from None
+    recs = data.get("records") if isinstance(data, dict) else None
+    if not isinstance(recs, list):
+        raise StoreError(f"{path}: not a run store (expected an object with a list \"records\")")
+    for i, r in enumerate(recs):
+        if not (isinstance(r, dict) and all(isinstance(r.get(k), str) for k in ("tag", "kind", "backend"))
+                and isinstance(r.get("n"), int)):
+            raise StoreError(f"{path}: record {i} is not a run record (expected tag, kind, backend and n)")
+    return recs
 
 
 def save_store(records, path=RUN_STORE):
-    """Write the records (sorted, one per tag) to the store, atomically."""
+    """Write the records (sorted, one per tag) to the store, atomically; ValueError (nothing
+    written) where a number is NaN or infinite, which JSON cannot hold."""
     data = {"what": STORE_WHAT, "records": sorted(records, key=lambda r: (r["kind"], r["backend"], r["n"], r["tag"]))}
+    text = json.dumps(data, indent=1, sort_keys=True, allow_nan=False) + "\n"
     os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
     tmp = f"{path}.tmp{os.getpid()}"
     with open(tmp, "w") as f:
-        json.dump(data, f, indent=1, sort_keys=True)
-        f.write("\n")
+        f.write(text)
     os.replace(tmp, path)
 
 
@@ -200,7 +216,19 @@ def merge(records, new):
     return list(by_tag.values())
 
 
+def changed_tags(records, new):
+    """The tags of `new` that the store holds with another record (a replacement, not a repeat)."""
+    by_tag = {r["tag"]: r for r in records}
+    return [r["tag"] for r in new if r["tag"] in by_tag and by_tag[r["tag"]] != json.loads(json.dumps(r))]
+
+
 def read_summary(path):
-    """A run's summary.json, parsed."""
-    with open(path) as f:
-        return json.load(f)
+    """A run's summary.json, parsed; StoreError where it is not a JSON object."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            data = json.load(f)
+    except (OSError, ValueError) as e:
+        raise StoreError(f"{path}: not a readable summary.json ({e})") from None
+    if not isinstance(data, dict):
+        raise StoreError(f"{path}: not a run's summary (expected a JSON object, got {type(data).__name__})")
+    return data

@@ -9,16 +9,17 @@ namespace cmc {
 namespace fs = std::filesystem;
 
 namespace {
-// What a path that is neither absent nor a regular file is, for messages.
+// What a path that is not absent is, for messages.
 std::string what_it_is(fs::file_type t) {
   switch (t) {
     case fs::file_type::directory: return "a folder";
+    case fs::file_type::regular: return "a regular file";
     case fs::file_type::symlink: return "a symbolic link";
     case fs::file_type::character: return "a character device";
     case fs::file_type::block: return "a block device";
     case fs::file_type::fifo: return "a FIFO (named pipe)";
     case fs::file_type::socket: return "a socket";
-    default: return "not a regular file";
+    default: return "neither a regular file nor a folder";
   }
 }
 }  // namespace

@@ -152,6 +152,10 @@ void parse_loading(Section s, bool adhesive, bool periodic, LoadingSpec& l) {
     for (const char* key : {"values", "unloading"})
       for (double v : key == std::string("values") ? l.values : l.unloading)
         if (v < 0.0) s.fail(key, "non-negative loads for a hard-wall (non-adhesive) contact");
+  if (l.control == LoadControl::MeanGap)  // g >= 0 at every point (no interaction lets the solids overlap)
+    for (const char* key : {"values", "unloading"})
+      for (double v : key == std::string("values") ? l.values : l.unloading)
+        if (v < 0.0) s.fail(key, "non-negative mean gaps in m (the gap is never negative)");
   if (l.control == LoadControl::MeanGap && !periodic)
     s.fail("control", "\"force\" or \"penetration\": a mean gap needs a periodic grid");
   // Bounded: a step that still fails at the finest level is walked in 2^max_halvings sub-steps.

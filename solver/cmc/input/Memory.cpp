@@ -11,9 +11,11 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <mutex>
 #include <numbers>
 #include <string>
 
@@ -155,9 +157,9 @@ std::optional<double> number_in(const std::string& path) {
   if (in >> v) return v;
   return std::nullopt;
 }
-}  // namespace
 
-std::optional<double> available_memory() {
+// What the machine has now, read afresh (available_memory keeps it for a moment).
+std::optional<double> read_available_memory() {
   std::optional<double> avail;
   if (std::ifstream in("/proc/meminfo"); in) {
     std::string key;
@@ -187,6 +189,20 @@ std::optional<double> available_memory() {
     }
   }
   return avail;
+}
+}  // namespace
+
+// Read at most once a second: a sweep checks thousands of cases in a row, and the kernel
+// makes /proc/meminfo afresh for every read (tens of microseconds each).
+std::optional<double> available_memory() {
+  using Clock = std::chrono::steady_clock;
+  static std::mutex guard;
+  static Clock::time_point when{};
+  static std::optional<double> last;
+  const std::lock_guard<std::mutex> lock(guard);
+  const Clock::time_point now = Clock::now();
+  if (when == Clock::time_point{} || now - when > std::chrono::seconds(1)) last = read_available_memory(), when = now;
+  return last;
 }
 
 }  // namespace cmc

@@ -61,6 +61,9 @@ SolveResult PolonskyKeer::solve(const Target& target, ContactState& st) {
   // One pass, which also sums p and p u (the mean pressure and the elastic energy): a
   // solve's last reads of p and u.
   Field &p = st.pressure, &u = st.displacement;
+  // At zero load no point carries pressure and w = h: the indenter rests on its lowest point
+  // (the rigid-body position a vanishing load tends to), wherever the heights' zero lies.
+  if (target.control == Control::MeanPressure && target.value == 0.0 && end.failure.empty()) end.delta = Grid::min(u);
   const double sigma = end.sigma, delta = end.delta;
   st.gap.resize(n);
   struct Sums {
