@@ -40,7 +40,7 @@ from archive import (FILE_MODE, Refused, check_tree, checked_component, checked_
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 sys.path.insert(0, os.path.join(ROOT, "python"))
-from cmc.analysis import plausibility  # noqa: E402
+from cmc.analysis import plausibility, runs  # noqa: E402
 
 PY = sys.executable or "/usr/bin/python3"
 
@@ -139,21 +139,28 @@ def stage_references(a, store, stage):
     with open(best, "w") as f:
         json.dump(data, f, indent=1, sort_keys=True)
         f.write("\n")
-    check_outliers(a, data)
+    check_outliers(a, data, added_records(a.store, store))
     step([os.path.join(ROOT, "scripts", "apply_best_estimates.py"), "--best", best, "--out", out, "--cmc", a.cmc],
          "rewriting the references")
     return out
 
 
-def check_outliers(a, new):
-    """StepFailed (2) where a new finer grid's estimate lies far outside the previous band, unless
-    --accept-outlier; the adopted ones are named either way."""
+def added_records(old_store, new_store):
+    """The records of new_store that old_store does not hold as they are (new or replaced tags)."""
+    old = {json.dumps(r, sort_keys=True) for r in runs.load_store(old_store)} if os.path.exists(old_store) else set()
+    return [r for r in runs.load_store(new_store) if json.dumps(r, sort_keys=True) not in old]
+
+
+def check_outliers(a, new, records=()):
+    """StepFailed (2) where a new finer grid's estimate, or a run this ingest adds on a finer grid,
+    lies far outside the previous band, unless --accept-outlier; the adopted ones are named either
+    way."""
     try:
         with open(os.path.join(a.out, "best_estimates.json")) as f:
             old = json.load(f)
     except (OSError, ValueError):
         return
-    found = plausibility.outliers(old if isinstance(old, dict) else {}, new)
+    found = plausibility.outliers(old if isinstance(old, dict) else {}, new, records=records)
     lines = []
     for point, short, o, e in found:
         qo, qn = o["quantities"][short], e["quantities"][short]

@@ -11,6 +11,8 @@ band widths (the band: the previous estimate's value +- its error).
 """
 import math
 
+from . import best, runs
+
 FRACTIONS = ("a_r", "a_r_corrected", "a_rep")
 REQUIRED = ("n", "pressure_Pa", "a_r", "mean_gap_m")
 # A step's force against its mean pressure times the area: the program computes the one from
@@ -113,20 +115,42 @@ def _points(best):
     return [(name, e) for name, e in out if isinstance(e, dict) and e.get("run")]
 
 
-def outliers(old, new, widths=OUTLIER_WIDTHS):
+def outliers(old, new, widths=OUTLIER_WIDTHS, records=()):
     """The points whose new best estimate comes from a finer grid than the old one and lies
-    outside the old band by more than `widths` band widths, in a_r or the mean gap:
-    [(point, quantity, old estimate, new estimate)]."""
+    outside the old band by more than `widths` band widths, in a_r or the mean gap; and, among
+    `records` (the runs an ingest adds), each converged run finer than the old estimate at its
+    point that lies that far outside it, whether or not it became the new estimate:
+    [(point, quantity, old estimate, new estimate or {"run", "n", "quantities"} of the run)]."""
     before = dict(_points(old))
     out = []
     for name, e in _points(new):
         o = before.get(name)
-        if not o or e.get("n", 0) <= o.get("n", 0):
-            continue
-        for short in ("a_r", "mean_gap"):
-            qo, qn = (o.get("quantities") or {}).get(short), (e.get("quantities") or {}).get(short)
-            if not qo or not qn or not _number(qo.get("error")) or not _number(qn.get("value")):
-                continue
-            if abs(qn["value"] - qo["value"]) > (1.0 + widths) * qo["error"]:
-                out.append((name, short, o, e))
+        if o and e.get("n", 0) > o.get("n", 0):
+            out += [(name, short, o, e) for short in _far(o, e, widths)]
+    for name, o in before.items():
+        for r in _finer_runs(o, records):
+            got = {"run": r["tag"], "n": r["n"], "quantities": {"a_r": {"value": r.get("a_r")},
+                                                                "mean_gap": {"value": r.get("mean_gap_m")}}}
+            out += [(name, short, o, got) for short in _far(o, got, widths)
+                    if not any(x[0] == name and x[1] == short and x[3].get("run") == r["tag"] for x in out)]
     return out
+
+
+def _far(o, e, widths):
+    """The quantities of e that lie outside o's band by more than `widths` band widths."""
+    far = []
+    for short in ("a_r", "mean_gap"):
+        qo, qn = (o.get("quantities") or {}).get(short), (e.get("quantities") or {}).get(short)
+        if not qo or not qn or not _number(qo.get("error")) or not _number(qn.get("value")):
+            continue
+        if abs(qn["value"] - qo["value"]) > (1.0 + widths) * qo["error"]:
+            far.append(short)
+    return far
+
+
+def _finer_runs(o, records):
+    """The converged runs (load sweeps' steps one by one) at estimate o's point on a finer grid."""
+    if not records or o.get("problem") not in ("adhesive", "hardwall"):
+        return []
+    pts = best.at_point(runs.expand_steps(list(records)), o["problem"], o.get("pressure_Pa"), o.get("tabor"))
+    return [r for r in pts if r.get("status") == "converged" and (r.get("n") or 0) > (o.get("n") or 0)]
