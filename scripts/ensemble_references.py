@@ -76,7 +76,7 @@ def curve(stem, problem, question, rows, k, seeds, n_grid, date):
     hw = " without adhesion" if problem == "hardwall" else ""
     return {
         "name": stem, "quantity": stem, "x": xcol, "y": ycol, "representation": rep, "band": ycol + "_err",
-        "title": f"Challenge item {ITEMS[stem]}: {words} vs {xwords}{hw}, {question} of {len(seeds)} surfaces",
+        "title": f"Challenge item {ITEMS[stem]}: {words} vs {xwords}{hw}, {question} of {ms[-1]} surfaces",
         "estimated_error": (f"band per row: the grid correction's relative error (cmc's own surface, seed "
                             f"{ensemble.OWN_SEED}: its best estimate over its value on {n_grid}^2) combined in "
                             f"quadrature with {stat}"),
@@ -90,8 +90,9 @@ def curve(stem, problem, question, rows, k, seeds, n_grid, date):
                   ("solver_tolerance", "per run, in reference/challenge/ensemble/runs.json"), ("date", date),
                   ("command", "scripts/ensemble.py; scripts/ensemble_store.py; scripts/ensemble_references.py"),
                   ("question", f"{question}: {what}"),
-                  ("seeds", f"surface.seed {seeds[0]}-{seeds[-1]} ({len(seeds)}); per row {ms[0]}"
-                            + (f" to {ms[-1]}" if ms[-1] != ms[0] else "") + " of them converged"),
+                  ("seeds", f"{ms[0]}" + (f" to {ms[-1]}" if ms[-1] != ms[0] else "")
+                            + f" surfaces per row (column surfaces), of surface.seed {seeds[0]}-{seeds[-1]}: "
+                              "those run to a converged point there"),
                   ("generator", "scripts/ensemble_references.py (python/cmc/analysis/ensemble.py)")]}
 
 
