@@ -381,7 +381,8 @@ def speed_and_hard_checks(root):
     write_json(os.path.join(hard, "spike", "summary.json"),
                {"case": {"case": {"name": "hard-spike", "description": "one spike"}, "solver": {"kind": "polonsky_keer"}},
                 "grid": {"nx": 64, "ny": 64}, "status": "converged", "timing": {"iterations": 43, "wall_s": 0.05},
-                "validation": checks, "residual_history": {"residual": [1.0, 0.1, "inf", 1e-11]}})
+                "validation": checks, "residual_history": {"solve": [0, 0, 1, 1], "iteration": [0, 5, 0, 3],
+                                                            "residual": [1.0, 0.1, "inf", 1e-11]}})
     write_json(os.path.join(hard, "bad", "summary.json"),
                {"case": {"case": {"name": "hard-bad"}}, "grid": {"nx": 8, "ny": 8}, "status": "not_converged",
                 "validation": [{"quantity": "threads", "verdict": "FAIL"}]})
@@ -391,6 +392,11 @@ def speed_and_hard_checks(root):
     if "| hard-spike | one spike | polonsky_keer | 64×64 | converged | 43 | 0.05 | 2 | pass (expected failure: gap) |" \
             not in lines:
         failures.append("hard-case table: the spike's row (an expected failure) is not as expected:\n" + lines)
+    x, y = speed_report.history_curve({"solve": [0, 0, 1, 1], "iteration": [0, 5, 0, 3], "residual": [1.0, 0, "inf", 1e-11]})
+    import math
+    if x[:2].tolist() != [0, 5] or not math.isnan(x[2]) or x[3:].tolist() != [6, 9] \
+            or not (math.isnan(y[1]) and math.isnan(y[3]) and y[4] == 1e-11):
+        failures.append(f"history_curve: the solves are not laid one after the other, or 0 and inf drawn: {x}, {y}")
     if "FAIL: threads" not in lines or not os.path.isfile(os.path.join(out, "hard_residuals.png")):
         failures.append("hard-case table: a failing case is not named, or the residual figure is missing")
     return failures

@@ -27,15 +27,29 @@ def user_points(summaries, best):
     return speed.speed_points(recs, best, "user")
 
 
+def _marker(p):
+    """The point's marker: a star for the user's runs, a cross for a run stopped before its
+    tolerance, else a square on the GPU and a circle on the CPU."""
+    if p.source == "user":
+        return "*"
+    if p.status != "converged":
+        return "x"
+    return "s" if p.backend == "cuda" else "o"
+
+
+# What the markers mean, for the legend.
+MARKERS = (("o", "CPU", "grey"), ("s", "GPU", "grey"), ("*", "yours", "grey"), ("x", "stopped before its tolerance", "grey"),
+           ("s", "the best estimate's run, at its error bar", "none"))
+
+
 def _draw(points, path):
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.4))
     methods = sorted({p.method for p in points})
     colours = {m: plt.cm.tab10(k % 10) for k, m in enumerate(methods)}
     for ax, (problem, words) in zip(axes, PROBLEMS):
         pts = [p for p in points if p.problem == problem and p.wall_s and p.error_a_r]
         for p in pts:
-            marker = "*" if p.source == "user" else ("s" if p.backend == "cuda" else "o")
-            ax.loglog(p.wall_s, p.error_a_r, marker, ms=11 if p.source == "user" else 7, color=colours[p.method],
+            ax.loglog(p.wall_s, p.error_a_r, _marker(p), ms=11 if p.source == "user" else 7, color=colours[p.method],
                       mfc="none" if p.is_best else colours[p.method])
             ax.annotate(f"{p.n}", (p.wall_s, p.error_a_r), fontsize=6, textcoords="offset points", xytext=(4, 3))
         front = speed.pareto_front(pts)
@@ -44,7 +58,9 @@ def _draw(points, path):
                     label="Pareto front")
         for m in methods:
             if any(p.method == m for p in pts):
-                ax.plot([], [], "o", color=colours[m], label=m)
+                ax.plot([], [], "-", lw=4, color=colours[m], label=m)
+        for marker, words_, face in MARKERS:
+            ax.plot([], [], marker, color="grey", mfc=face, ls="none", label=words_)
         ax.set_title(f"250 kPa, {words}", fontsize=10)
         ax.set_xlabel("wall time (s)")
         ax.set_ylabel("relative error of a_r from the best estimate")
@@ -118,6 +134,21 @@ def verdict(checks):
     return "pass" + (f" (expected failure: {', '.join(xfail)})" if xfail else "")
 
 
+def history_curve(h):
+    """(x, residual) of a summary's residual_history for drawing: x the iteration counted over
+    the solves one after the other, NaN between solves (each its own line) and where the residual
+    is not a positive number (0, "inf", "nan")."""
+    xs, ys, offset, last_solve, last_it = [], [], 0, None, 0
+    for solve, it, r in zip(h.get("solve", []), h.get("iteration", []), h.get("residual", [])):
+        if last_solve is not None and solve != last_solve:
+            offset += last_it + 1
+            xs.append(np.nan), ys.append(np.nan)
+        last_solve, last_it = solve, it
+        xs.append(offset + it)
+        ys.append(r if isinstance(r, (int, float)) and r > 0 else np.nan)
+    return np.array(xs, dtype=float), np.array(ys, dtype=float)
+
+
 def _history_figure(cases, path):
     cols = 4
     rows = max(1, (len(cases) + cols - 1) // cols)
@@ -125,12 +156,11 @@ def _history_figure(cases, path):
     for ax in axes.flat:
         ax.set_visible(False)
     for ax, (name, s) in zip(axes.flat, cases):
-        h = s.get("residual_history") or {}
-        r = [v if isinstance(v, (int, float)) else np.nan for v in h.get("residual", [])]
-        if not r:
+        x, y = history_curve(s.get("residual_history") or {})
+        if not np.isfinite(y).any():
             continue
         ax.set_visible(True)
-        ax.semilogy(np.arange(len(r)), np.maximum(r, 1e-300), lw=0.7)
+        ax.semilogy(x, y, lw=0.7)
         ax.set_title(name.replace("hard-", ""), fontsize=7)
         ax.tick_params(labelsize=5)
     savefig(fig, path)
@@ -154,8 +184,9 @@ def hard_lines(dirs, out_dir):
     lines += ["The suite of cases that make contact solvers fail (`cases/hard/`: each case's header says why), with "
               "its stability checks (`docs/validation.md`, \"Hard cases\"). Iterations and time: the case's own solve "
               "(the checks' reruns not counted). Residual histories below, one panel per case: the residual the "
-              "solver reports at each iteration (the quasi-static solver: each outer step's tension change), solves "
-              "one after the other.", "",
+              "solver reports against the iterations of its solves, one after the other (the quasi-static solver: "
+              "each outer step's tension change; a residual of 0 is not drawn; cases without a positive one have "
+              "no panel).", "",
               md_table(["case", "why hard", "solver", "grid", "status", "iterations", "time (s)", "checks", "verdict"],
                        rows), "", f"![residual histories of the hard cases]({rel(path, out_dir)})", ""]
     return lines
