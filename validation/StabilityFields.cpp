@@ -13,24 +13,10 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-struct MaxOf {
-  double v = 0.0;
-  void merge(const MaxOf& o) { v = std::max(v, o.v); }
-  void add(double x) { v = std::isnan(x) ? kInf : std::max(v, x); }
-};
-
-// The largest of `term(k)` over the grid's points, through the grid layer.
-template <class Term>
-double largest(const Grid& g, Term term) {
-  return Grid::parallel_reduce<MaxOf>(g.size(), [&](std::size_t b, std::size_t e, MaxOf& acc) {
-    for (std::size_t k = b; k < e; ++k) acc.add(term(k));
-  }).v;
-}
-
 // The largest |p| of the step, at least its |mean pressure| and the interaction's peak tension
 // (a step out of contact has neither).
 double pressure_scale(const Scene& s, const ContactState& st) {
-  const double p = largest(s.grid, [&](std::size_t k) { return std::abs(st.pressure[k]); });
+  const double p = largest(s.grid.size(), [&](std::size_t k) { return std::abs(st.pressure[k]); });
   return std::max({p, std::abs(st.mean_pressure), peak_tension(s.interaction), std::numeric_limits<double>::min()});
 }
 
@@ -41,13 +27,13 @@ double elastic_mismatch(Scene& s, const ContactState& st, double height) {
   s.half_space->displacement(st.pressure, u);
   const bool periodic = s.half_space->periodic();
   const double shift = periodic ? Grid::mean(st.displacement) - Grid::mean(u) : 0.0;
-  return largest(s.grid, [&](std::size_t k) { return std::abs(st.displacement[k] - u[k] - shift); }) / height;
+  return largest(s.grid.size(), [&](std::size_t k) { return std::abs(st.displacement[k] - u[k] - shift); }) / height;
 }
 
 // Where the gap is open, |p - f(g)|; where it is closed, how far p falls below f(0).
 double traction_mismatch(const Scene& s, const ContactState& st) {
   const double f0 = evaluate(s.interaction, 0.0).force;
-  return largest(s.grid, [&](std::size_t k) {
+  return largest(s.grid.size(), [&](std::size_t k) {
     const double g = st.gap[k], p = st.pressure[k];
     return g > 0.0 ? std::abs(p - evaluate(s.interaction, g).force) : std::max(0.0, f0 - p);
   });
@@ -97,7 +83,7 @@ Measure gap_below_wall(const Scene& s, const std::vector<ContactState>& states) 
   const Field& h = s.topography.heights;
   double below = 0.0;
   for (const ContactState& st : states) {
-    below = std::max(below, largest(s.grid, [&](std::size_t k) {
+    below = std::max(below, largest(s.grid.size(), [&](std::size_t k) {
       return std::max({0.0, -st.gap[k], -(h[k] - st.penetration + st.displacement[k])});
     }));
   }
@@ -120,8 +106,10 @@ Measure non_finite(const RunSummary& run, const std::vector<ContactState>& state
   for (const ContactState& st : states)
     for (const Field* f : {&st.pressure, &st.displacement, &st.gap})
       count += double(Grid::count_if(*f, [](double v) { return !std::isfinite(v); }));
-  for (const StepRecord& r : run.steps)
-    for (double v : {r.mean_pressure, r.penetration, r.mean_gap, r.contact_fraction}) count += std::isfinite(v) ? 0 : 1;
+  for (const StepRecord& r : run.steps) {
+    const double v[] = {r.mean_pressure, r.penetration, r.mean_gap, r.contact_fraction};
+    count += double(std::count_if(std::begin(v), std::end(v), [](double x) { return !std::isfinite(x); }));
+  }
   return {count, "the number of values that are not finite in the steps' fields (p, u, g) and records"};
 }
 

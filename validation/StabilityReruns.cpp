@@ -34,19 +34,18 @@ class ScopedThreads {
 
 bool same_bits_of(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
+// The number of values that differ in their bits.
 double differing(const Field& a, const Field& b) {
   if (a.size() != b.size()) return double(std::max(a.size(), b.size()));
-  double n = 0.0;
-  for (std::size_t k = 0; k < a.size(); ++k) n += same_bits_of(a[k], b[k]) ? 0.0 : 1.0;
-  return n;
+  return double(Grid::parallel_reduce<SumReduction>(a.size(), [&](std::size_t s, std::size_t e, SumReduction& acc) {
+    for (std::size_t k = s; k < e; ++k) acc.v += same_bits_of(a[k], b[k]) ? 0.0 : 1.0;
+  }).v);
 }
 
 // The largest |a - b| of two fields over `scale`.
 double field_difference(const Field& a, const Field& b, double scale) {
   if (a.size() != b.size()) return std::numeric_limits<double>::infinity();
-  double worst = 0.0;
-  for (std::size_t k = 0; k < a.size(); ++k) worst = std::max(worst, relative_difference(a[k], b[k], scale));
-  return worst;
+  return largest(a.size(), [&](std::size_t k) { return relative_difference(a[k], b[k], scale); });
 }
 
 // The largest difference of two solutions of one case, step by step (Stability.hpp, threads).
@@ -56,8 +55,8 @@ double solution_difference(const SolvedCase& a, const SolvedCase& b) {
   double worst = 0.0;
   for (std::size_t k = 0; k < a.states.size(); ++k) {
     const ContactState &x = a.states[k], &y = b.states[k];
-    double P = std::abs(x.mean_pressure);
-    for (double p : x.pressure) P = std::max(P, std::abs(p));
+    const double P =
+        std::max(std::abs(x.mean_pressure), largest(x.pressure.size(), [&](std::size_t k) { return std::abs(x.pressure[k]); }));
     worst = std::max({worst, field_difference(x.pressure, y.pressure, P), field_difference(x.gap, y.gap, height),
                       relative_difference(x.mean_pressure, y.mean_pressure, P),
                       relative_difference(x.penetration, y.penetration, height),
