@@ -198,6 +198,7 @@ toml::table Writer::summary_base() const {
   toml::table facts;
   for (const auto& [k, v] : surface_fact_entries(scene_.surface_facts)) facts.insert(k, v);
   if (!facts.empty()) base.insert("surface_facts", facts);
+  base.insert("model", model_table(case_));
   toml::array warnings;
   for (const auto& w : scene_.warnings) warnings.push_back(w);
   base.insert("warnings", warnings);
@@ -223,7 +224,6 @@ void Writer::finish(const RunSummary& run, const toml::table& extra) {
                                  "--set solver.max_outer_steps=N, any N above " +
                                      std::to_string(limit) + " (e.g. " + std::to_string(2 * limit) + ")"}});
   s.insert("timing", timing_table(run));
-  s.insert("model", model_table(case_));
   toml::array steps;
   for (const auto& r : run.steps) steps.push_back(step_json(r));
   s.insert("steps", steps);
