@@ -144,7 +144,8 @@ def missing_methods(points, expected):
     return [pm for pm in expected if pm not in have]
 
 
-# What the issue of speed against error asks to compare; the store may lack some.
+# The methods that speed against error compares: every solver and strategy of the project (the
+# store may lack some; the report names those).
 EXPECTED_METHODS = [("hardwall", "Polonsky-Keer, preconditioned"), ("hardwall", "Polonsky-Keer, plain"),
                     ("adhesive", "quasi-static, plain"), ("adhesive", "quasi-static, range"),
                     ("adhesive", "quasi-static, shape"), ("adhesive", "adhesive CG, plain")]
