@@ -27,6 +27,7 @@ from common import (CHALLENGE, condition_check_lines, condition_summary, realiza
                     transfer_caveat, write_csv)  # common puts python/ on the path for cmc.analysis
 
 from best_report import draw_point, draw_realisation, draw_tabor, headline, load_best  # noqa: E402
+import speed_report  # noqa: E402
 from cmc.analysis import bands, refinement  # noqa: E402
 from cmc.analysis.conditions import condition_checks, load_bands, run_band  # noqa: E402
 from cmc.analysis.family import FAMILY_QUANTITIES, STRATEGIES  # noqa: E402
@@ -1342,5 +1343,7 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
              "finer grid near it, at least the solver's tolerance in the problem's scale; large at contact lines, "
              "which move by up to a grid spacing between the grids. With adhesion both grids leave ρ unresolved "
              f"({method_link(out_dir, 'cross-section')}).", ""])
+    lines += speed_report.section([(r.s, r.folder) for a in (True, False) for r, _ in _reference_load_candidates(runs, a)],
+                                  reference_dir, out_dir)
     lines += tail
     return "\n".join(lines) + "\n"

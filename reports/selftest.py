@@ -371,6 +371,37 @@ def roundoff_checks(root):
     return fails
 
 
+def speed_and_hard_checks(root):
+    """The challenge report's speed and hard-case sections (speed_report.py): the hard-case table
+    reads build/hard/<case>/summary.json, counts an expected failure as one, and draws the
+    residual histories; a FAIL is named."""
+    import speed_report
+    hard = os.path.join(root, "hard")
+    checks = [{"quantity": "iterations", "verdict": "pass"}, {"quantity": "gap", "verdict": "xfail"}]
+    write_json(os.path.join(hard, "spike", "summary.json"),
+               {"case": {"case": {"name": "hard-spike", "description": "one spike"}, "solver": {"kind": "polonsky_keer"}},
+                "grid": {"nx": 64, "ny": 64}, "status": "converged", "timing": {"iterations": 43, "wall_s": 0.05},
+                "validation": checks, "residual_history": {"solve": [0, 0, 1, 1], "iteration": [0, 5, 0, 3],
+                                                            "residual": [1.0, 0.1, "inf", 1e-11]}})
+    write_json(os.path.join(hard, "bad", "summary.json"),
+               {"case": {"case": {"name": "hard-bad"}}, "grid": {"nx": 8, "ny": 8}, "status": "not_converged",
+                "validation": [{"quantity": "threads", "verdict": "FAIL"}]})
+    out = os.path.join(root, "hard-report")
+    lines = "\n".join(speed_report.hard_lines([hard], out))
+    failures = []
+    if "| hard-spike | one spike | polonsky_keer | 64×64 | converged | 43 | 0.05 | 2 | pass (expected failure: gap) |" \
+            not in lines:
+        failures.append("hard-case table: the spike's row (an expected failure) is not as expected:\n" + lines)
+    x, y = speed_report.history_curve({"solve": [0, 0, 1, 1], "iteration": [0, 5, 0, 3], "residual": [1.0, 0, "inf", 1e-11]})
+    import math
+    if x[:2].tolist() != [0, 5] or not math.isnan(x[2]) or x[3:].tolist() != [6, 9] \
+            or not (math.isnan(y[1]) and math.isnan(y[3]) and y[4] == 1e-11):
+        failures.append(f"history_curve: the solves are not laid one after the other, or 0 and inf drawn: {x}, {y}")
+    if "FAIL: threads" not in lines or not os.path.isfile(os.path.join(out, "hard_residuals.png")):
+        failures.append("hard-case table: a failing case is not named, or the residual figure is missing")
+    return failures
+
+
 def main(argv):
     try:
         import numpy as np
@@ -395,7 +426,7 @@ def main(argv):
             "challenge": ["index.md", "patch_size_distribution.png", "contact_area_vs_pressure.png",
                           "gap_distribution.png", "stress_distribution.png", "stress_spectrum.png",
                           "contact_area_vs_tabor.png", "mean_gap_vs_tabor.png", "mean_gap_vs_pressure.png",
-                          "cross_section.png", "tabor_refinement.png"],
+                          "cross_section.png", "tabor_refinement.png", "speed_vs_error.png"],
         }
         for sub, files in expect.items():
             for f in files:
@@ -449,6 +480,10 @@ def main(argv):
         failures += roundoff_checks(root)
         failures += transfer_checks()
         failures += realization_checks()
+        failures += speed_and_hard_checks(root)
+        # Speed against error: the store's GPU runs are on it, with errors from the best estimates.
+        if "## Speed against error" not in idx or "| hard wall | Polonsky-Keer, preconditioned | GPU: " not in idx:
+            failures.append("challenge/index.md lacks the speed-against-error section or the stored GPU runs")
         # Empty inputs: no crash, and lines saying what to run.
         empty = os.path.join(root, "empty")
         os.makedirs(empty, exist_ok=True)

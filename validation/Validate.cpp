@@ -245,6 +245,11 @@ double johnson_error(Q q, const Scene& s, const std::vector<ContactState>& state
 
 }  // namespace
 
+const char* CheckResult::verdict() const {
+  if (expected_failure.empty()) return pass ? "pass" : "FAIL";
+  return pass ? "XPASS" : "xfail";
+}
+
 double validation_error(ValidationReference reference, ValidationQuantity quantity, const Scene& s,
                         const std::vector<ContactState>& states, const RunSummary& run, std::string* definition) {
   std::string def;
@@ -268,12 +273,12 @@ double validation_error(ValidationReference reference, ValidationQuantity quanti
 std::vector<CheckResult> evaluate_checks(const Case& c, const Scene& s, const std::vector<ContactState>& states,
                                          const RunSummary& run) {
   std::vector<CheckResult> out;
-  if (!c.validation) return out;
+  if (!c.validation || !c.validation->reference) return out;
   for (const auto& ch : c.validation->checks) {
     CheckResult r;
     r.quantity = kind_name(ch.quantity);
     r.tolerance = ch.tolerance;
-    r.error = validation_error(c.validation->reference, ch.quantity, s, states, run, &r.definition);
+    r.error = validation_error(*c.validation->reference, ch.quantity, s, states, run, &r.definition);
     r.pass = r.error <= r.tolerance;
     out.push_back(r);
   }
@@ -316,7 +321,7 @@ RefinementResult run_refinement(const Case& c) {
     const SolvedCase sc = solve_case(cn);
     if (sc.run.status != RunStatus::Converged) throw std::runtime_error(cn.file + ": refinement run did not converge: " + sc.run.message);
     rr.grids.push_back(n);
-    rr.errors.push_back(validation_error(c.validation->reference, spec.quantity, sc.scene, sc.states, sc.run));
+    rr.errors.push_back(validation_error(*c.validation->reference, spec.quantity, sc.scene, sc.states, sc.run));
   }
   const OrderFit fit = fit_order(rr.grids, rr.errors);
   rr.order = fit.order;

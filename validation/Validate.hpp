@@ -22,6 +22,13 @@ struct CheckResult {
   double error = 0.0;
   double tolerance = 0.0;
   bool pass = false;
+  // A check cmc does not pass yet, and why (the case file says): its failure is expected.
+  std::string expected_failure;
+  // Whether the result is what the suite expects: a pass, or a failure that was expected.
+  bool as_expected() const { return expected_failure.empty() ? pass : !pass; }
+  // "pass", "FAIL", "xfail" (an expected failure) or "XPASS" (an expected failure that
+  // passed: the case file should say so).
+  const char* verdict() const;
 };
 
 // The error of `quantity` for a solved case. For hertz, hertz_periodic and westergaard

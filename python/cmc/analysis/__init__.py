@@ -14,6 +14,8 @@ and draw or format what they return; none of them computes a band or an extrapol
 - s_route: the family's values extrapolated in s to the challenge (the second route).
 - best, challenge, extremum, runs: the run store, the choice of best estimates and the mean
   gap's extremum in mu_T.
+- speed: the runs at the reference load as cost against error from the best estimates, and
+  their Pareto front.
 
 Why Python: the analysis reads JSON stores and CSVs and feeds matplotlib reports and the
 reference writers, all Python (numpy only here). Two formulas also exist in C++: `cmc refine`

@@ -126,11 +126,14 @@ struct Target {
 // of outer step `outer` is under way and the residual is that inner (Polonsky-Keer) solve's,
 // so that a long first solve (minutes on 8192²) shows it is alive. `outer` is 0 for the
 // other solvers.
+// `energy`: the objective the solver lowers, where it reports one (the adhesive CG: elastic
+// plus interaction energy, grid sums), else NaN.
 struct ProgressPoint {
   int iteration = 0;
   double residual = 0.0;
   int outer = 0;
   bool inner = false;
+  double energy = std::numeric_limits<double>::quiet_NaN();
 };
 using Progress = std::function<void(const ProgressPoint&)>;
 

@@ -6,6 +6,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -49,23 +50,36 @@ extern const char* const kBuiltinWisdom;  // generated at build time (solver/too
 namespace {
 constexpr std::size_t kHugePage = std::size_t(2) << 20;
 bool huge_pages_for(std::size_t bytes) { return bytes >= 8 * kHugePage; }
+std::atomic<std::size_t> fields_now{0}, fields_peak{0};
+void count_field(std::size_t bytes) {
+  const std::size_t now = fields_now.fetch_add(bytes) + bytes;
+  std::size_t peak = fields_peak.load();
+  while (now > peak && !fields_peak.compare_exchange_weak(peak, now)) {
+  }
+}
 }  // namespace
+std::size_t field_bytes_now() { return fields_now.load(); }
+std::size_t field_bytes_peak() { return fields_peak.load(); }
+void reset_field_peak() { fields_peak.store(fields_now.load()); }
+
 template <class T>
 T* FftwAllocator<T>::allocate(std::size_t n) {
   if (n > std::numeric_limits<std::size_t>::max() / sizeof(T)) throw std::bad_alloc();
   const std::size_t bytes = n * sizeof(T);
+  void* p = nullptr;
   if (huge_pages_for(bytes)) {
-    void* p = nullptr;
     if (posix_memalign(&p, kHugePage, bytes) != 0) throw std::bad_alloc();
     madvise(p, bytes / kHugePage * kHugePage, MADV_HUGEPAGE);
-    return static_cast<T*>(p);
+  } else {
+    p = fftw_malloc(bytes);
+    if (!p && n) throw std::bad_alloc();
   }
-  void* p = fftw_malloc(bytes);
-  if (!p && n) throw std::bad_alloc();
+  count_field(bytes);
   return static_cast<T*>(p);
 }
 template <class T>
 void FftwAllocator<T>::deallocate(T* p, std::size_t n) noexcept {
+  fields_now.fetch_sub(n * sizeof(T));
   if (huge_pages_for(n * sizeof(T)))
     std::free(p);
   else

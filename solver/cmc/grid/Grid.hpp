@@ -42,6 +42,14 @@ struct FftwAllocator {
 };
 
 using Field = std::vector<double, FftwAllocator<double>>;
+
+// The bytes that fields and spectra (everything FftwAllocator makes) hold in this process
+// now, and the most they held since the last reset_field_peak(): what a run allocates for
+// its fields, counted where they are allocated (summary.json "model";
+// tests/test_scene_needs.cpp holds a hard-wall run to no adhesive field with it).
+std::size_t field_bytes_now();
+std::size_t field_bytes_peak();
+void reset_field_peak();
 using Complex = std::complex<double>;
 using Spectrum = std::vector<Complex, FftwAllocator<Complex>>;
 

@@ -84,44 +84,6 @@ void check_memory(const Case& c, toml::table& t, const std::string& file) {
   }
 }
 
-RefinementSpec parse_refinement(Section rs) {
-  RefinementSpec ref;
-  const std::string what = "an increasing array of at least 2 grid sizes, each from 2 to " +
-                           std::to_string(CaseLimits::kMaxGridSide);
-  for (double g : rs.numbers("grids", what, 2)) {
-    if (g < 2 || g > double(CaseLimits::kMaxGridSide) || g != std::floor(g) ||
-        (!ref.grids.empty() && g <= ref.grids.back()))
-      rs.fail("grids", what);
-    ref.grids.push_back(int(g));
-  }
-  ref.quantity = rs.choice<ValidationQuantity>("quantity");
-  ref.min_order = rs.number("min_order", {}, "the smallest accepted observed order of convergence", true);
-  rs.finish();
-  return ref;
-}
-
-ValidationSpec parse_validation(Section s, const std::string& file) {
-  ValidationSpec v;
-  v.reference = s.choice<ValidationReference>("reference");
-  if (auto* a = s.array("check")) {
-    int i = 0;
-    for (auto& e : *a) {
-      if (!e.is_table()) s.fail("check", "an array of tables [[validation.check]]");
-      Section cs(*e.as_table(), "validation.check #" + std::to_string(++i), file);
-      ValidationCheck ch;
-      ch.quantity = cs.choice<ValidationQuantity>("quantity");
-      ch.tolerance = cs.number("tolerance", {}, "the largest accepted error", true);
-      cs.finish();
-      v.checks.push_back(ch);
-    }
-  }
-  if (auto* r = s.subtable("refinement")) v.refinement = parse_refinement(Section(*r, "validation.refinement", file));
-  if (v.checks.empty() && !v.refinement) s.fail("check", "at least one [[validation.check]] or a [validation.refinement]");
-  s.finish();
-  return v;
-}
-
-
 }  // namespace
 
 Case parse_case(const toml::table& input, const std::string& file) {
@@ -164,7 +126,7 @@ Case parse_case(const toml::table& input, const std::string& file) {
     s.finish();
   }
   parse_observables(Section(t, "observables", file, false), c.grid.size_x, c.observables);
-  if (t.contains("validation")) c.validation = parse_validation(Section(t, "validation", file, false), file);
+  if (t.contains("validation")) c.validation = parse_validation(Section(t, "validation", file, false), file, t);
   check_memory(c, t, file);
   return c;
 }

@@ -108,6 +108,9 @@ struct SolverSpec {
   // Polonsky-Keer (also inside quasi_static): precondition its conjugate gradients with the
   // half-space's stiffness on a periodic boundary (PolonskyKeer.hpp).
   bool precondition = true;
+  // Iterations between two progress reports. Not a case key: the validation harness sets 1
+  // to keep every iteration's residual.
+  int progress_every = 25;
 };
 
 struct ValidationCheck {
@@ -121,9 +124,33 @@ struct RefinementSpec {
   double min_order = 0.0;  // the observed order must be at least this
 };
 
+// A stability check: a property any solved case must have, with its bound
+// (validation/Stability.hpp). The key that states the bound is per kind: `budget`
+// (iterations), `factor` (residual_growth), `tolerance` (the others that have one).
+struct StabilityCheck {
+  StabilityKind kind = StabilityKind::Iterations;
+  double bound = 0.0;
+  // continuity: the case key changed ("interaction.work_of_adhesion"; a number or an array
+  // of numbers, each scaled), by how much (relative), what is compared, and the steps left
+  // out because a jump lies between the two answers there (each documented in the case).
+  std::string parameter;
+  double change = 0.01;
+  PathObservable observable = PathObservable::ContactFraction;
+  std::vector<int> skip_steps;
+  // agreement: the other solver, run on the case's loading branch, and compared there by
+  // `observable` (skip_steps as for continuity).
+  SolverKind solver = SolverKind::QuasiStatic;
+  // Not empty: cmc does not pass this check yet, and this says why. The check runs; a
+  // failure is reported as expected, a pass as a change to look at.
+  std::string expected_failure;
+};
+
 struct ValidationSpec {
-  ValidationReference reference = ValidationReference::Hertz;
+  // The analytic reference of the `quantity` checks and the refinement study; a case with
+  // stability checks alone has none.
+  std::optional<ValidationReference> reference;
   std::vector<ValidationCheck> checks;
+  std::vector<StabilityCheck> stability;
   std::optional<RefinementSpec> refinement;
 };
 
@@ -188,6 +215,13 @@ struct MemoryEstimate {
   std::string what;    // what it is made of, for messages ("13 fields of the grid, ...")
 };
 MemoryEstimate estimate_memory(const Case& c);
+// The fields the case's solver holds besides every run's own, counted from its code
+// (contact/*/Memory.hpp), in fields of the grid and of the transform grid: for the whole
+// run and while a solve runs (summary.json "model").
+struct SolverFields {
+  double run_grid = 0.0, run_transform = 0.0, solve_grid = 0.0, solve_transform = 0.0;
+};
+SolverFields solver_fields(const Case& c);
 // How a distributed run (MPI) splits the memory: its ranks, each holding a slab of every
 // field, and those on this machine, which share its memory. The program sets it once
 // MPI has started (main.cpp); estimate_memory and the check of a case's grid against the

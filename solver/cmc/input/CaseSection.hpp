@@ -226,5 +226,8 @@ void parse_interaction(Section s, SurfaceKind surface, InteractionSpec& in);
 void parse_loading(Section s, bool adhesive, bool periodic, LoadingSpec& l);
 void parse_solver(Section s, const InteractionSpec& in, const LoadingSpec& l, SolverSpec& sv);
 void parse_observables(Section s, double size_x, ObservablesSpec& o);
+// [validation] (input/CaseValidation.cpp); `resolved`: the case's other sections, which a
+// continuity check's parameter must name.
+ValidationSpec parse_validation(Section s, const std::string& file, const toml::table& resolved);
 
 }  // namespace cmc::case_parsing

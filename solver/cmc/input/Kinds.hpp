@@ -25,6 +25,14 @@ enum class SolverKind { Auto, PolonskyKeer, AdhesiveCg, QuasiStatic };
 enum class LoadControl { Force, MeanPressure, Penetration, MeanGap };
 enum class ValidationReference { Hertz, HertzPeriodic, Westergaard, Jkr, MaugisDugdale, Johnson };
 enum class ValidationQuantity { Penetration, PressureProfile, MeanPressure, MeanGap, Force, Pulloff };
+// The stability checks of a [[validation.check]] with `kind` (validation/Stability.hpp says
+// what each measures): they need no analytic reference.
+enum class StabilityKind {
+  Iterations, ResidualGrowth, EnergyRise, SameBits, Threads, Continuity, Agreement,
+  ForceBalance, Gap, ContactFraction, Pulloff, Hysteresis
+};
+// What a continuity check compares between a case and the case with one parameter changed.
+enum class PathObservable { ContactFraction, MeanGap, MeanPressure, Penetration, Pulloff };
 
 template <class E>
 struct KindName {
@@ -68,6 +76,19 @@ constexpr std::array<KindName<ValidationQuantity>, 6> kind_names(ValidationQuant
   using enum ValidationQuantity;
   return {{{Penetration, "penetration"}, {PressureProfile, "pressure_profile"}, {MeanPressure, "mean_pressure"},
            {MeanGap, "mean_gap"}, {Force, "force"}, {Pulloff, "pulloff"}}};
+}
+
+constexpr std::array<KindName<StabilityKind>, 12> kind_names(StabilityKind) {
+  using enum StabilityKind;
+  return {{{Iterations, "iterations"}, {ResidualGrowth, "residual_growth"}, {EnergyRise, "energy_rise"},
+           {SameBits, "same_bits"}, {Threads, "threads"}, {Continuity, "continuity"}, {Agreement, "agreement"},
+           {ForceBalance, "force_balance"},
+           {Gap, "gap"}, {ContactFraction, "contact_fraction"}, {Pulloff, "pulloff"}, {Hysteresis, "hysteresis"}}};
+}
+constexpr std::array<KindName<PathObservable>, 5> kind_names(PathObservable) {
+  using enum PathObservable;
+  return {{{ContactFraction, "contact_fraction"}, {MeanGap, "mean_gap"}, {MeanPressure, "mean_pressure"},
+           {Penetration, "penetration"}, {Pulloff, "pulloff"}}};
 }
 
 // The case-file word of a value.

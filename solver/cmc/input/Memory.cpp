@@ -69,16 +69,22 @@ void count_every_run(const FieldSizes& z, FieldCounts& f) {
   f.run_transform += 3.0 + (periodic ? 0.0 : 1.0);
 }
 
-// The solver's fields, counted beside it (contact/*/Memory.hpp); returns whether it
-// measures and writes a step inside its run (the adhesive CG's load path).
-bool count_solver(const Case& c, FieldCounts& f) {
+// The solver's own count (contact/*/Memory.hpp).
+FieldCount solver_count(const Case& c) {
   const bool load_control = c.loading.control == LoadControl::Force || c.loading.control == LoadControl::MeanPressure;
   const MemoryShape shape{double(c.grid.nx), double(c.grid.ny), c.grid.periodic, memory_split().ranks,
                           c.grid.backend == "cuda"};
-  const FieldCount solver =
-      c.solver.kind == SolverKind::AdhesiveCg ? adhesive::host_memory(shape, c.loading.refine_pulloff > 0, load_control)
-      : c.solver.kind == SolverKind::QuasiStatic ? qs::host_memory(shape, c.solver.precondition)
-                                                 : pk::host_memory(shape, c.solver.precondition);
+  return c.solver.kind == SolverKind::AdhesiveCg ? adhesive::host_memory(shape, c.loading.refine_pulloff > 0, load_control)
+         : c.solver.kind == SolverKind::QuasiStatic ? qs::host_memory(shape, c.solver.precondition)
+                                                    : pk::host_memory(shape, c.solver.precondition);
+}
+
+// The solver's fields, counted beside it (contact/*/Memory.hpp); returns whether it
+// measures and writes a step inside its run (the adhesive CG's load path).
+bool count_solver(const Case& c, FieldCounts& f) {
+  const MemoryShape shape{double(c.grid.nx), double(c.grid.ny), c.grid.periodic, memory_split().ranks,
+                          c.grid.backend == "cuda"};
+  const FieldCount solver = solver_count(c);
   f.run_grid += solver.run_grid, f.run_transform += solver.run_transform;
   f.solve_grid += solver.solve_grid, f.solve_transform += solver.solve_transform;
   f.setup_transform = solver.setup_transform;
@@ -99,6 +105,11 @@ double surface_bytes(const Case& c, double n, double share) {
 }
 
 }  // namespace
+
+SolverFields solver_fields(const Case& c) {
+  const FieldCount f = solver_count(c);
+  return {f.run_grid, f.run_transform, f.solve_grid, f.solve_transform};
+}
 
 MemoryEstimate estimate_memory(const Case& c) {
   // Counted from the code (FieldSizes). By phase: what the whole run holds, plus the larger

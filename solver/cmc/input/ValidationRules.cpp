@@ -53,9 +53,42 @@ std::string words(const std::vector<E>& values, const char* joint) {
 
 }  // namespace
 
+namespace {
+
+// What a stability check needs of the case: an energy the solver reports, a load path with a
+// pull-off, unloading steps to compare, another solver that can solve it.
+void check_stability_fits(const Case& c) {
+  int i = 0;
+  for (const StabilityCheck& ch : c.validation->stability) {
+    const std::string key = "[validation.check #" + std::to_string(++i) + "] kind";
+    auto refuse = [&](const std::string& needs) {
+      throw CaseError(c.file + ": " + key + " = " + quoted(kind_name(ch.kind)) + ": expected a case with " + needs);
+    };
+    const bool adhesive_cg = c.solver.kind == SolverKind::AdhesiveCg;
+    if (ch.kind == StabilityKind::EnergyRise && !adhesive_cg)
+      refuse("[solver] kind = \"adhesive_cg\" (the solver that reports its energy at every iteration)");
+    if (ch.kind == StabilityKind::Pulloff && !adhesive_cg)
+      refuse("[solver] kind = \"adhesive_cg\" (the load path that records a pull-off)");
+    if (ch.kind == StabilityKind::Hysteresis && c.loading.unloading.empty())
+      refuse("[loading] unloading steps (to compare with the loading branch at the same load)");
+    if (ch.kind == StabilityKind::Agreement && (ch.solver == c.solver.kind || ch.solver == SolverKind::Auto))
+      refuse("another solver than its own in `solver` (this case runs " + quoted(kind_name(c.solver.kind)) + ")");
+    if (ch.kind == StabilityKind::Agreement && ch.solver == SolverKind::QuasiStatic &&
+        c.interaction.kind != InteractionKind::Exponential)
+      refuse("[interaction] kind = \"exponential\" for the quasi-static solver");
+    if (ch.kind == StabilityKind::Agreement && ch.solver == SolverKind::PolonskyKeer &&
+        c.interaction.kind != InteractionKind::HardWall)
+      refuse("[interaction] kind = \"hard_wall\" for Polonsky-Keer");
+  }
+}
+
+}  // namespace
+
 void check_validation_fits(const Case& c) {
   if (!c.validation) return;
-  const Ref r = c.validation->reference;
+  check_stability_fits(c);
+  if (!c.validation->reference) return;
+  const Ref r = *c.validation->reference;
   const Fits f = fits(r);
   const std::string ref = quoted(kind_name(r));
   const std::string what = ref + " compares a " + std::string(kind_name(f.surface)) + " surface with " +

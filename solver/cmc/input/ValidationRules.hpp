@@ -14,14 +14,18 @@
 //   johnson          wavy1d    exponential or dugdale    periodic   mean_pressure, mean_gap, pulloff
 //
 // (validation/Validate.cpp computes each; cases/README.md, [validation], lists the table.)
+//
+// Stability checks (validation/Stability.hpp) need no reference; three need something of the
+// case: energy_rise and pulloff the adhesive CG, hysteresis unloading steps.
 #pragma once
 
 #include "cmc/input/Case.hpp"
 
 namespace cmc {
 
-// Throws CaseError naming the key ([validation] reference, [[validation.check]] quantity,
-// [validation.refinement] quantity) when the case is not what its reference compares.
+// Throws CaseError naming the key ([validation] reference, [[validation.check]] quantity or
+// kind, [validation.refinement] quantity) when the case is not what its reference or a
+// stability check compares.
 // Called by `cmc validate` for every case before anything is solved; `cmc run` does not
 // read [validation], so a validation case may still be run with other physics.
 void check_validation_fits(const Case& c);

@@ -8,6 +8,7 @@
 #include "cmc/output/Records.hpp"
 #include "cmc/output/ResultFiles.hpp"
 #include "cmc/output/RunFolder.hpp"
+#include "cmc/scene/SceneNeeds.hpp"
 
 #include <hdf5.h>
 
@@ -47,6 +48,23 @@ toml::table load_path_table(const RunSummary& run) {
                      {"pulloff_branch", run.pulloff_branch ? records::branch_name(*run.pulloff_branch) : ""},
                      {"halved_steps", run.halved_steps},
                      {"jumps", run.jumps}};
+}
+
+// What the scene needed and left out (scene/SceneNeeds.hpp), the fields the solver holds
+// (counted) and the most bytes the process's fields held up to the end of the run (measured).
+toml::table model_table(const Case& c) {
+  const SceneNeeds n = scene_needs(c);
+  toml::array left_out;
+  for (const auto& w : n.left_out) left_out.push_back(w);
+  const SolverFields& f = n.solver_fields;
+  return toml::table{{"interaction", n.interaction}, {"adhesion", n.adhesion}, {"solver", n.solver},
+                     {"observables", n.observables}, {"fields_written", n.fields_written},
+                     {"boundary", n.boundary}, {"precision", n.precision}, {"left_out", left_out},
+                     {"solver_fields", toml::table{{"run_grid", f.run_grid}, {"run_transform", f.run_transform},
+                                                   {"solve_grid", f.solve_grid},
+                                                   {"solve_transform", f.solve_transform}}},
+                     {"field_bytes_peak", (long long)field_bytes_peak()},
+                     {"memory_estimate_bytes", estimate_memory(c).bytes}};
 }
 
 }  // namespace
@@ -180,6 +198,7 @@ toml::table Writer::summary_base() const {
   toml::table facts;
   for (const auto& [k, v] : surface_fact_entries(scene_.surface_facts)) facts.insert(k, v);
   if (!facts.empty()) base.insert("surface_facts", facts);
+  base.insert("model", model_table(case_));
   toml::array warnings;
   for (const auto& w : scene_.warnings) warnings.push_back(w);
   base.insert("warnings", warnings);

@@ -116,6 +116,7 @@ Options solver_options(const SolverSpec& spec, const Progress& progress) {
   o.max_iterations = spec.max_iterations;
   o.recompute_every = spec.recompute_every;
   o.progress = progress;
+  o.progress_every = spec.progress_every;
   return o;
 }
 

@@ -382,7 +382,7 @@ void Iteration<I>::run(SolveResult& res) {
   for (int it = 0;; ++it) {
     res.iterations = it;
     res.residual = residual_;
-    if (opt_.progress && it % std::max(1, opt_.progress_every) == 0) opt_.progress({it, residual_});
+    if (opt_.progress && it % std::max(1, opt_.progress_every) == 0) opt_.progress({it, residual_, 0, false, U_ + Phi_});
     if (check_convergence(res) != Verdict::Continue) return;
     if (it >= opt_.max_iterations || !iterate()) return;
   }
