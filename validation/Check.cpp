@@ -58,7 +58,7 @@ void resolve_reference(const Options& o, bool challenge, Report& r) {
                        (o.adhesionless ? "; the Tabor-parameter quantities have none, the Tabor parameter being one "
                                          "of adhesion"
                                        : "; challenge reference curves come from cmc runs") +
-                       "): pass --reference FILE");
+                       reference::reference_dir_note() + "): pass --reference FILE");
   }
 }
 
