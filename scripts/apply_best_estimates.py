@@ -23,8 +23,6 @@ import os
 import sys
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
-sys.path.insert(0, os.path.join(ROOT, "scripts"))
-sys.path.insert(0, os.path.join(ROOT, "python"))
 from challenge_reference import write_atomically, write_curve  # noqa: E402
 from cmc.analysis import best as best_mod  # noqa: E402
 

@@ -43,9 +43,6 @@ import h5py
 import numpy as np
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
-sys.path.insert(0, os.path.join(ROOT, "python"))
-sys.path.insert(0, os.path.join(ROOT, "reports"))
-sys.path.insert(0, os.path.join(ROOT, "scripts"))
 from challenge_report import (Run, _centers, _find_runs, _merged_sweeps, _observables,  # noqa: E402
                               _reference_load_runs, _stopped, band_floor, finer_sweep, grid_change, hardwall_sweep_band,
                               profile_band, sweep_band)  # (the report's extraction)

@@ -16,7 +16,6 @@ import glob
 import os
 import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
 from cmc.analysis import runs  # noqa: E402
 
 KINDS = ("hardwall", "hardwall_plain", "adhesive", "shape", "load", "shape_load", "hardwall_load")  # check.sh's stages
