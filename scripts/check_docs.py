@@ -193,7 +193,7 @@ def doc_files(root):
 
 
 # ------------------------------------------------------------------ comments
-COMMENT_FOLDERS = ("solver", "validation", "tests", "bench", "python", "scripts", "reports", "cmake")
+COMMENT_FOLDERS = ("solver", "validation", "tests", "bench", "python", "scripts", "reports", "cmake", "cases")
 SLASH_COMMENTS = (".cpp", ".hpp", ".h", ".cc", ".cu", ".cuh")
 HASH_COMMENTS = (".py", ".sh", ".cmake", ".toml", ".supp", ".slurm", ".in", ".cfg", ".dict")
 NOT_READ = ("tests/fuzz/corpus/",)  # fixture inputs, data as they are
