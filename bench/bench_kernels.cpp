@@ -1,7 +1,16 @@
-// Kernel benchmarks: one FFT pair (the floor) and one Polonsky–Keer iteration on the
-// peer's problem (periodic self-affine surface, H = 0.8, roll-off L/5, short cutoff 4
-// grid spacings, rms gradient 1, mean pressure 0.01 E*), at 512² … 4096², with the
-// stiffness preconditioner (the default) and without (/plain).
+// Kernel benchmarks: one FFT pair (the floor) and one Polonsky–Keer iteration, at 512² …
+// 4096², with the stiffness preconditioner (the default) and without (/plain).
+//
+// The iteration runs on the ContactMechanics comparison surface: the problem on which
+// ContactMechanics (the Pastewka group's Python contact stack, Polonsky–Keer CG), the tool
+// most users would otherwise reach for, was timed on a 2-core machine like ours (132
+// iterations and 148 s at 2048²; docs/performance.md, "Against ContactMechanics"), so that
+// cmc's iterations can be set beside those. It is a periodic self-affine surface of side L on
+// n² points (the challenge's generator, surface/SelfAffine.hpp) with Hurst exponent H = 0.8,
+// roll-off wavelength L/5, short-wavelength cutoff 4 grid spacings (4L/n: every grid resolves
+// its finest wavelength alike), rms gradient ḡ = 1, pressed by a hard wall to a mean
+// pressure of 0.01 E* ḡ. scripts/bench_solvers.sh runs the same surface through `cmc run`
+// (its runs named hardwall-peer).
 // Every iteration benchmark times an FFT pair of its own grid in the same run (fft_pair_ms)
 // and reports the ratios that matter: iteration_over_fft_pair (time of one iteration in
 // units of that pair) and time_per_fft_pair (the same divided by the iteration's FFT
@@ -55,7 +64,7 @@ static void BM_RowColumnPair(benchmark::State& state) {
 // the 20 iterations).
 static void pk_iteration(benchmark::State& state, bool precondition, bool fused = true) {
   const int n = int(state.range(0));
-  SelfAffineSpec spec;
+  SelfAffineSpec spec;  // the ContactMechanics comparison surface (top of this file)
   spec.cutoff_wavelength = 4.0 / n;
   spec.seed = 7;
   const auto surf = generate_self_affine(spec, n);
@@ -82,8 +91,8 @@ static void pk_iteration(benchmark::State& state, bool precondition, bool fused 
 }
 static void BM_PolonskyKeerIteration(benchmark::State& state) { pk_iteration(state, true); }
 static void BM_PolonskyKeerIteration_plain(benchmark::State& state) { pk_iteration(state, false); }
-// The same with the passes and FFTW's 2-D transforms one after the other (issue 11's
-// comparison: Options::fused_sweeps off).
+// The same with the passes and FFTW's 2-D transforms one after the other
+// (Options::fused_sweeps off): what the fused sweeps save.
 static void BM_PolonskyKeerIteration_unfused(benchmark::State& state) { pk_iteration(state, true, false); }
 static void BM_PolonskyKeerIteration_plain_unfused(benchmark::State& state) { pk_iteration(state, false, false); }
 

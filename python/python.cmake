@@ -1,10 +1,11 @@
 # The Python module cmc._core (pybind11) and the package around it (docs/user-guide/python.md).
 #
 # Built against /usr/bin/python3 (Debian's; a pyenv `python3` first on PATH may lack
-# numpy). The package is assembled in BUILD/python/cmc/: the compiled _core beside a copy of
-# python/cmc/ (copied again whenever a file there changes), so that
+# numpy). The package is assembled in BUILD/python/cmc/: the compiled _core beside links to
+# python/cmc/'s files, so that
 #   PYTHONPATH=BUILD/python /usr/bin/python3 -c "import cmc"
-# imports both. Nothing is written into the source tree.
+# imports both. Nothing is written into the source tree. `pip install .` (setup.py) and
+# `cmake --install` (cmake/install.cmake) install the same package.
 set(Python_EXECUTABLE /usr/bin/python3 CACHE FILEPATH "the Python the module is built for")
 if(CMC_SANITIZE OR CMC_FUZZ OR CMC_MPI OR CMC_CUDA)
   # A sanitized extension needs the sanitizer runtime preloaded into Python; the MPI and
@@ -32,18 +33,17 @@ set_target_properties(cmc_python PROPERTIES OUTPUT_NAME _core LIBRARY_OUTPUT_DIR
 target_link_libraries(cmc_python PRIVATE cmclib)
 target_compile_options(cmc_python PRIVATE -Wall -Wextra)
 
-# The pure-Python files, copied beside it.
+# The pure-Python files, linked beside it (made at configure time; a new file under
+# python/cmc/ re-runs the configuration through CONFIGURE_DEPENDS): an edit to python/cmc/
+# is seen at once by everything that imports the build's package (the scripts, reports and
+# tests), with no build in between.
 file(GLOB_RECURSE CMC_PYTHON_FILES CONFIGURE_DEPENDS RELATIVE ${CMAKE_SOURCE_DIR}/python/cmc
      ${CMAKE_SOURCE_DIR}/python/cmc/*.py)
-set(CMC_PYTHON_COPIES)
 foreach(f ${CMC_PYTHON_FILES})
-  add_custom_command(OUTPUT ${CMC_PYTHON_DIR}/cmc/${f}
-                     COMMAND ${CMAKE_COMMAND} -E copy ${CMAKE_SOURCE_DIR}/python/cmc/${f} ${CMC_PYTHON_DIR}/cmc/${f}
-                     DEPENDS ${CMAKE_SOURCE_DIR}/python/cmc/${f} VERBATIM)
-  list(APPEND CMC_PYTHON_COPIES ${CMC_PYTHON_DIR}/cmc/${f})
+  get_filename_component(dir ${CMC_PYTHON_DIR}/cmc/${f} DIRECTORY)
+  file(MAKE_DIRECTORY ${dir})
+  file(CREATE_LINK ${CMAKE_SOURCE_DIR}/python/cmc/${f} ${CMC_PYTHON_DIR}/cmc/${f} SYMBOLIC)
 endforeach()
-add_custom_target(cmc_python_files ALL DEPENDS ${CMC_PYTHON_COPIES})
-add_dependencies(cmc_python cmc_python_files)
 
 # The module's tests (pytest, tests/python/), one ctest test per file.
 if(CMC_BUILD_TESTS)

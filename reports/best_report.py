@@ -209,9 +209,9 @@ def statement_sentence(rl):
     ka, k0, r = rl.get("kappa_adhesive"), rl.get("kappa_hardwall"), rl.get("ratio")
     if not (ka and k0 and r):
         return ""
-    return (f"**Against the problem definition:** κ = {ka['value']:.3f} ± {ka['error']:.2g} with adhesion (it says "
-            f"\"slightly greater than three\") and {k0['value']:.3f} ± {k0['error']:.2g} without, a ratio of "
-            f"{r['value']:.3f} ± {r['error']:.2g} where it says \"increased by roughly 50 %\" (1.5); nothing in cmc was "
+    return (f"**Against the problem definition:** κ = {ka['value']:.3f} ± {ka['error']:.2g} with adhesion (it gives "
+            f"a little above 3) and {k0['value']:.3f} ± {k0['error']:.2g} without, a ratio of "
+            f"{r['value']:.3f} ± {r['error']:.2g} where it gives about 1.5; nothing in cmc was "
             "tuned toward these statements.")
 
 

@@ -1048,7 +1048,7 @@ _FAMILY_LABEL = {"a_r": "a_r", "a_rep": "repulsive a_r", "mean_gap": "mean gap (
 
 
 def _gpu_grids(reference_dir):
-    """Issues 13 and 16: the challenge on grids run on a GPU (reference/challenge/runs.json), with where
+    """The challenge on grids run on a GPU (reference/challenge/runs.json), with where
     each ran; the shape run set beside the scaled-family store's CPU run of the same case."""
     recs, lines = gpu_section(reference_dir, "The challenge on finer grids, run on a GPU")
     if not recs:

@@ -17,9 +17,7 @@ try:
 except ImportError:  # pragma: no cover - depends on the machine
     HAVE_H5PY = False
 
-import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "python"))
 from cmc.analysis.conditions import condition_holds, quantity_holds, worst_failure  # noqa: E402
 from cmc.analysis.family import STRATEGIES, family_members, seed_members  # noqa: E402
 from cmc.analysis.s_route import assessment  # noqa: E402

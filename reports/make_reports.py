@@ -42,7 +42,6 @@ def main(argv=None):
         print(f"make_reports.py: {e}: install python3-numpy and python3-matplotlib and run with /usr/bin/python3",
               file=sys.stderr)
         return 3
-    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
     import challenge_report
     import performance_report
     import validation_report

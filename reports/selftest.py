@@ -217,7 +217,6 @@ def profile_band_checks(np):
     cmc.analysis.bands) holds the finer profile at every finer point when read as `cmc check`
     reads it (band and curve linear between points), with numbers worked by hand, and is never
     below its floor."""
-    sys.path.insert(0, HERE)
     from challenge_report import profile_band
 
     class R:  # the parts of a run that profile_band reads
@@ -248,7 +247,6 @@ def profile_band_checks(np):
 def sweep_end_checks():
     """challenge_report.sweep_end_note says why a load sweep's curve ends: full contact, a
     solver that stopped before its tolerance, or the case's last load."""
-    sys.path.insert(0, HERE)
     from challenge_report import sweep_end_note
 
     class R:  # the parts of a run that sweep_end_note reads
@@ -273,7 +271,6 @@ def transfer_checks():
     s > 1 at the same dx/rho, a member without its resolved run included (the ratio needs no
     reference), for each strategy; common.transfer_caveat names the strategy and says whether the
     members approach s = 1."""
-    sys.path.insert(0, HERE)
     from common import transfer_caveat  # puts python/ on the path
     from cmc.analysis.transfer import transfer_check
 
@@ -305,7 +302,6 @@ def realization_checks():
     run's a_r and mean gap against its own realization's reference, the strategies' targets (3 % /
     0.5 % at 2 rho, 6 % / 1 % at 4 rho) marked per cell and counted in the summary row, plain runs
     never marked."""
-    sys.path.insert(0, HERE)
     from common import realization_rows
 
     def member(a_ref, g_ref, runs):
@@ -336,7 +332,6 @@ def roundoff_checks(root):
     """scripts/roundoff_spread.py on hand-made runs: the largest relative difference per quantity
     over the steps, and a clear error (non-zero exit, nothing written) for runs of two cases;
     reports/common.py roundoff_note states what it wrote."""
-    sys.path.insert(0, HERE)
     from common import roundoff_note
 
     def run(folder, name, ar, gap):

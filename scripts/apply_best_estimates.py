@@ -24,8 +24,6 @@ import sys
 import tomllib
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
-sys.path.insert(0, os.path.join(ROOT, "scripts"))
-sys.path.insert(0, os.path.join(ROOT, "python"))
 from challenge_reference import write_atomically, write_curve  # noqa: E402
 from cmc.analysis import best as best_mod  # noqa: E402
 from cmc.reference_files import read_curve  # noqa: E402

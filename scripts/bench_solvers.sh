@@ -47,7 +47,8 @@ for r in $runs; do
   case_file=cases/challenge/reference-load.toml extra=()
   [ "${kind%%-*}" = hardwall ] && case_file=cases/challenge/reference-load-hardwall.toml
   [ "$kind" = adhesive-cg ] && extra=(--set solver.kind=adhesive_cg)
-  # The peer's surface: the same spectrum cut at 4 grid spacings (L = 1e-4 m).
+  # The ContactMechanics comparison surface (bench/bench_kernels.cpp): the same spectrum
+  # cut at 4 grid spacings (L = 1e-4 m).
   [ "$kind" = hardwall-peer ] && extra=(--set surface.cutoff_wavelength="$(/usr/bin/python3 -c "print(4e-4/$n)")")
   dir="$out/$label/$kind-$n"
   if [ -f "$dir/summary.json" ] && [ "$dir/summary.json" -nt "$cmc" ]; then continue; fi

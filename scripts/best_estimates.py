@@ -15,7 +15,6 @@ import os
 import sys
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
-sys.path.insert(0, os.path.join(ROOT, "python"))
 from cmc.analysis import challenge, family, plausibility, runs  # noqa: E402
 
 OUT = os.path.join(ROOT, "reference", "challenge", "best_estimates.json")

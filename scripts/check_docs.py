@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """The docs check: README.md and docs/ name only what exists, and the README's quickstarts run.
 
-  check_docs.py [--root DIR] [--build DIR] [--links-only | --quickstarts-only] [--keep] [FILE ...]
+  check_docs.py [--root DIR] [--build DIR] [--links-only | --quickstarts-only | --comments-only] [--keep] [FILE ...]
 
 Links and paths (every FILE, default README.md and docs/**/*.md):
   - every relative Markdown link or image resolves to a file or folder of the repository, and a
@@ -10,6 +10,13 @@ Links and paths (every FILE, default README.md and docs/**/*.md):
     with one of the repository's top-level folders or files, exists; `<...>` and `*` in a path
     match any name, and at least one file must match. Paths under the folders .gitignore
     anchors at the root (build*/, results/, reports/challenge/, ...) are outputs and not checked.
+Comments (--comments-only): every comment line (`//`, `/* */`, `#`, a Python docstring) of
+the tracked sources in COMMENT_FOLDERS says what and why, not when or by whom: none names an
+issue of the project's tracker (the word issue and a number, or a number after a hash; one
+after another project's owner/name is a citation), a date (year-month, with or without the
+day, or a month's name and a year), a commit, or tells a diary's story (what day or time
+of day it was written, or by whom): HISTORY's patterns. Data files (CSV, JSON, HDF5, the fuzz corpus) are
+not read: run dates inside fixtures stay.
 Quickstarts (README.md's section "Quickstart"): every command of its shell blocks runs, in a
 mirror of the repository whose challenge cases are set to 64² (cases/challenge/*.toml, grid.n)
 and whose scripts/setup.sh is the build under test (--build), so nothing is built, installed
@@ -18,8 +25,10 @@ does not know fails the check. Exit 0: all good; 1: problems (one line each, fil
 message); 2: bad arguments.
 """
 import argparse
+import ast
 import fnmatch
 import glob
+import io
 import os
 import re
 import shlex
@@ -28,6 +37,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import tokenize
 import unicodedata
 import urllib.parse
 
@@ -180,6 +190,131 @@ def doc_files(root):
     files = [os.path.join(root, "README.md")]
     files += sorted(glob.glob(os.path.join(root, "docs", "**", "*.md"), recursive=True))
     return [f for f in files if os.path.exists(f)]
+
+
+# ------------------------------------------------------------------ comments
+COMMENT_FOLDERS = ("solver", "validation", "tests", "bench", "python", "scripts", "reports", "cmake", "cases")
+SLASH_COMMENTS = (".cpp", ".hpp", ".h", ".cc", ".cu", ".cuh")
+HASH_COMMENTS = (".py", ".sh", ".cmake", ".toml", ".supp", ".slurm", ".in", ".cfg", ".dict")
+NOT_READ = ("tests/fuzz/corpus/",)  # fixture inputs, data as they are
+MONTHS = r"(?:jan|feb|mar|apr|may|jun|jul|aug|sep|oct|nov|dec)[a-z]*\.?"
+HISTORY = [
+    ("an issue of the tracker", re.compile(r"\b(?:issues?|tickets?)\s*#?\s*\d+|(?<![\w/&])#\d+\b"
+                                           r"|\bthe\s+issue's", re.I)),
+    ("a date", re.compile(r"\b(?:19|20)\d\d-(?:0[1-9]|1[0-2])(?:-(?:0[1-9]|[12]\d|3[01]))?(?![\d-])"
+                          rf"|\b{MONTHS}\s+(?:\d{{1,2}},?\s+)?(?:19|20)\d\d\b", re.I)),
+    ("a commit", re.compile(r"\bcommit\s+[0-9a-f]{7,40}\b", re.I)),
+    ("when or by whom it was written", re.compile(
+        r"\b(?:today|yesterday|tonight|(?:this|last)\s+(?:morning|afternoon|evening|night|week|session)"
+        r"|sessions?|(?:morning|afternoon|evening)\b|the\s+lead(?:\s+engineer)?|reviewers?)\b", re.I)),
+]
+# A number after another project's name cites its tracker: "HDFGroup/hdf5 #5892", "PR #5958".
+CITED_TRACKER = re.compile(r"(?:[\w.-]+/[\w.-]+|\bPR|\bpull request)[\s,]*(?:issues?\s*|PR\s*)?$", re.I)
+
+
+def comment_files(root):
+    """The tracked files of COMMENT_FOLDERS (git ls-files; every file where root is no checkout)."""
+    try:
+        r = subprocess.run(["git", "-C", root, "ls-files", "--", *COMMENT_FOLDERS], capture_output=True,
+                           text=True, check=True)
+        files = r.stdout.splitlines()
+    except (OSError, subprocess.CalledProcessError):
+        files = [os.path.relpath(os.path.join(d, f), root) for folder in COMMENT_FOLDERS
+                 for d, _, names in os.walk(os.path.join(root, folder)) for f in names]
+    return sorted(f for f in files if not f.startswith(NOT_READ) and
+                  (f.endswith(SLASH_COMMENTS + HASH_COMMENTS) or os.path.basename(f) == "CMakeLists.txt"))
+
+
+def slash_comments(text):
+    """(line number, text) of each comment line of C++ source: // to the end of the line, and
+    each line of a /* */ block; string and character literals skipped."""
+    out, i, n, line = [], 0, len(text), 1
+    while i < n:
+        c = text[i]
+        if c == "\n":
+            line += 1
+        elif text.startswith("//", i):
+            end = text.find("\n", i)
+            end = n if end < 0 else end
+            out.append((line, text[i + 2:end]))
+            i = end
+            continue
+        elif text.startswith("/*", i):
+            end = text.find("*/", i + 2)
+            end = n if end < 0 else end
+            for k, part in enumerate(text[i + 2:end].split("\n")):
+                out.append((line + k, part))
+            line += text.count("\n", i, end)
+            i = end + 2
+            continue
+        elif c in "\"'" and not (c == "'" and i > 0 and text[i - 1].isalnum()):  # 1'000 is a number
+            j = i + 1
+            while j < n and text[j] != c and text[j] != "\n":
+                j += 2 if text[j] == "\\" else 1
+            i = j
+        i += 1
+    return out
+
+
+def hash_comments(text):
+    """(line number, text) of each # comment of a script or TOML file, outside quotes."""
+    out = []
+    for no, raw in enumerate(text.splitlines(), 1):
+        quote = None
+        for k, c in enumerate(raw):
+            if quote:
+                quote = None if c == quote else quote
+            elif c in "\"'":
+                quote = c
+            elif c == "#" and (k == 0 or raw[k - 1] in " \t(;"):
+                out.append((no, raw[k + 1:]))
+                break
+    return out
+
+
+def python_comments(text):
+    """(line number, text) of each # comment and each line of each docstring of a Python file."""
+    try:
+        out = [(t.start[0], t.string[1:]) for t in tokenize.generate_tokens(io.StringIO(text).readline)
+               if t.type == tokenize.COMMENT]
+        tree = ast.parse(text)
+    except (SyntaxError, tokenize.TokenError):
+        return hash_comments(text)
+    for node in ast.walk(tree):
+        body = getattr(node, "body", None)
+        if isinstance(body, list) and body and isinstance(body[0], ast.Expr) and \
+                isinstance(body[0].value, ast.Constant) and isinstance(body[0].value.value, str):
+            first = body[0].value.lineno
+            out += [(first + k, part) for k, part in enumerate(body[0].value.value.split("\n"))]
+    return sorted(out)
+
+
+def history_in(comment):
+    """What of HISTORY the comment text tells (a list of descriptions, empty when none)."""
+    found = []
+    for what, pattern in HISTORY:
+        for m in pattern.finditer(comment):
+            if what == "an issue of the tracker" and CITED_TRACKER.search(comment[:m.start()]):
+                continue
+            found.append(f"{what} ('{m.group(0).strip()}')")
+            break
+    return found
+
+
+def check_comments(root, out):
+    for rel in comment_files(root):
+        path = os.path.join(root, rel)
+        try:
+            with open(path, encoding="utf-8") as f:
+                text = f.read()
+        except (OSError, UnicodeDecodeError):
+            continue  # a binary file among the sources is no comment
+        comments = (slash_comments(text) if rel.endswith(SLASH_COMMENTS) else
+                    python_comments(text) if rel.endswith(".py") else hash_comments(text))
+        for n, comment in comments:
+            for what in history_in(comment):
+                problem(out, path, n, f"a comment names {what}: say what the code does and why "
+                                      "(history goes in CHANGELOG.md and commit messages)")
 
 
 # ------------------------------------------------------------------ quickstarts
@@ -344,6 +479,8 @@ def main(argv=None):
     ap.add_argument("--build", default=None, help="the build folder whose cmc runs the quickstarts (default: ROOT/build)")
     ap.add_argument("--links-only", action="store_true", help="check links and paths, run nothing")
     ap.add_argument("--quickstarts-only", action="store_true", help="run the README's quickstarts only")
+    ap.add_argument("--comments-only", action="store_true",
+                    help="check the comments of the tracked sources (no dates, issue numbers or diary)")
     ap.add_argument("--keep", action="store_true", help="keep the mirror the quickstarts ran in")
     a = ap.parse_args(argv)
     root = os.path.abspath(a.root)
@@ -351,28 +488,32 @@ def main(argv=None):
     build = os.path.abspath(a.build or os.path.join(root, "build"))
     files = [os.path.abspath(f) for f in a.files] or doc_files(root)
     missing = [f for f in files if not os.path.isfile(f)]
+    modes = [m for m in ("links_only", "quickstarts_only", "comments_only") if getattr(a, m)]
     why = ("no such file: " + ", ".join(missing) if missing else
            f"no README.md or docs/ in {root}" if not files else
-           "choose one of --links-only and --quickstarts-only" if a.links_only and a.quickstarts_only else None)
+           "choose one of --links-only, --quickstarts-only and --comments-only" if len(modes) > 1 else None)
     if why:
         print(f"check_docs: {why}", file=sys.stderr)
         return 2
     out = []
-    if not a.quickstarts_only:
-        for f in files:
-            check_links(f, out, root)
-            check_paths(f, out, root)
-    if not a.links_only:
-        if not os.access(os.path.join(build, "cmc"), os.X_OK):
-            print(f"check_docs: {build}/cmc not found: build first (scripts/setup.sh)", file=sys.stderr)
-            return 2
-        run_quickstarts(root, build, out, a.keep)
+    if a.comments_only:
+        check_comments(root, out)
+        what = f"{len(comment_files(root))} source file(s)"
+    else:
+        if not a.quickstarts_only:
+            for f in files:
+                check_links(f, out, root)
+                check_paths(f, out, root)
+        if not a.links_only:
+            if not os.access(os.path.join(build, "cmc"), os.X_OK):
+                print(f"check_docs: {build}/cmc not found: build first (scripts/setup.sh)", file=sys.stderr)
+                return 2
+            run_quickstarts(root, build, out, a.keep)
+        what = f"{len(files)} file(s){'' if a.links_only else ', quickstarts run'}"
     for line in out:
         print(line)
-    print(f"check_docs: {'FAILED: ' + str(len(out)) + ' problem(s)' if out else 'ok'}"
-          f" ({len(files)} file(s){'' if a.links_only else ', quickstarts run'})")
+    print(f"check_docs: {'FAILED: ' + str(len(out)) + ' problem(s)' if out else 'ok'} ({what})")
     return 1 if out else 0
-
 
 if __name__ == "__main__":
     sys.exit(main())

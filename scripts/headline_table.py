@@ -39,7 +39,7 @@ def block(best):
     r = rl.get("ratio")
     if r:
         L += ["", f"With/without adhesion a_r grows by a factor {r['value']:.3f} ± {r['error']:.2g} (the problem "
-                  "definition: κ \"slightly greater than three\", \"increased by roughly 50 %\")."]
+                  "definition: κ a little above 3, about 1.5 times the adhesionless one)."]
     ex = best.get("mean_gap_extremum")
     if ex:
         L += [f"The mean gap is smallest at μ_T* = {ex['mu']:.3g} ({ex['mu_range'][0]:.3g} … {ex['mu_range'][1]:.3g}), "

@@ -12,6 +12,7 @@ if [ ! -x "$python" ]; then
   echo "report.sh: $python not found: install python3, python3-matplotlib, python3-numpy, python3-h5py (scripts/setup.sh)" >&2
   exit 0
 fi
+. scripts/python_path.sh  # the package cmc (the build's) for the reports
 exec "$python" reports/make_reports.py \
   --validation build/validation --validation results/validation \
   --results results --bench build/bench.json --reference reference --cases cases/challenge \

@@ -68,8 +68,6 @@ import subprocess
 import sys
 import tempfile
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "python"))
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "reports"))
 from cmc.analysis.conditions import condition_checks  # noqa: E402
 from cmc.analysis.family import (FAMILY_QUANTITIES as QUANTITIES, adhesionless, challenge_estimates,  # noqa: E402
                                  condition_members, deviation, member_reference, seed_members, strategy_run_near)

@@ -11,8 +11,10 @@ packages=(build-essential cmake pkg-config libfftw3-dev libgsl-dev libhdf5-dev l
           libgtest-dev libbenchmark-dev python3-matplotlib python3-numpy python3-h5py
           clang libclang-rt-dev libomp-dev
           libopenmpi-dev openmpi-bin libfftw3-mpi-dev)
-# The Python module cmc and its tests (python/python.cmake): pybind11, Python's headers, pytest.
-packages+=(python3-dev pybind11-dev python3-pybind11 python3-pytest)
+# The Python module cmc and its tests (python/python.cmake): pybind11, Python's headers, pytest;
+# `pip install .` and its tests (setup.py, tests/install): setuptools, wheel, pip and venv.
+packages+=(python3-dev pybind11-dev python3-pybind11 python3-pytest
+           python3-setuptools python3-wheel python3-pip python3-venv)
 # Property tests of the run store and the Python API (tests/gpu_store, tests/python): hypothesis.
 packages+=(python3-hypothesis)
 missing=()

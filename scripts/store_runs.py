@@ -19,7 +19,6 @@ import subprocess
 import sys
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
-sys.path.insert(0, os.path.join(ROOT, "python"))
 from cmc.analysis import runs  # noqa: E402
 
 

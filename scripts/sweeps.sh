@@ -61,6 +61,7 @@ scripts/tabor_sweep.sh --grid 8192 --tabor 1.0 --set solver.tolerance=1e-8
 run cases/challenge/load-sweep.toml results/challenge-load-sweep
 # The Tabor runs join the run store, and the best estimates are made again from it (the curves
 # of items 6 and 7, and the 250 kPa rows of items 2 and 8, come from them).
+. scripts/python_path.sh  # the package cmc (the build's) and the modules reports/ shares
 /usr/bin/python3 scripts/store_runs.py results/challenge-tabor-sweep*/mu_T_*
 /usr/bin/python3 scripts/best_estimates.py
 /usr/bin/python3 scripts/challenge_reference.py

@@ -9,7 +9,11 @@ Each case writes a small repository into a temporary folder and runs the checker
   - a file whose links, anchors and paths all exist (outputs under .gitignore's folders
     included) exits 0;
   - a README whose quickstart fails (a case file that does not exist), and one whose quickstart
-    the checker does not know how to run, exit 1.
+    the checker does not know how to run, exit 1;
+  - a comment (C++ //, /* */, #, a Python docstring) naming a tracker issue, a date or a commit,
+    or telling when or by whom it was written, exits 1 naming the line; comments that cite
+    another project's tracker, give a year in a citation, or hold the same words inside a
+    string or a CSV fixture exit 0.
 """
 import os
 import subprocess
@@ -87,6 +91,29 @@ def quickstart_cases(tmp, build, failures):
         expect(name, ["--quickstarts-only", "--root", root, "--build", build], 1, needle, failures)
 
 
+def comment_cases(tmp, failures):
+    root = os.path.join(tmp, "comments")
+    os.makedirs(os.path.join(root, "tests", "data"))
+    os.makedirs(os.path.join(root, "scripts"))
+    page(root, "README.md", "# x\n")
+    bad = [("tests/a.cpp", "int x;  // " + "Issue 12: sizes\n", "an issue of the tracker"),
+           ("tests/b.cpp", "/* measured\n   on " + "2026-11-27 */\n", "tests/b.cpp:2: a comment names a date"),
+           ("tests/c.py", '"""Helpers (' + 'issue 15)."""\n', "an issue of the tracker"),
+           ("scripts/d.sh", "# " + "Added this morning\n", "when or by whom"),
+           ("tests/e.cmake", "# see #" + "42\n", "an issue of the tracker"),
+           ("tests/f.hpp", "// as of " + "Nov 2026\n", "a date"),
+           ("tests/g.cpp", "// reverted in commit " + "1a2b3c4d\n", "a commit")]
+    for rel, text, needle in bad:
+        path = page(root, rel, text)
+        expect("comment " + rel, ["--comments-only", "--root", root], 1, needle, failures)
+        os.remove(path)
+    page(root, "tests/ok.cpp", '// HDFGroup/hdf5 #5892, fixed by PR #5958; Tribol. Int. 114 (2017) 161\n'
+                               'const char* s = "issue 12 on 2026-11-27";  // a string, not a comment\n')
+    page(root, "tests/ok.py", 's = "# Issue 3"\n')
+    page(root, "tests/data/run.csv", "# date: " + "2026-11-23T20:36:25Z\n1,2\n")
+    expect("comments that are fine", ["--comments-only", "--root", root], 0, "check_docs: ok", failures)
+
+
 def main():
     if len(sys.argv) != 2:
         print(__doc__, file=sys.stderr)
@@ -96,6 +123,7 @@ def main():
     with tempfile.TemporaryDirectory(prefix="cmc-check-docs-test-") as tmp:
         link_cases(tmp, failures)
         quickstart_cases(tmp, build, failures)
+        comment_cases(tmp, failures)
     for f in failures:
         print(f, file=sys.stderr)
     return 1 if failures else 0

@@ -1,4 +1,4 @@
-# Issue 12 (input sizes and file readers), through the cmc program: bad input exits with
+# Input sizes and file readers, through the cmc program: bad input exits with
 # code 2 before anything is solved, and nothing is written. The parser's side of each is
 # in tests/test_inputs.cpp (Inputs.*). cmc_cli_test: validation/validation.cmake.
 set(CMC_INPUTS ${CMAKE_BINARY_DIR}/cli-inputs)

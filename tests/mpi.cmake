@@ -1,4 +1,4 @@
-# Distributed runs against serial ones (issue 15; tests/mpi_test.py says what each
+# Distributed runs against serial ones (tests/mpi_test.py says what each
 # checks), registered in the MPI build (-DCMC_MPI=ON, build-mpi/) with the label 'mpi'.
 # They need the serial build's program too: CMC_SERIAL_CMC (default build/cmc).
 set(CMC_SERIAL_CMC "${CMAKE_SOURCE_DIR}/build/cmc" CACHE FILEPATH "the serial build's cmc, for the mpi tests")

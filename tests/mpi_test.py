@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Distributed runs against serial ones (issue 15; ctest label 'mpi', tests/mpi.cmake).
+"""Distributed runs against serial ones (ctest label 'mpi', tests/mpi.cmake).
 
 usage: mpi_test.py SERIAL_CMC MPI_CMC WORKDIR TEST
 
@@ -40,7 +40,7 @@ Each TEST runs a case with the serial build and with the MPI build under
   refusals           what is not distributed yet stops with exit code 2 and says so, before
                      anything is written: a 1-D grid, commands other than run
 
-Tolerance: 1e-9 relative (the issue's bound); fields against the field's largest value
+Tolerance: 1e-9 relative (the bar distributed runs are held to); fields against the field's largest value
 over all steps; iteration and FFT-pair counts are compared only where the bits must be
 identical (a solve's cost is not its answer: see COST). Measured: ~1e-14 for the hard-wall numbers (the distributed transform
 rounds differently from the serial one; the solver stops at the same iteration); ~1e-10
@@ -313,13 +313,13 @@ elif TEST == "memory":
     # the grid (libraries, MPI: 51 MB serial, about 60 MB with MPI), which the first
     # version of this test compared too: its bound, 0.6 of the serial peak at 2048²,
     # measured 0.55-0.57 when the serial run held 369 MB, and 0.58-0.65 after fields were
-    # dropped from both (serial 310 MB, the largest rank 181-202 MB; 2026-11-27), while
+    # dropped from both (serial 310 MB, the largest rank 181-202 MB), while
     # nothing was held whole.
     # The allocator's threshold for mapping a block on its own is fixed at 1 MB
     # (MALLOC_MMAP_THRESHOLD_): glibc raises it as blocks are freed, up to 32 MB, so a
     # rank's 16 MB slab fields at 2048² came from the heap or from their own mappings
     # depending on the order of frees, and its peak varied by 21 MB from run to run. With
-    # the threshold fixed, five runs each (2026-11-27, one thread a rank; MB = 2^20
+    # the threshold fixed, five runs each (one thread a rank; MB = 2^20
     # bytes): serial 310.5 and 1187.4 MB, the largest rank 180.4-180.6 and 642.4-642.7
     # MB: the rank's difference is 0.527 of the serial one (877 MB), 1/2 and some 24 MB of
     # the distributed transform's own buffers at 4096². Bound 0.55: one grid-sized array of

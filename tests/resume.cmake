@@ -1,4 +1,4 @@
-# Interruption tests of `cmc run` (issue 12; tests/resume_test.py, which says what each
+# Interruption tests of `cmc run` (tests/resume_test.py, which says what each
 # checks): runs stopped by SIGKILL at named test points (CMC_TEST_KILL_AT, not timers) and
 # resumed must equal uninterrupted runs bit for bit; one defect per test, named after it.
 # Each works in its own folder under build/resume-tests/.

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Interruption tests of `cmc run` (issue 12): a run killed anywhere and resumed with
+"""Interruption tests of `cmc run`: a run killed anywhere and resumed with
 --resume gives the same results, bit for bit, as a run that was not interrupted; an
 unfinished folder says so; one process at a time writes into a folder.
 

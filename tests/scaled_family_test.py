@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""scripts/scaled_family.py's realizations (issue 13), without running cmc:
+"""scripts/scaled_family.py's realizations, without running cmc:
 
   seed_flag      --set surface.seed=N is refused (it would not reach the hard-wall runs or the
                  store): the message names --seed; nothing runs.
@@ -139,7 +139,6 @@ def conditions():
 
 
 def bands():
-    sys.path.insert(0, os.path.join(ROOT, "python"))
     from cmc.analysis import conditions
     # At mu_T = 3 and 250 kPa the plain run at 24 rho is 10 % low (band 10 % + 1 % refinement);
     # at 2.5 MPa 20 % high (21 %); at mu_T = 1 30 % high (31 %).
@@ -175,8 +174,6 @@ def bands():
 
 
 def own_refinement():
-    sys.path.insert(0, os.path.join(ROOT, "python"))
-    sys.path.insert(0, os.path.join(ROOT, "reports"))
     from cmc.analysis import refinement
     import challenge_report
 
@@ -243,7 +240,6 @@ def own_refinement():
     assert own is None and band == 0.33, (band, own)
 
     # A run that stopped before its tolerance is no point of the reference curves (items 6, 7).
-    sys.path.insert(0, os.path.join(ROOT, "scripts"))
     import challenge_reference
     tmp = tempfile.mkdtemp(prefix="cmc_scaled_family_test_")
     try:

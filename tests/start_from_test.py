@@ -10,7 +10,7 @@ mu_T = 3; rho = 223 nm): 128^2 points (dx = 3.5 rho), 256^2 (1.75 rho), each run
 TEST is one of
   same_state   256^2 started from the 128^2 answer ends in the cold start's state: the same
                contact and repulsive fractions to 2 points of 65536 and the mean gap to 1e-6
-               relative. Measured (2026-11-24): identical fractions, mean gap 4e-9 relative,
+               relative. Measured: identical fractions, mean gap 4e-9 relative,
                31 outer steps and 488 FFT pairs against 37 and 658 cold, although the 128^2
                answer itself is far off (a_r 0.146 against 0.160). The bounds: the outer
                tolerance (1e-3 of the peak tension) leaves single points unresolved (1 point
@@ -33,7 +33,6 @@ import subprocess
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)
 from resume_test import COMPARE, FAMILY_CASE, check, env, failures, summary  # noqa: E402
 
 S128 = ["--set", "case.name=challenge-scaled-s128", "--set", "surface.cutoff_wavelength=1.28e-05",

@@ -44,7 +44,6 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-sys.path.insert(0, HERE)
 from resume_test import COMPARE, check, failures  # noqa: E402  (the interruption tests' helpers)
 
 TABOR = os.path.join(ROOT, "cases", "challenge", "tabor-sweep.toml")    # quasi-static, one step

@@ -70,7 +70,7 @@ TEST(Case, GoodCaseParsesWithDefaults) {
   EXPECT_EQ(c.resolved["grid"]["backend"].value<std::string>(), "cpu");
 }
 
-// Issue 16: a build without the CUDA backend refuses "cuda" by name (the CUDA build's own
+// A build without the CUDA backend refuses "cuda" by name (the CUDA build's own
 // refusals are in tests/gpu), and an unknown word lists the choices; "cpu" is accepted.
 TEST(Case, BackendCudaIsRefusedByName) {
   EXPECT_EQ(load_case(write(replace(kGood, "n = 16", "n = 16\nbackend = \"cpu\""))).grid.backend, "cpu");
@@ -123,7 +123,7 @@ TEST(Case, PhysicallyInvalid) {
   m = error_of(replace(kGood, "kind = \"sphere\"", "kind = \"cube\""));
   EXPECT_NE(m.find("[surface] kind: expected one of"), std::string::npos) << m;
   // A side beyond the limit names it; a grid within it that no machine holds names the
-  // memory it needs (issue 12: every size checked before it is used).
+  // memory it needs (every size is checked before it is used).
   m = error_of(replace(kGood, "n = 16", "n = 2000000"));
   EXPECT_NE(m.find("[grid] n: expected a positive number of points per side (<= 1048576)"), std::string::npos) << m;
   m = error_of(replace(kGood, "n = 16", "n = 1000000"));
@@ -191,9 +191,9 @@ TEST(Case, SelfAffineAndObservablesKeys) {
   EXPECT_NE(m.find("[observables] stress_bins"), std::string::npos) << m;
 }
 
-// The bug of issue 10: [solver] kind was parsed and then ignored, so "polonsky_keer" with
-// adhesion silently ran the adhesive solver. Now it is an error naming the key and what
-// to use instead.
+// [solver] kind = "polonsky_keer" (a hard-wall solver) with adhesion is an error naming the
+// key and what to use instead: a parser that read the key and then ignored it would
+// silently run the adhesive solver.
 TEST(Case, HardWallSolverWithAdhesionIsAnError) {
   const std::string adhesive = std::string(kGood) +
                                "\n[interaction]\nkind = \"exponential\"\nwork_of_adhesion = 0.05\nrange = 2e-9\n";

@@ -1,5 +1,6 @@
-// Issue 12, input sizes and file readers: every defect found by probing cmc has a test
-// here named after it (D4 ... D14), each failing on the code before its fix. They use
+// Input sizes and file readers: every defect that probing cmc with bad input found has a
+// test here named after its label (D4 ... D14, the same labels as the cmc-program tests of
+// tests/inputs.cmake and tests/resume.cmake), each failing on the code before its fix. They use
 // only the API that code had (load_case, build_scene, run_scene, the surface writers,
 // the cmc program), so that they can be built against it to show that.
 #include "cmc/input/Case.hpp"

@@ -1,4 +1,4 @@
-// Issue 12, item 4: every size checked before it is used. The memory estimate against
+// Every size checked before it is used. The memory estimate against
 // the peak memory of real runs, the memory available, the surface readers' shape
 // limits, and `cmc check`'s coverage requirement and its sources.
 #include "cmc/input/Case.hpp"

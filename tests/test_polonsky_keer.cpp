@@ -225,7 +225,7 @@ TEST(PolonskyKeer, KeptWorkArraysGiveTheSameBits) {
   }
 }
 
-// One source, two ways of visiting points (issue 16). The CUDA backend calls a reduction's
+// One source, two ways of visiting points. The CUDA backend calls a reduction's
 // body only for the points it selects (in the contact set; in it or below the level) and
 // each point on its own; the CPU backend calls it for every point of a block of eight that
 // holds one. So every body must do nothing off its points, or the backends would differ
@@ -302,8 +302,8 @@ TEST(PolonskyKeer, BodiesActOnlyOnTheirPoints) {
 // solver's one solve an outer step): the direction t and the preconditioned gap z must be
 // written before they are read. Arrays that hold NaN from before give the bits of fresh
 // ones; a pass that read a stale t or z (even as 0 t) would carry the NaN into the answer.
-// (Checked: with set_contact_set zeroing t off the contact set only, as before
-// 2026-11-28, this fails: the stale solve stops after 0 iterations, the fresh one takes 23.)
+// (Checked: with set_contact_set zeroing t off the contact set only, this fails: the stale
+// solve stops after 0 iterations, the fresh one takes 23.)
 TEST(PolonskyKeer, StaleWorkArraysAreNotRead) {
   const auto surf = rough_surface(128, 11);
   PeriodicHalfSpace hs(surf.map.grid, 1.0);
@@ -354,8 +354,8 @@ TEST(PolonskyKeer, JustTouchingIndenterIsNoContact) {
 // contact set and nearly the same iterations; the mean gaps within twice that tolerance of
 // the rms height (each solution's gaps on the contact set are within it of zero; measured:
 // 5.8e-13 of the rms height), and the pressures within 1e-9 of the peak (measured: 2.2e-10
-// at most, plain, 1 and 2 threads; 1.4e-14 preconditioned; since 2026-11-28, when the
-// fused steps stopped holding p̂ and ĥ: before, 1.2e-10 and 5e-15).
+// at most, plain, 1 and 2 threads; 1.4e-14 preconditioned, with fused steps that do not
+// hold p̂ and ĥ between iterations; steps that held them gave 1.2e-10 and 5e-15).
 TEST(PolonskyKeer, FusedSweepsGiveTheSameSolution) {
   const auto surf = rough_surface(256, 11);
   PeriodicHalfSpace hs(surf.map.grid, 1.0);
@@ -432,8 +432,8 @@ TEST(PolonskyKeer, FusedLinearStepsGiveTheSameSolution) {
 
 // A warm start with negative pressures (not a hard-wall solution: a caller's tension, or
 // a field that was not cleared) is read as zero there. The CPU's fused sweeps take p as
-// zero off the contact set without reading it (the rows are made from the set's points,
-// 2026-11-28), so a negative value left in p would never be transformed, yet come back in
+// zero off the contact set without reading it (the rows are made from the set's points),
+// so a negative value left in p would never be transformed, yet come back in
 // the answer; the unfused transforms would read it. Under displacement control (no load
 // scaling from the start's sum) the solve must give the bits of the same start with those
 // values zeroed, fused and unfused. (Checked: without set_contact_set's zeroing, this fails

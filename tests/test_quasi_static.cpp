@@ -192,9 +192,8 @@ TEST(QuasiStatic, AccelerationKeepsTheState) {
 // the queue: both stop a move below the floor (1e-3 ρ) apart at most, and each outer step
 // is followed by a solve that the next prediction starts from, so the states agree on the
 // contact set and within the outer tolerance's 0.02 ρ in every gap (see the first test);
-// measured: the same 8 outer steps and 737 points in contact, gaps within 1.2e-3 ρ when this
-// was written; on 2026-11-27 within 5.0e-7 ρ against one queue over the grid and 5.5e-7 ρ
-// against the default two slabs of this 128² grid. And
+// measured: the same 8 outer steps and 737 points in contact, gaps within 5.0e-7 ρ against
+// one queue over the grid and 5.5e-7 ρ against the default two slabs of this 128² grid. And
 // the rounds take no more outer steps than the queue (each round passes a point's move
 // on as the queue does, only a round later).
 TEST(QuasiStatic, CascadeInRoundsKeepsTheState) {
@@ -376,7 +375,7 @@ TEST(QuasiStatic, ShapeLawsEquilibriumAndAcceleration) {
 // one more outer step would change no point's tension by more than that; measured: 9e-4 of
 // that scale). The tension tolerance is 1e-5, not the default 1e-3: at 1e-3 each path leaves out points
 // that creep towards their jump by less than that an outer step, and which ones depends on
-// the path (measured 2026-11-27, inner tolerance 1e-10, contact fraction at step 10: the
+// the path (measured with inner tolerance 1e-10, contact fraction at step 10: the
 // queue 0.461670, jump prediction alone 0.461182; at step 9 both 0.409912), while at 1e-5
 // and 1e-7 both give 0.410400 and 0.461670 at steps 9 and 10: the converged state.
 TEST(QuasiStatic, LineThroughJumpIn) {
@@ -493,7 +492,7 @@ TEST(QuasiStatic, TimeLimitStopsWithTheStateItReached) {
 }
 
 // solver.max_seconds inside an outer step: the limit also stops the Polonsky-Keer solve in
-// flight (an H200 run at 16384² outlasted its limit by more than 38 s, 2026-11-27), and the
+// flight (else an H200 run at 16384² outlasted its limit by more than 38 s), and the
 // message says that the state is that solve's last iterate. A limit of 1e-9 s is past when
 // the first inner iteration ends: the solve stops there, after fewer iterations than its
 // first outer step takes, with a finite state.
@@ -547,7 +546,7 @@ TEST(QuasiStatic, MoveFloorFollowsTheInnerTolerance) {
 // may stop that far apart; here the floor is 1e-6 ρ, qs::move_floor at inner tolerance
 // 1e-10). Measured (inner tolerance 1e-10, tension tolerance 1e-6): 21 outer steps under
 // penetration control against 10, the same 737 points in contact, gaps within 7.0e-5 ρ,
-// mean pressure within 3.0e-8 relative (with the floor at 1e-3 ρ, before 2026-11-27: 21
+// mean pressure within 3.0e-8 relative (with the floor at 1e-3 ρ: 21
 // against 13, 6.8e-5 ρ, 2.2e-8). On the way the penetration-controlled solve's
 // tensions fell by 3e-3 of the peak at its first outer step with exact inner solves: the
 // iteration's end state is the maximal equilibrium, its steps are not monotone

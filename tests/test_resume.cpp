@@ -1,4 +1,4 @@
-// Resume that loses nothing (issue 12): a load path continued from any of its checkpoints
+// Resume that loses nothing: a load path continued from any of its checkpoints
 // makes exactly the solves of the uninterrupted path, and a checkpoint written by the
 // Writer gives back every piece of path state bit for bit. (The whole program, killed and
 // resumed: tests/resume_test.py.)

@@ -79,7 +79,8 @@ void stored_reference(const Options& o, Report& r) {
                      (o.adhesionless ? "; the Tabor-parameter quantities have none, the Tabor parameter being one "
                                        "of adhesion"
                                      : "; challenge reference curves come from cmc runs") +
-                     "): pass --reference FILE" + (r.against == "surface" ? "" : " or another --against"));
+                     reference::reference_dir_note() + "): pass --reference FILE" +
+                     (r.against == "surface" ? "" : " or another --against"));
 }
 
 // The quantity the reference curve holds: the challenge quantity asked for, or a generic

@@ -2,10 +2,12 @@
 // and read back, the curves of cmc runs, and where the stored references live.
 #include "ReferenceParts.hpp"
 
+#include "cmc/input/DataDir.hpp"
 #include "cmc/output/Writer.hpp"
 
 #include <cstdlib>
 #include <ctime>
+#include <filesystem>
 #include <sstream>
 
 namespace cmc::reference {
@@ -225,11 +227,13 @@ Curve make_run_curve(const std::string& name, const std::string& quantity, const
 
 std::string default_reference_dir() {
   if (const char* env = std::getenv("CMC_REFERENCE_DIR"); env && *env) return env;
-#ifdef CMC_SOURCE_DIR
-  return std::string(CMC_SOURCE_DIR) + "/reference";
-#else
-  return "reference";
-#endif
+  const std::filesystem::path root = data::root();
+  return root.empty() ? "reference" : (root / "reference").string();
+}
+
+std::string reference_dir_note() {
+  if (const char* env = std::getenv("CMC_REFERENCE_DIR"); env && *env) return "";
+  return data::root().empty() ? "; cmc's stored references were not found: " + data::places_text() : "";
 }
 
 

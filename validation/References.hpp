@@ -177,7 +177,11 @@ std::vector<std::string> analytic_curve_names();
 std::string analytic_curve_title(const std::string& name);
 Curve generate(const std::string& name);
 
-// The folder holding the stored curves: $CMC_REFERENCE_DIR, else <source>/reference.
+// The folder holding the stored curves: $CMC_REFERENCE_DIR, else reference/ in cmc's data
+// folder (input/DataDir.hpp: the source checkout, or PREFIX/share/cmc once installed).
 std::string default_reference_dir();
+
+// "" when default_reference_dir() is set or found, else "; ..." saying where it was looked for.
+std::string reference_dir_note();
 
 }  // namespace cmc::reference

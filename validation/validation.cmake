@@ -190,14 +190,17 @@ endforeach()
 # every repository path named in README.md and docs/ exists, and the README's quickstarts run
 # (on 64² grids, in a mirror of the repository, with this build's cmc). The checker fails on
 # what it is there to catch (tests/check_docs_test.py), and the stored performance tables are
-# what scripts/performance_tables.py makes from the stored measurements.
+# what scripts/performance_tables.py makes from the stored measurements. docs.comments: no
+# comment in the tracked sources names a tracker issue or a date, or says when or by whom it
+# was written (history goes in CHANGELOG.md and the commit messages).
 add_test(NAME docs.links COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/scripts/check_docs.py --links-only)
+add_test(NAME docs.comments COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/scripts/check_docs.py --comments-only)
 add_test(NAME docs.quickstarts
          COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/scripts/check_docs.py --quickstarts-only --build ${CMAKE_BINARY_DIR})
 add_test(NAME docs.checker_fails_on_broken_links
          COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/tests/check_docs_test.py ${CMAKE_BINARY_DIR})
 add_test(NAME docs.performance_tables COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/scripts/performance_tables.py --check)
-set_tests_properties(docs.links docs.quickstarts docs.checker_fails_on_broken_links docs.performance_tables
+set_tests_properties(docs.links docs.comments docs.quickstarts docs.checker_fails_on_broken_links docs.performance_tables
                      PROPERTIES LABELS "quick;python" TIMEOUT 300)
 # Size limits (scripts/check_sizes.py): no function over 80 lines and no file over 600 lines in
 # solver/ and validation/; the checker fails on what it is there to catch (tests/check_sizes_test.py).

@@ -39,7 +39,6 @@ from archive import (FILE_MODE, Refused, check_tree, checked_component, checked_
                      inside, safe_extract)
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
-sys.path.insert(0, os.path.join(ROOT, "python"))
 from cmc.analysis import plausibility, runs  # noqa: E402
 
 PY = sys.executable or "/usr/bin/python3"

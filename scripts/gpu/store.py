@@ -20,7 +20,6 @@ import glob
 import os
 import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
 from archive import Refused, checked_date  # noqa: E402
 from cmc.analysis import plausibility, runs  # noqa: E402
 

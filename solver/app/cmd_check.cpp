@@ -2,6 +2,7 @@
 #include "commands.hpp"
 
 #include "Check.hpp"
+#include "cmc/input/DataDir.hpp"
 #include "cmc/output/Writer.hpp"
 
 #include <spawn.h>
@@ -104,9 +105,11 @@ void list_quantities() {
   }
 }
 
+// reports/plot_check.py in $CMC_REPORTS_DIR, else in cmc's data folder (the checkout, or
+// PREFIX/share/cmc once installed; input/DataDir.hpp).
 std::string plot_script() {
   if (const char* d = std::getenv("CMC_REPORTS_DIR"); d && *d) return std::string(d) + "/plot_check.py";
-  return std::string(CMC_SOURCE_DIR) + "/reports/plot_check.py";
+  return (data::root() / "reports" / "plot_check.py").string();
 }
 
 // Draws the overlay with /usr/bin/python3 (or $CMC_PYTHON). A missing interpreter or
@@ -121,7 +124,9 @@ void draw_figure(const std::filesystem::path& json, const std::filesystem::path&
     return;
   }
   if (::access(script.c_str(), R_OK) != 0) {
-    std::fprintf(stderr, "cmc check: %s not found: no figure drawn (check.json is written)\n", script.c_str());
+    const std::string looked = data::root().empty() ? "; " + data::places_text() : "";
+    std::fprintf(stderr, "cmc check: %s not found%s: no figure drawn (check.json is written)\n", script.c_str(),
+                 looked.c_str());
     return;
   }
   std::vector<std::string> args = {python, script, json.string(), png.string()};

@@ -1,13 +1,10 @@
 """Unit tests of python/cmc/analysis/bands.py, each against a case computed by hand."""
 import math
-import os
-import sys
 
 import numpy as np
 import pytest
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
-from cmc.analysis import bands  # noqa: E402
+from cmc.analysis import bands
 
 
 def test_relative_change_is_relative_to_the_finer_grid():

@@ -1,13 +1,10 @@
 """Unit tests of python/cmc/analysis: the choice of best estimates, the extremum and run records."""
 import math
-import os
-import sys
 
 import numpy as np
 import pytest
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
-from cmc.analysis import best, challenge, extremum, runs  # noqa: E402
+from cmc.analysis import best, challenge, extremum, runs
 
 
 def rec(tag, n, a_r, gap, strategy="plain", status="converged", problem="adhesive", case="c", k=None, b=None, tabor=3.0):

@@ -1,13 +1,10 @@
 """Unit tests of python/cmc/analysis/conditions.py: a run's band from the scaled family at its own
 conditions, and the check of that band, each against a case computed by hand."""
 import math
-import os
-import sys
 
 import pytest
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
-from cmc.analysis import conditions  # noqa: E402
+from cmc.analysis import conditions
 
 
 def member(run_a_r, tabor=None, pressure=None, role="plain_24rho", k=24.0):

@@ -1,11 +1,8 @@
 """Unit tests of python/cmc/analysis/ensemble.py, each against a case computed by hand."""
 import math
-import os
-import sys
 
 import pytest
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
 from cmc.analysis import ensemble  # noqa: E402
 
 

@@ -2,10 +2,7 @@
 made without its sequence's finest grid must hold that grid's value inside its band, for every
 point and quantity of reference/challenge/runs.json where a finer grid exists. A failure means
 the rule is wrong (change the rule, not this test)."""
-import os
-import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
 from cmc.analysis import best, challenge, family, runs  # noqa: E402
 
 

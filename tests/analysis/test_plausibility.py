@@ -1,11 +1,9 @@
 """Unit tests of python/cmc/analysis/plausibility.py (what may enter the run store, and when a new
 best estimate is an outlier) and of best.ratio at a value of 0."""
 import os
-import sys
 
 import pytest
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
 from cmc.analysis import best, plausibility, runs  # noqa: E402
 
 

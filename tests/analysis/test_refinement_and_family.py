@@ -1,13 +1,10 @@
 """Unit tests of python/cmc/analysis: refinement and the family's transferred errors, each
 against a case computed by hand."""
 import math
-import os
-import sys
 
 import pytest
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
-from cmc.analysis import bands, family, refinement  # noqa: E402
+from cmc.analysis import bands, family, refinement
 
 
 def test_observed_order_of_a_power_law():

@@ -1,9 +1,6 @@
 """Unit tests of python/cmc/analysis/speed.py: which runs are at the reference load, their method,
 their error from the best estimate, and the Pareto front, each against a case worked by hand."""
-import os
-import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
 from cmc.analysis import speed  # noqa: E402
 
 # Best estimates: hard wall a_r 0.020 (1.5 % error), mean gap 1.0 um; adhesion a_r 0.032 from run "best".

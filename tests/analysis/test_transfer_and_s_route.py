@@ -1,13 +1,10 @@
 """Unit tests of python/cmc/analysis/transfer.py and s_route.py: the transfer check, the targets on
 other realizations and the extrapolation in s, each against a case computed by hand."""
 import math
-import os
-import sys
 
 import pytest
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
-from cmc.analysis import s_route, transfer  # noqa: E402
+from cmc.analysis import s_route, transfer
 
 
 def run(role, k, a_r, gap=None):

@@ -2,13 +2,12 @@
 side: tests/test_case_bases.cpp), and the challenge cases read through their shared base."""
 import glob
 import os
-import sys
 
 import pytest
 
+from cmc.case_files import MAX_BASE_DEPTH, read_case_file
+
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
-sys.path.insert(0, os.path.join(ROOT, "python"))
-from cmc.case_files import MAX_BASE_DEPTH, read_case_file  # noqa: E402
 
 # A whole case but for its name and its surface (shared with tests/test_case_bases.cpp).
 with open(os.path.join(ROOT, "tests", "data", "bases", "common.toml"), encoding="utf-8") as f:

@@ -5,8 +5,8 @@
 // catch: a buffer that holds two things at once, a pass in the wrong order, a field that
 // is not uploaded or copied back, a checkpoint that does not continue. What it cannot:
 // anything of CUDA itself (kernels, cuFFT, the device reductions' trees), which the gpu
-// tests check on a GPU (tests/gpu). Added 2026-11-26 (evening), when the outer step moved
-// to the device in a session without a GPU.
+// tests check on a GPU (tests/gpu). These tests are what a change to the device code can
+// be checked with on a machine without a GPU.
 //
 // Tolerances. The emulated device and the CPU run the same iteration; they differ in
 // round-off only (FFTW's 2-D plans against the CPU's row-column transform, and the order of

@@ -202,7 +202,7 @@ bool write_file(const std::string& path, const FilePlan& p) {
   } else if (p.layout == 2 && p.rank > 0) {
     // HDF5 sends every chunk through the filter pipeline when the file is written: 24³ points
     // in one-point chunks with shuffle, deflate and Fletcher-32 took 2 s under ASan, past
-    // libFuzzer's 1 s timeout (a CI fuzz run found it, 2026-11-26). That is the harness's
+    // libFuzzer's 1 s timeout (as a CI fuzz run showed). That is the harness's
     // own writing, not the reader, so plans with that many chunks are skipped.
     double chunks = 1.0;
     for (std::size_t r = 0; r < p.chunk.size(); ++r) {

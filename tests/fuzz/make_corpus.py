@@ -8,21 +8,20 @@ lists as the writers write them; HDF5 files as cmc's writer writes them plus the
 variants other tools write: float32, integers, chunked and compressed, the newest file
 format, wrong ranks). Deterministic: running it again rewrites the same bytes.
 
-usage: /usr/bin/python3 tests/fuzz/make_corpus.py   (from anywhere; needs h5py, numpy)
+usage: . scripts/python_path.sh && /usr/bin/python3 tests/fuzz/make_corpus.py
+(from the checkout; needs h5py, numpy and the package cmc: python_path.sh gives the build's)
 """
 import glob
 import json
 import os
 import re
 import shutil
-import sys
 import tomllib
 
 import h5py
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-sys.path.insert(0, os.path.join(ROOT, "python"))
 from cmc.case_files import read_case_file  # noqa: E402
 CORPUS = os.path.join(ROOT, "tests", "fuzz", "corpus")
 MAX_ROWS = 40  # data rows kept from a reference curve: a small seed is a fast seed

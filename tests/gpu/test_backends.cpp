@@ -1,9 +1,9 @@
-// The CUDA backend against the CPU backend (issue 16; ctest label 'gpu'). Each test runs a
+// The CUDA backend against the CPU backend (ctest label 'gpu'). Each test runs a
 // case on both and compares what a user reads from the summary. Where this build has no
 // CUDA backend, or the machine no usable GPU, every test is skipped (GTEST_SKIP: ctest
 // reports it as skipped, not passed).
 //
-// Tolerances. Hard wall: 1e-9 relative (the issue's bar). Both backends solve the same
+// Tolerances. Hard wall: 1e-9 relative (the bar the GPU backend is held to). Both solve the same
 // linear complementarity problem with the same iteration, and differ only in round-off
 // (cuFFT against FFTW, and the order of the sums: fixed trees against OpenMP chunks);
 // Polonsky-Keer stops at the case's residual tolerance (1e-8 and tighter here), so the
@@ -115,8 +115,7 @@ TEST(GpuBackend, ChallengeAdhesive512) {
 // The mean pressure within tension_tolerance x w/ρ (the scale the outer iteration stops at:
 // test_quasi_static.cpp, LineThroughJumpIn) and a_r within 4 points of 4096 (points the outer
 // tolerance leaves undecided: this case's loading branch from the adhesive CG differs from
-// the quasi-static one by 2 points at 2 of 13 steps). Added after the GPU runs of
-// 2026-11-26: not yet run on a GPU.
+// the quasi-static one by 2 points at 2 of 13 steps). Passes on an H200.
 TEST(GpuBackend, JohnsonSinusoidLoading) {
   SKIP_WITHOUT_GPU();
   const std::string file = "validation/johnson-alpha03-loading.toml";
@@ -154,7 +153,7 @@ TEST(GpuBackend, RerunGivesTheSameBits) {
 // interrupted after its second outer step (the checkpoint's fields copied down through
 // OuterPoint::fetch, as the writer does) and continued from there, as a resumed run does,
 // gives the uninterrupted solve's bits (the GPU's reductions and rounds are in a fixed
-// order). Added 2026-11-26 evening with the outer step on the device: not yet run on a GPU.
+// order). Passes on an H200.
 TEST(GpuBackend, QuasiStaticContinuesFromAnOuterStep) {
   SKIP_WITHOUT_GPU();
   const Case c = load_case(case_path("challenge/reference-load.toml"), {"grid.n=512", "grid.backend=cuda"});

@@ -6,7 +6,6 @@ value and writes no file with more than plain modes."""
 import json
 import os
 import stat
-import sys
 import tempfile
 
 from hypothesis import HealthCheck, given, settings, strategies as st
@@ -16,7 +15,6 @@ set_hypothesis_home_dir(os.path.join(tempfile.gettempdir(), "cmc-hypothesis"))  
 
 from hostile import A_R, MEAN_GAP, ingest, plan_archive, scratch_repo, snapshot, summary
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
 from cmc.analysis import plausibility  # noqa: E402
 
 EXAMPLES = 12  # each ingest is a few seconds (best estimates and references rebuilt)

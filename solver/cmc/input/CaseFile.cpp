@@ -2,13 +2,16 @@
 // overrides, then the parser (Case.hpp).
 //
 // A base: a top-level `base = "path.toml"` (relative to the file that states it) names a
-// case file whose keys the including file starts from. Tables are merged key by key, the
+// case file whose keys the including file starts from; a relative base that is not there is
+// looked for under cmc's data folder (input/DataDir.hpp), as is a case file named on the
+// command line, so that a case of one's own can start from an installed one. Tables are merged key by key, the
 // including file's keys replacing the base's; any other value (an array too) replaces the
 // base's whole. A base may name a base of its own, at most CaseLimits::kMaxBaseDepth deep and
 // never one already on the way (a cycle). A relative [surface] path stated in a base is read
 // from the base's folder (it is rewritten relative to the including file). The resolved case
 // (summary.json "case") is the merged table: it names no base.
 #include "cmc/input/CaseSection.hpp"
+#include "cmc/input/DataDir.hpp"
 
 #include <algorithm>
 #include <filesystem>
@@ -22,15 +25,24 @@ namespace {
 namespace fs = std::filesystem;
 using case_parsing::type_name;
 
+// For a missing case file named `path` (relative to the folder it was looked for in first):
+// where else it was looked for.
+std::string also_looked(const fs::path& path) {
+  if (path.is_absolute()) return "";
+  const fs::path dir = data::root();
+  return dir.empty() ? " (nor in cmc's data folder: " + data::places_text() + ")"
+                     : " (nor " + (dir / path).string() + ")";
+}
+
 // The TOML of one case file, a regular file of bounded size: a folder or a pipe would
 // otherwise read as an empty case ("missing required section [case]"), and its folder
 // anchors the relative paths in it. Each message starts with `context` (for a base: the
-// including file and its key) and the file's path.
-toml::table read_toml_file(const std::string& path, const std::string& context) {
+// including file and its key) and the file's path; `also` says where else it was looked for.
+toml::table read_toml_file(const std::string& path, const std::string& context, const std::string& also) {
   auto fail = [&](const std::string& what) { throw CaseError(context + path + ": " + what); };
   std::error_code ec;
   const fs::file_status st = fs::status(path, ec);
-  if (!fs::exists(st)) fail("cannot open the case file: no such file");
+  if (!fs::exists(st)) fail("cannot open the case file: no such file" + also);
   if (fs::is_directory(st)) fail("is a folder, expected a case file (TOML)");
   if (!fs::is_regular_file(st)) fail("is not a regular file (a pipe, terminal or device), expected a case file (TOML) on disk");
   if (const auto size = fs::file_size(path, ec); !ec && size > CaseLimits::kMaxCaseFileBytes)
@@ -89,8 +101,9 @@ void rebase_surface_path(toml::table& t, const fs::path& folder) {
 
 // The case file at `path` with its bases merged under it; `chain` holds the files on the
 // way to it (canonical paths), for the cycle check.
-toml::table read_with_bases(const std::string& path, const std::string& context, std::vector<fs::path>& chain) {
-  toml::table t = read_toml_file(path, context);
+toml::table read_with_bases(const std::string& path, const std::string& context, const std::string& also,
+                            std::vector<fs::path>& chain) {
+  toml::table t = read_toml_file(path, context, also);
   toml::node* b = t.get("base");
   if (!b) return t;
   if (!b->is_string())
@@ -98,8 +111,14 @@ toml::table read_with_bases(const std::string& path, const std::string& context,
                     line_of(*b));
   const std::string value = b->as_string()->get();
   const std::string here = path + ": base = \"" + value + "\": ";
-  const fs::path base = fs::path(path).parent_path() / value;
   std::error_code ec;
+  fs::path base = fs::path(path).parent_path() / value;
+  fs::path folder = fs::path(value).parent_path();  // the base's folder, seen from `path`
+  const fs::path installed = fs::path(value).is_relative() ? data::root() : fs::path();
+  if (!fs::exists(base, ec) && !installed.empty() && fs::exists(installed / value, ec)) {
+    base = installed / value;
+    folder = base.parent_path();
+  }
   chain.push_back(fs::weakly_canonical(path, ec));
   if (std::find(chain.begin(), chain.end(), fs::weakly_canonical(base, ec)) != chain.end()) {
     std::string way;
@@ -110,9 +129,9 @@ toml::table read_with_bases(const std::string& path, const std::string& context,
   if (chain.size() > std::size_t(CaseLimits::kMaxBaseDepth))
     throw CaseError(here + "more than " + std::to_string(CaseLimits::kMaxBaseDepth) +
                     " bases deep (a base naming a base ...): expected a shallower chain");
-  toml::table merged = read_with_bases(base.string(), here, chain);
+  toml::table merged = read_with_bases(base.string(), here, also_looked(value), chain);
   chain.pop_back();
-  rebase_surface_path(merged, fs::path(value).parent_path());
+  rebase_surface_path(merged, folder);
   t.erase("base");
   merge_over(merged, t, path, base.string(), "");
   return merged;
@@ -122,13 +141,14 @@ toml::table read_with_bases(const std::string& path, const std::string& context,
 
 toml::table read_case_file(const std::string& path) {
   std::vector<fs::path> chain;
-  return read_with_bases(path, "", chain);
+  return read_with_bases(data::find(path).string(), "", also_looked(path), chain);
 }
 
 Case load_case(const std::string& path, const std::vector<std::string>& overrides) {
-  toml::table t = read_case_file(path);
+  const std::string file = data::find(path).string();
+  toml::table t = read_case_file(file);
   for (const auto& o : overrides) apply_override(t, o);
-  return parse_case(t, path);
+  return parse_case(t, file);
 }
 
 }  // namespace cmc

@@ -34,7 +34,7 @@ long long contact_edges(const Grid& grid, const Mask& mask);
 // by an amount proportional to the contact-line length. The correction subtracts
 //     alpha * N_edges * dx * dy,   alpha = (pi - 1 + ln 2) / 24 ~= 0.1181,
 // with N_edges the number of contact/non-contact faces counted on the grid.
-// Source status (searched 2026-11 with the project's reference search):
+// Sources read:
 // - the paper itself (ar5iv.labs.arxiv.org/html/1701.02727): only its abstract and the
 //   opening of the introduction could be read. Verified there: the correction is
 //   geometric and needs only the length of the contact/non-contact interfaces.

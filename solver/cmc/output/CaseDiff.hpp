@@ -2,7 +2,7 @@
 // keeps (to_json text) against the one a resumed run resolves now.
 //
 // A long run outlives versions of cmc: a key added after the checkpoint was written (e.g.
-// grid.backend) appears in today's resolved case and not in the checkpoint's. Such a key
+// grid.backend) appears in the running version's resolved case and not in the checkpoint's. Such a key
 // is accepted when it holds its documented default (case_defaults(), Case.hpp), which is
 // by construction what the older version ran; any other difference refuses the resume,
 // and the first difference is named so that the user can see which --set went astray.
@@ -25,7 +25,7 @@ namespace cmc {
 struct CaseDiff {
   std::string mismatch;                // empty: the same case; else "key a.b: ... " (first difference)
   std::vector<std::string> defaulted;  // "a.b = v": keys absent from the checkpoint, at their default here
-  std::vector<std::string> text_changed;  // free-text keys that differ (the run goes on with today's)
+  std::vector<std::string> text_changed;  // free-text keys that differ (the run goes on with the new text)
   std::vector<std::string> limits_changed;  // "a.b: v in the checkpoint, v' here": stopping limits
   bool same() const { return mismatch.empty(); }
 };

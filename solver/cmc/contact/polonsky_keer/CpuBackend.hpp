@@ -28,9 +28,10 @@ namespace pk {
 // time with a comparison the compiler vectorises, and go point by point only through a
 // block that holds something. Points are visited in index order, as a dense loop visits
 // them, and a skipped point would have added nothing: every sum adds the same terms in the
-// same order, so the result is the dense loop's to the last bit. (Measured on the peer's
-// problem at 2048², one thread: the real-space passes of an iteration took 6.1 of its
-// 9.9 s outside the transforms before.)
+// same order, so the result is the dense loop's to the last bit. (Measured on the
+// ContactMechanics comparison surface of bench/bench_kernels.cpp at 2048², one thread: with
+// dense loops the real-space passes took 6.1 of the 9.9 s a solve spent outside the
+// transforms.)
 //
 // The fused sweeps go one step further (HostOf::sparse_row): the fields they transform
 // (the direction t, the pressure p, the preconditioned gap z) are zero off the contact
