@@ -11,7 +11,8 @@ import json
 import math
 import os
 
-REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", "..", ".."))
+# The checkout (the build tree links these files: realpath finds the source).
+REPO = os.path.abspath(os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", ".."))
 FAMILY_STORE = os.path.join(REPO, "reference", "challenge-scaled", "scaled_family.json")
 
 # (summary key, short name, unit) of the quantities the family records.

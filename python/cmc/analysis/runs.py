@@ -6,7 +6,8 @@ import json
 import math
 import os
 
-REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", "..", ".."))
+# The checkout (the build tree links these files: realpath finds the source).
+REPO = os.path.abspath(os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", ".."))
 RUN_STORE = os.path.join(REPO, "reference", "challenge", "runs.json")
 STORE_WHAT = ("runs of the Contact Mechanics Challenge behind the best estimates and the performance tables: "
               "one record per run, made from its summary.json by scripts/store_runs.py or scripts/gpu/store.py")
