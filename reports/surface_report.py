@@ -57,12 +57,15 @@ def _rms(run):
 
 
 def _runs_table(used, info):
-    rows = []
+    """One row per case and surface (a sweep's runs together)."""
+    groups = {}
     for r, path in used:
         same = info is not None and path == info["path"] and get(r.s, "case", "surface", "format") == info["format"]
-        rows.append([r.label, f"`{r.folder}`", r.s.get("surface", "?"), fmt(_rms(r) * 1e6 if _rms(r) else None, 5),
-                     "yes" if same else "**no**"])
-    return md_table(["run", "folder", "surface (summary.json)", "rms height (µm)", "this file"], rows)
+        rms = fmt(_rms(r) * 1e6 if _rms(r) else None, 5)
+        groups.setdefault((r.label, r.s.get("surface", "?"), rms, same), []).append(r.folder)
+    rows = [[label, len(folders), f"`{os.path.commonpath(folders) if len(folders) > 1 else folders[0]}`", surface, rms,
+             "yes" if same else "**no**"] for (label, surface, rms, same), folders in groups.items()]
+    return md_table(["case", "runs", "folder", "surface (summary.json)", "rms height (µm)", "this file"], rows)
 
 
 def _realisation_rows(reference_dir, run_step):
@@ -81,7 +84,7 @@ def _realisation_rows(reference_dir, run_step):
             continue
         ref, err = at[0][names.index(col)], at[0][names.index(col + "_err")]
         inside = abs(mine - ref) <= err
-        out.append(f"  - {q} at 250 kPa: your run ({run_step[0].nx}²) {fmt(mine * scale, 5)}{unit}, the realisation reference "
+        out.append(f"- {q} at 250 kPa: your run ({run_step[0].nx}²) {fmt(mine * scale, 5)}{unit}, the realisation reference "
                    f"{fmt(ref * scale, 5)} ± {fmt(err * scale, 2)}{unit}: "
                    + ("inside its band" if inside else f"**outside** its band, by {abs(mine - ref) / err:.2g} half-widths"))
     return out
