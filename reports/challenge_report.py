@@ -1235,7 +1235,7 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
     best = load_best(reference_dir)
     user = {a: (pair[0] if pair else None) for a, pair in ((a, _reference_load_runs(runs, a)) for a in (True, False))}
     lines += headline(best, user, reference_dir, surfaces=headline_surfaces(results_dir, runs, reference_dir))
-    lines += surface_section(results_dir, runs, reference_dir, user[False])
+    lines += surface_section(results_dir, runs, reference_dir, user)
     for a in (True, False):
         stopped_run = _stopped_reference_runs(runs, a)
         if stopped_run:

@@ -68,31 +68,40 @@ def _runs_table(used, info):
     return md_table(["case", "runs", "folder", "surface (summary.json)", "rms height (µm)", "this file"], rows)
 
 
-def _realisation_rows(reference_dir, run_step):
-    """Lines setting the user's hard-wall run at 250 kPa beside the stored realisation references."""
-    folder = os.path.join(reference_dir, "challenge", "realisation", "adhesionless")
+# The realisation references at the headline's point: (problem, folder, quantity, x column, x there,
+# the step's key, y column, scale, unit).
+AT_250_KPA = ((False, "adhesionless", "contact_area_vs_pressure", "pressure_Pa", P0, "ar", "contact_fraction", 1.0, ""),
+              (False, "adhesionless", "mean_gap_vs_pressure", "pressure_Pa", P0, "gap", "mean_gap_m", 1e6, " µm"),
+              (True, "", "contact_area_vs_tabor", "tabor", 3.0, "ar", "contact_fraction", 1.0, ""),
+              (True, "", "mean_gap_vs_tabor", "tabor", 3.0, "gap", "mean_gap_m", 1e6, " µm"))
+
+
+def _realisation_rows(reference_dir, user):
+    """Lines setting the user's runs at 250 kPa (user: {adhesive: (run, step) or None}) beside the stored
+    realisation references at that point."""
     out = []
-    for q, key, col, scale, unit in (("contact_area_vs_pressure", "ar", "contact_fraction", 1.0, ""),
-                                     ("mean_gap_vs_pressure", "gap", "mean_gap_m", 1e6, " µm")):
-        got = read_reference_csv(os.path.join(folder, q + ".csv"))
+    for adhesive, sub, q, xcol, x, key, col, scale, unit in AT_250_KPA:
+        got = read_reference_csv(os.path.join(reference_dir, "challenge", "realisation", sub, q + ".csv"))
+        run_step = user.get(adhesive)
         mine = run_step[1].get(key) if run_step else None
-        if got is None or mine is None or col not in got[1] or col + "_err" not in got[1]:
+        if got is None or mine is None or not {xcol, col, col + "_err"} <= set(got[1]):
             continue
-        meta, names, data = got
-        at = [row for row in data if abs(row[names.index("pressure_Pa")] / P0 - 1) < 0.01]
+        names, data = got[1], got[2]
+        at = [row for row in data if abs(row[names.index(xcol)] / x - 1) < 0.01]
         if not at:
             continue
         ref, err = at[0][names.index(col)], at[0][names.index(col + "_err")]
-        inside = abs(mine - ref) <= err
-        out.append(f"- {q} at 250 kPa: your run ({run_step[0].nx}²) {fmt(mine * scale, 5)}{unit}, the realisation reference "
-                   f"{fmt(ref * scale, 5)} ± {fmt(err * scale, 2)}{unit}: "
-                   + ("inside its band" if inside else f"**outside** its band, by {abs(mine - ref) / err:.2g} half-widths"))
+        where = "μ_T = 3" if xcol == "tabor" else "without adhesion"
+        out.append(f"- `{sub + '/' if sub else ''}{q}.csv` at 250 kPa, {where}: your run ({run_step[0].nx}²) "
+                   f"{fmt(mine * scale, 5)}{unit}, the realisation reference {fmt(ref * scale, 5)} ± "
+                   f"{fmt(err * scale, 2)}{unit}: " + ("inside its band" if abs(mine - ref) <= err else
+                                                      f"**outside** its band, by {abs(mine - ref) / err:.2g} half-widths"))
     return out
 
 
-def surface_section(results_dir, runs, reference_dir, hardwall_step=None):
+def surface_section(results_dir, runs, reference_dir, user):
     """The section on the runs' surface (lines), or [] where no run used a surface file.
-    hardwall_step: (run, step) of the hard wall at 250 kPa that the headline shows, or None."""
+    user: {adhesive: (run, step) at 250 kPa or None}, the runs the headline shows."""
     used = file_runs(runs)
     if not used:
         return []
@@ -115,13 +124,14 @@ def surface_section(results_dir, runs, reference_dir, hardwall_step=None):
     ours = (f"cmc's own surface (self-affine, seed {seed}" if seed is not None else "cmc's own surface (self-affine")
     ours += f", rms height {rms28 * 1e6:.4g} µm)" if rms28 else ")"
     L.append(f"**Which surface each number is for.** The best estimates in the headline and the stored references "
-             f"drawn in the figures (`reference/challenge/`) are for {ours}, not for this one"
+             f"drawn in the figures (`reference/challenge/`, but the hatched realisation bands) are for {ours}, not "
+             "for this one"
              + (f" (rms height {rms[0] * 1e6:.4g} µm, {100 * (rms[0] / rms28 - 1):+.2g} % of cmc's)" if rms and rms28 else "")
              + ". A difference between your runs and them holds the difference between the two surfaces, not only "
              "numerical error; `cmc check --against surface` is the question for a run on cmc's surface alone.")
-    rows = _realisation_rows(reference_dir, hardwall_step)
+    rows = _realisation_rows(reference_dir, user)
     if rows:
-        rows = ["", "Your hard-wall run beside it (its own grid error comes on top: the bands below):", ""] + rows
+        rows = ["", "Your runs at 250 kPa beside it (their own grid error comes on top: the bands below):", ""] + rows
     L += ["", realisation_sentence(reference_dir)] + rows + [""]
     return L
 
