@@ -87,9 +87,10 @@ def still_wide(reference_dir):
     return out
 
 
-def headline(best, user, reference_dir="reference"):
+def headline(best, user, reference_dir="reference", surfaces=None):
     """The report's opening section. user: {True: (run, step) or None, False: ...} (with and without
-    adhesion, the user's runs at 250 kPa, as the report finds them)."""
+    adhesion, the user's runs at 250 kPa, as the report finds them). surfaces: words naming the surface
+    of the best estimates and of the user's runs where the two differ (surface_report.py), or None."""
     L = ["## Headline: the best estimates at p = 250 kPa (p̃ = p/(E*ḡ) = 0.01)", ""]
     if not best:
         return L + ["No best estimates stored (`reference/challenge/best_estimates.json`; `scripts/best_estimates.py`).", ""]
@@ -99,7 +100,8 @@ def headline(best, user, reference_dir="reference"):
     head = ["quantity"]
     for a in (True, False):
         got = user.get(a)
-        head += [f"{label[a]}: best estimate", f"your run ({got[0].nx}²)" if got else "your run"]
+        best_on, yours_on = surfaces or ("", "")
+        head += [f"{label[a]}: best estimate{best_on}", f"your run{yours_on} ({got[0].nx}²)" if got else f"your run{yours_on}"]
     rows = []
     for short, name, scale, digits in ROWS + (("kappa", "κ = a_r / p̃", 1.0, 4),):
         row = [name]

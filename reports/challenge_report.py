@@ -28,6 +28,7 @@ from common import (CHALLENGE, condition_check_lines, condition_summary, realiza
 
 from best_report import draw_point, draw_realisation, draw_tabor, headline, load_best  # noqa: E402
 import speed_report  # noqa: E402
+from surface_report import headline_surfaces, surface_section  # noqa: E402
 from cmc.analysis import bands, refinement  # noqa: E402
 from cmc.analysis.conditions import condition_checks, load_bands, run_band  # noqa: E402
 from cmc.analysis.family import FAMILY_QUANTITIES, STRATEGIES  # noqa: E402
@@ -216,10 +217,12 @@ def _find_runs(results_dir, notes):
     them from its store; by folder and by case name, challenge-scaled-*), the cluster cost measurements (scripts/cluster/measure.py: the
     challenge's cases on small grids, at several rank counts, some stopped after a fixed number
     of iterations; not results) and the round-off runs (results/roundoff/: the same cases by
-    another build or thread count, for scripts/roundoff_spread.py; duplicates, not results)."""
+    another build or thread count, for scripts/roundoff_spread.py; duplicates, not results) and the runs on
+    users' surface files (results/surfaces/: scripts/main.sh --surface, a report of their own)."""
     files = set(glob.glob(os.path.join(results_dir, "**", "summary.json"), recursive=True))
     skip = tuple(os.path.join(results_dir, d) + os.sep
-                 for d in ("validation", "performance", "scaled-family", "bench", "cluster-measure", "roundoff"))
+                 for d in ("validation", "performance", "scaled-family", "bench", "cluster-measure", "roundoff",
+                           "surfaces"))
     runs = []
     for f in sorted(files):
         if f.startswith(skip):
@@ -1231,7 +1234,8 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
              "reads them). The last section says how each number was obtained and how far to trust it.", ""]
     best = load_best(reference_dir)
     user = {a: (pair[0] if pair else None) for a, pair in ((a, _reference_load_runs(runs, a)) for a in (True, False))}
-    lines += headline(best, user, reference_dir)
+    lines += headline(best, user, reference_dir, surfaces=headline_surfaces(results_dir, runs, reference_dir))
+    lines += surface_section(results_dir, runs, reference_dir, user)
     for a in (True, False):
         stopped_run = _stopped_reference_runs(runs, a)
         if stopped_run:

@@ -400,7 +400,7 @@ def make_mirror(root, build, tmp):
         f.write("#!/bin/sh\n# docs check: the build under test stands in for installing and building\n"
                 "test -x build/cmc || { echo 'docs check: build/cmc missing' >&2; exit 1; }\n")
     os.chmod(os.path.join(tmp, "scripts", "setup.sh"), 0o755)
-    link_folder(root, tmp, "reports", skip=("challenge", "validation", "performance", "__pycache__"))
+    link_folder(root, tmp, "reports", skip=("challenge", "validation", "performance", "surfaces", "__pycache__"))
     link_folder(root, tmp, "cases", skip=("challenge",))
     mirror_challenge_cases(root, tmp)
 
