@@ -37,10 +37,25 @@ ITEMS = {"contact_area_vs_pressure": 2, "mean_gap_vs_pressure": 8, "contact_area
 X_WORDS = {"pressure_Pa": ("Pa", "mean pressure"), "tabor": ("1", "Tabor coefficient mu_T")}
 
 
-def sets_of(records):
-    """{(problem, curve kind): records}: the ensemble's sweeps by what they answer."""
-    kinds = {("hardwall", "load"): "hardwall_load", ("adhesive", "load"): "load", ("adhesive", "tabor"): "tabor"}
-    return {k: [r for r in records if r["tag"].startswith(f"ens-{kind}-")] for k, kind in kinds.items()}
+KINDS = {("hardwall", "load"): "hardwall_load", ("adhesive", "load"): "load", ("adhesive", "tabor"): "tabor"}
+
+
+def sets_of(records, n):
+    """{(problem, curve kind): records on n² points}: the ensemble's sweeps by what they answer."""
+    return {k: [r for r in records if r["tag"].startswith(f"ens-{kind}-") and r["n"] == n] for k, kind in KINDS.items()}
+
+
+def transfers(records, main_records, n, key, x_key, problem, kind):
+    """ensemble.transfer_rows of one curve's quantity between n² and (2n)²: the other seeds' finer
+    runs from the ensemble's store, seed 28's from the run store (the same case, plain)."""
+    fine = [r for r in records if r["tag"].startswith(f"ens-{kind}-") and r["n"] == 2 * n]
+    if not fine:
+        return []
+    case = {"hardwall_load": "challenge-load-sweep-hardwall", "load": "challenge-load-sweep"}.get(kind)
+    own = [dict(r, physics=dict(r.get("physics") or {}, **{"surface.seed": ensemble.OWN_SEED}))
+           for r in main_records if r.get("case_name") == case and r["n"] == 2 * n and r.get("strategy") == "plain"]
+    coarse = [r for r in records if r["tag"].startswith(f"ens-{kind}-") and r["n"] == n]
+    return ensemble.transfer_rows(ensemble.table(coarse, key, x_key), ensemble.table(fine + own, key, x_key))
 
 
 def best_points(best, problem, x_key):
@@ -78,7 +93,9 @@ def curve(stem, problem, question, rows, k, seeds, n_grid, date):
         "name": stem, "quantity": stem, "x": xcol, "y": ycol, "representation": rep, "band": ycol + "_err",
         "title": f"Challenge item {ITEMS[stem]}: {words} vs {xwords}{hw}, {question} of {ms[-1]} surfaces",
         "estimated_error": (f"band per row: the grid correction's relative error (cmc's own surface, seed "
-                            f"{ensemble.OWN_SEED}: its best estimate over its value on {n_grid}^2) combined in "
+                            f"{ensemble.OWN_SEED}: its best estimate over its value on {n_grid}^2; where other "
+                            f"surfaces were also run on {2 * n_grid}^2, widened by twice the largest difference of "
+                            "their refinement factor from seed 28's, ensemble/summary.json transfer) combined in "
                             f"quadrature with {stat}"),
         "columns": [[xcol, xunit, xwords, [r.x for r in rows]], [ycol, yunit, words, [r.value for r in rows]],
                     [ycol + "_err", yunit, "half-width of the error band: " + words, [r.band for r in rows]],
@@ -96,16 +113,20 @@ def curve(stem, problem, question, rows, k, seeds, n_grid, date):
                   ("generator", "scripts/ensemble_references.py (python/cmc/analysis/ensemble.py)")]}
 
 
-def build(records, best, seeds):
-    """{(question, problem, stem): (rows, stats)} of every curve with two rows or more."""
-    out = {}
-    for (problem, kind), recs in sets_of(records).items():
+def build(records, best, seeds, n, main_records=()):
+    """{(question, problem, stem): (rows, k)} of every curve with two rows or more, and the
+    transfer checks {(problem, stem): rows}."""
+    out, checked = {}, {}
+    for (problem, kind), recs in sets_of(records, n).items():
         for stem, (xcol, _, key, short, x_key, *_rest) in CURVES.items():
             if (x_key == "tabor") != (kind == "tabor"):
                 continue
             table = ensemble.table(recs, key, x_key, seeds)
             stats = ensemble.stats(recs, key, x_key, seeds)
-            corr = corrections(recs, best, problem, x_key, key, short)
+            moved = transfers(records, main_records, n, key, x_key, problem, KINDS[(problem, kind)])
+            if moved:
+                checked[(problem, stem)] = moved
+            corr = [ensemble.with_transfer(c, moved) for c in corrections(recs, best, problem, x_key, key, short)]
             # The factor over the rows the reference keeps (those with a correction).
             kept = [s for s in stats if any(abs(c.x / s.x - 1) <= 0.01 for c in corr)]
             k = ensemble.simultaneous_factor(table, kept)
@@ -113,14 +134,14 @@ def build(records, best, seeds):
                 rows = ensemble.reference_rows(kept, corr, question, k)
                 if len(rows) >= 2:
                     out[(question, problem, stem)] = (rows, k)
-    return out
+    return out, checked
 
 
-def summary(records, seeds):
+def summary(records, seeds, n):
     """Per curve and row: the ensemble's statistics of the raw values and of the quantities that
     transfer best across surfaces (the mean gap over the rms height)."""
     out = {}
-    for (problem, kind), recs in sets_of(records).items():
+    for (problem, kind), recs in sets_of(records, n).items():
         x_key = "tabor" if kind == "tabor" else "pressure_Pa"
         for key in ("a_r", "a_rep", "mean_gap_m", "mean_gap_over_h_rms"):
             out[f"{problem}/{kind}/{key}"] = [vars(s) for s in ensemble.stats(recs, key, x_key, seeds)]
@@ -134,6 +155,7 @@ def main(argv):
     ap.add_argument("--out", default=os.path.join(ROOT, "reference", "challenge"))
     ap.add_argument("--seeds", default="1-32", help="the ensemble's seeds (default %(default)s)")
     ap.add_argument("--cmc", default=os.path.join(ROOT, "build", "cmc"))
+    ap.add_argument("--runs", default=runs.RUN_STORE, help="the run store, for seed 28's finer grid (default %(default)s)")
     a = ap.parse_args(argv)
     try:
         lo, _, hi = a.seeds.partition("-")
@@ -145,9 +167,11 @@ def main(argv):
         print(f"ensemble_references: {e} (--seeds takes A-B; the store and best estimates must be readable)",
               file=sys.stderr)
         return 2
-    n_grid = max((r["n"] for r in records), default=0)
+    grids = [r["n"] for r in records]
+    n_grid = max(set(grids), key=grids.count) if grids else 0  # the ensemble's grid: most of its runs
+    main_records = runs.load_store(a.runs) if os.path.exists(a.runs) else []
     date = max((r.get("date") or "" for r in records), default="")
-    got = build(records, best, seeds)
+    got, checked = build(records, best, seeds, n_grid, main_records)
     try:
         for (question, problem, stem), (rows, k) in sorted(got.items()):
             path = os.path.join(a.out, question, "adhesionless" if problem == "hardwall" else "", stem + ".csv")
@@ -158,11 +182,14 @@ def main(argv):
         return 1
     rl = best["reference_load"]
     at_p0 = {problem: ensemble.reference_load_questions(
-        [r for r in records if r["tag"].startswith(f"ens-{kind}-")], rl.get(problem), seeds, rl["p_tilde"])
+        [r for r in records if r["tag"].startswith(f"ens-{kind}-") and r["n"] == n_grid], rl.get(problem), seeds,
+        rl["p_tilde"])
         for problem, kind in (("hardwall", "reference_hardwall"), ("adhesive", "reference"))}
     write_atomically(os.path.join(a.out, "ensemble", "summary.json"),
                      json.dumps({"generator": "scripts/ensemble_references.py", "seeds": seeds, "reference_load": at_p0,
-                                 "rows": summary(records, seeds)}, indent=1, sort_keys=True) + "\n")
+                                 "grid": n_grid, "rows": summary(records, seeds, n_grid),
+                                 "transfer": {f"{p}/{q}": t for (p, q), t in sorted(checked.items())}},
+                                indent=1, sort_keys=True) + "\n")
     return 0
 
 

@@ -97,3 +97,16 @@ def test_reference_load_questions_by_hand():
     assert got["mean_gap_over_h_rms"]["surface"]["value"] == pytest.approx(1.1)
     assert "a_rep" not in got  # no best estimate of it given
     assert ensemble.reference_load_questions(recs, None, [1, 2, 28], 0.01) == {}
+
+
+def test_transfer_rows_and_the_correction_they_widen():
+    # seed 28's factor 0.9/1.0 = 0.9; seed 1's 0.99/1.1 = 0.9 (same); seed 2's 0.88/1.0 = 0.88
+    coarse = [(1e5, {28: 1.0, 1: 1.1, 2: 1.0})]
+    fine = [(1.001e5, {28: 0.9, 1: 0.99, 2: 0.88})]
+    rows = ensemble.transfer_rows(coarse, fine)
+    assert len(rows) == 1 and rows[0]["seed"] == 2 and rows[0]["largest"] == pytest.approx(abs(0.88 / 0.9 - 1))
+    c = ensemble.correction(1e5, own=1.0, best=0.85, best_error=0.0085)
+    wide = ensemble.with_transfer(c, rows)
+    assert wide.relative_error == pytest.approx(math.hypot(0.01, 2 * abs(0.88 / 0.9 - 1)))
+    assert ensemble.with_transfer(ensemble.correction(2e5, 1.0, 0.85, 0.0085), rows).relative_error == pytest.approx(0.01)
+    assert ensemble.transfer_rows(coarse, [(1e5, {1: 0.99, 2: 0.88})]) == []  # seed 28 missing

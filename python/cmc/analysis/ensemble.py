@@ -253,3 +253,32 @@ def _scaled_best(q: dict, records: Sequence[dict]) -> float:
     """Seed 28's best mean gap over its rms height (the height is the surface's, grid-independent)."""
     h = next((r.get("rms_height_m") for r in records if (r.get("physics") or {}).get("surface.seed") == OWN_SEED), None)
     return q["value"] / h if h else math.nan
+
+
+def transfer_rows(coarse: Sequence[Tuple[float, Dict[int, float]]], fine: Sequence[Tuple[float, Dict[int, float]]]
+                  ) -> List[dict]:
+    """Whether a grid correction measured on seed 28 holds on other surfaces: per row (table()
+    rows of one quantity on a grid and on the next finer one), each seed's refinement factor
+    fine / coarse and transfer_check of them. Rows where seed 28 and one other seed have both."""
+    out = []
+    for x, vf in fine:
+        vc = next((v for cx, v in coarse if _same(cx, x)), None)
+        if vc is None:
+            continue
+        ratios = {s: vf[s] / vc[s] for s in vf if s in vc and vc[s]}
+        got = transfer_check(ratios)
+        if got is not None:
+            out.append(dict(got, x=x))
+    return out
+
+
+def with_transfer(c: Correction, transfer: Sequence[dict]) -> Correction:
+    """The correction with the surfaces' spread of its refinement factor added: twice the largest
+    relative difference of another seed's factor from seed 28's at its row (the whole correction,
+    from the ensemble's grid to the converged value, is about twice the first doubling's for the
+    counted area's first order), in quadrature with its own error. Unchanged where not measured."""
+    t = next((t for t in transfer if _same(t["x"], c.x)), None)
+    if t is None:
+        return c
+    return Correction(x=c.x, factor=c.factor, relative_error=math.hypot(c.relative_error, 2 * t["largest"]),
+                      own=c.own, best=c.best)
