@@ -4,7 +4,7 @@ ensemble and realisation references (python/cmc/analysis/ensemble.py):
 
     /usr/bin/python3 scripts/ensemble.py --out DIR [--kinds K1,K2,...] [--seeds 1-32] [--holdout 101-110]
         [--n 2048] [--backend cpu|cuda] [--workers W] [--threads T] [--block B] [--deadline S]
-        [--cmc build/cmc] [--set KEY=VALUE ...] [--dry-run]
+        [--cmc build/cmc] [--set KEY=VALUE ...] [--skip-stored STORE] [--tabor-seeds A-B] [--dry-run]
 
 Kinds, in the order given (the default is every kind, in the order below):
   hardwall_load       the hard-wall load sweep (cases/challenge/load-sweep-hardwall.toml), on the
@@ -19,10 +19,14 @@ interaction.tabor for the Tabor points) into DIR/<kind>/<backend>-n<N>-s<first>-
 run at a time, each with CMC_THREADS=T. A unit still running at the deadline is stopped; its
 sweep is resumable, so the same command later finishes it and skips what is done. Without fields:
 result.h5 holds the observables alone. Exit 0 when every unit finished, 3 when the deadline
-stopped some, 2 for bad arguments.
+stopped some, 2 for bad arguments. --skip-stored STORE leaves out the seeds whose runs of a kind
+on this grid the ensemble's store (reference/challenge/ensemble/runs.json) already holds, every
+point converged (every mu_T for the Tabor points).
 """
 import argparse
+import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -55,11 +59,39 @@ def seed_range(text, what):
     return sorted(out)
 
 
-def units(kinds, seeds, holdout, block):
-    """[(kind, [seeds])] in the order of the kinds, blocks of `block` seeds."""
+def stored(path, n):
+    """{kind: {seed}} of the store's finished runs on n² points (every step converged; for the
+    Tabor points every mu_T of cases/challenge/tabor-values)."""
+    if not path:
+        return {}
+    try:
+        with open(path) as f:
+            records = json.load(f)["records"]
+    except (OSError, ValueError, KeyError, TypeError) as e:
+        raise SystemExit(f"ensemble: --skip-stored {path}: not a readable store ({e})")
+    done, tabor = {}, {}
+    for r in records:
+        m = re.match(r"ens-(\w+?)-(cpu|cuda)-n(\d+)-s(\d+)(?:-mu(.+))?$", str(r.get("tag", "")))
+        if not m or int(m.group(3)) != n or r.get("status") != "converged":
+            continue
+        kind, seed = m.group(1), int(m.group(4))
+        if kind == "tabor":
+            tabor.setdefault(seed, set()).add(float(m.group(5)))
+        else:
+            done.setdefault(kind, set()).add(seed)
+    done["tabor"] = {s for s, mus in tabor.items() if len(mus) >= len(tabor_values())}
+    return done
+
+
+def units(kinds, seeds, holdout, block, skip=None, tabor_seeds=None):
+    """[(kind, [seeds])] in the order of the kinds, blocks of `block` seeds, without those in skip;
+    the Tabor points on tabor_seeds alone where given."""
     out = []
     for kind in kinds:
         these = seeds + ([s for s in holdout if s not in seeds] if kind in HOLDOUT_KINDS else [])
+        if kind == "tabor" and tabor_seeds is not None:
+            these = [s for s in these if s in tabor_seeds]
+        these = [s for s in these if s not in (skip or {}).get(kind, set())]
         out += [(kind, these[i:i + block]) for i in range(0, len(these), block)]
     return out
 
@@ -139,6 +171,8 @@ def main(argv):
     ap.add_argument("--deadline", type=float, default=float("inf"), help="seconds for everything (default: none)")
     ap.add_argument("--cmc", default=os.path.join(ROOT, "build", "cmc"))
     ap.add_argument("--set", action="append", default=[], help="a case override for every run (as cmc's --set)")
+    ap.add_argument("--skip-stored", help="leave out the seeds this ensemble store already holds")
+    ap.add_argument("--tabor-seeds", help="run the Tabor points on these of the seeds only (e.g. 1-16)")
     ap.add_argument("--dry-run", action="store_true", help="print the units and stop")
     a = ap.parse_args(argv)
     kinds = [k.strip() for k in a.kinds.split(",") if k.strip()]
@@ -152,7 +186,8 @@ def main(argv):
     if not a.dry_run and not os.access(a.cmc, os.X_OK):
         print(f"ensemble: {a.cmc}: no cmc program there (build it, or name it with --cmc)", file=sys.stderr)
         return 2
-    todo = units(kinds, seed_range(a.seeds, "--seeds"), seed_range(a.holdout, "--holdout"), a.block)
+    todo = units(kinds, seed_range(a.seeds, "--seeds"), seed_range(a.holdout, "--holdout"), a.block,
+                 stored(a.skip_stored, a.n), seed_range(a.tabor_seeds, "--tabor-seeds") if a.tabor_seeds else None)
     if a.dry_run:
         for kind, block in todo:
             print(" ".join(command(a, kind, block)[0]))

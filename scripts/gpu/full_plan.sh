@@ -6,12 +6,13 @@
 # Three tracks side by side:
 #   1. the reference plan (scripts/gpu/reference_plan.py) on the GPU: the finest grids, one run at
 #      a time, into OUT/reference-plan.tgz;
-#   2. the seed ensemble at 250 kPa, with and without adhesion, and the adhesive load and Tabor
-#      sweeps (scripts/ensemble.py: reference_hardwall, reference, load, tabor) on the GPU, W
-#      sweeps at a time, blocks of 4 seeds: the 2048² runs leave the GPU idle between their
-#      small transforms, and the plan's runs fill it;
-#   3. the seed ensemble's hard-wall load sweeps (hardwall_load) on the host's cores, C
-#      single-threaded runs at a time.
+#   2. the seed ensemble (scripts/ensemble.py: 250 kPa with and without adhesion, both load
+#      sweeps, the Tabor points of seeds 1-16) on the GPU, W sweeps at a time, blocks of 4 seeds:
+#      the 2048² runs leave the GPU idle between their small transforms, and the plan's runs
+#      fill it;
+#   3. the Tabor points of seeds 17-32 on the host's cores, C single-threaded runs at a time
+#      (a 2048² hard-wall sweep to full contact takes a host core over 8 minutes: the GPU's).
+# Both ensembles leave out what reference/challenge/ensemble/runs.json holds already.
 # The ensemble's summaries (and the 250 kPa runs' result.h5, observables only) are packed into
 # OUT/ensemble.tgz at the end; what the deadline stopped is resumable where it stands (the same
 # command with --work pointing at it). --scale K --cpu runs all of it on the CPU backend at
@@ -51,7 +52,7 @@ n=$((2048 / scale))
 # each of its stages by the pack's program name, which must not reach the ensembles' runs.
 ln -sf "$(cd "$pack/bin" && pwd)/cmc" "$work/cmc-ensemble"
 ens=(/usr/bin/python3 scripts/ensemble.py --out "$work/ensemble" --n "$n" --cmc "$work/cmc-ensemble"
-     --deadline $((deadline - 40)))
+     --deadline $((deadline - 40)) --skip-stored reference/challenge/ensemble/runs.json)
 [ "$scale" -gt 1 ] && ens+=(--set "surface.cutoff_wavelength=$(awk "BEGIN {print 0.1e-6 * $scale}")")
 gpu_backend=cuda plan_cpu=()
 [ "$cpu" = 1 ] && gpu_backend=cpu plan_cpu=(--cpu)
@@ -59,10 +60,10 @@ gpu_backend=cuda plan_cpu=()
 CMC_THREADS=4 /usr/bin/python3 scripts/gpu/reference_plan.py --deadline "$deadline" --scale "$scale" "${plan_cpu[@]}" \
   --pack "$pack" --work "$work/plan" --tar "$out/reference-plan.tgz" ${skip:+--skip "$skip"} "${keep[@]}" >"$work/plan.log" 2>&1 &
 plan=$!
-"${ens[@]}" --backend "$gpu_backend" --workers "$gpu_workers" --block 4 --kinds reference_hardwall,reference,load,tabor \
-  >"$work/ensemble-gpu.log" 2>&1 &
+"${ens[@]}" --backend "$gpu_backend" --workers "$gpu_workers" --block 4 \
+  --kinds reference_hardwall,reference,hardwall_load,load,tabor --tabor-seeds 1-16 >"$work/ensemble-gpu.log" 2>&1 &
 gpu=$!
-"${ens[@]}" --backend cpu --workers "$cpu_workers" --block 1 --kinds hardwall_load \
+"${ens[@]}" --backend cpu --workers "$cpu_workers" --block 1 --kinds tabor --seeds 17-32 \
   >"$work/ensemble-cpu.log" 2>&1 &
 host=$!
 wait $gpu $host
