@@ -24,7 +24,7 @@ import sys
 import tomllib
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
-from challenge_reference import write_atomically, write_curve  # noqa: E402
+from cmc.reference_files import write_atomically, write_curve  # noqa: E402
 from cmc.analysis import best as best_mod  # noqa: E402
 from cmc.reference_files import read_curve  # noqa: E402
 
