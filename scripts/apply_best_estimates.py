@@ -24,9 +24,8 @@ import sys
 import tomllib
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
-from cmc.reference_files import write_atomically, write_curve  # noqa: E402
+from cmc.reference_files import CurveError, read_curve, write_atomically, write_curve  # noqa: E402
 from cmc.analysis import best as best_mod  # noqa: E402
-from cmc.reference_files import read_curve  # noqa: E402
 
 P0 = 250e3
 BEGIN, END = "<!-- best-estimates:begin -->", "<!-- best-estimates:end -->"
@@ -292,7 +291,12 @@ def main(argv):
     except (OSError, ValueError) as e:
         print(f"apply_best_estimates: {a.best}: {e} (scripts/best_estimates.py writes it)", file=sys.stderr)
         return 2
-    for p in apply(best, a.out, a.cmc):
+    try:
+        written = apply(best, a.out, a.cmc)
+    except CurveError as e:
+        print(f"apply_best_estimates: {e}", file=sys.stderr)
+        return 1
+    for p in written:
         print(f"apply_best_estimates: {os.path.relpath(p, ROOT)}")
     return 0
 
