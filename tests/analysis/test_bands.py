@@ -38,14 +38,6 @@ def test_refinement_band_is_the_distance_to_the_finer_curve():
     assert list(bands.refinement_band([1.0, 2.0], [5.0, 5.0], [1.0, 3.0], [4.0, 6.0], False, False)) == [1.0, 0.0]
 
 
-def test_stored_band_borrows_the_relative_band():
-    # stored: band 1 at y = 10, 4 at y = 20: 10 % and 20 %; at x = 2 15 %, times |-2|: 0.3; at x = 5 none
-    got = bands.stored_band([2.0, 5.0], [-2.0, 1.0], [1.0, 3.0], [10.0, 20.0], [1.0, 4.0], False)
-    assert got[0] == pytest.approx(0.3) and np.isnan(got[1])
-    # a stored value of 0 gives no relative band there: only (3, 20 %) is left, too few to interpolate
-    assert np.isnan(bands.stored_band([3.0], [1.0], [1.0, 3.0], [0.0, 20.0], [1.0, 4.0], False)).all()
-
-
 def test_profile_band_holds_the_finer_profile():
     y, v = [0.0, 1.0, 2.0, 3.0], [0.0, 0.0, 4.0, 4.0]
     yf = np.arange(0.0, 3.5, 0.5)

@@ -82,15 +82,6 @@ def finest_profile_band(y, v, yc, vc, floor, period=None):
     return np.maximum(_two_grid_bound(np.interp(y, yc, vc, period=period), v), floor)
 
 
-def stored_band(x, y, xr, yr, br, logx):
-    """The band a curve (x, y) borrows from a stored reference (xr, yr) with band br: the
-    reference's band relative to its values, interpolated at x on the representation's abscissa
-    (log where logx), times |y|. NaN outside the reference's range or where its value is 0."""
-    ya = np.abs(np.asarray(yr, dtype=float))
-    rb = np.divide(br, ya, out=np.full(len(ya), np.nan), where=ya > 0)
-    return interp_curve(x, xr, rb, logx, False) * np.abs(y)
-
-
 def profile_floor(key, tolerance, rms_height, contact_modulus, rms_gradient):
     """The least band of a cross-section profile: the solver's tolerance in the problem's scale,
     times the rms height for the gap (key ending in "gap"), times E* times the rms slope for the
