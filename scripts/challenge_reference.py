@@ -215,13 +215,16 @@ def adhesive_error(run, hw, keys, coarser=None):
     the band was measured against, where there is one (the band then covers the grid error at
     this dx/rho alone)."""
     grid = (f"{run.nx}^2, dx = {run.dx * 1e9:.3g} nm = {_over_rho(run):.3g} rho, far coarser than the ~0.75 rho of "
-            f"the published solution{'; ' + STRATEGY_WORDS[strategy_of(run.s)] if coarser else ''}")
-    head = (f"NOT CONVERGED in rho: the band is the grid error between {coarser}^2 and this grid ({grid}) alone"
-            if coarser else f"NOT CONVERGED, not estimated by a refinement study: one adhesive run on one grid ({grid})")
-    return (head + f", so the adhesive neck (range rho) is unresolved{_bistable(run)}; "
-            f"the {'rest of the ' if coarser else ''}error is unknown and may be large (tens of per cent or more), "
-            "above all in the tensile part, near contact lines and in patch statistics"
-            + ("" if coarser else "; " + hw_context(hw, keys) + " (between a curve and this one, compare shapes, not digits)"))
+            "the published solution")
+    if coarser:
+        return (f"NOT CONVERGED in rho: one adhesive case ({STRATEGY_WORDS[strategy_of(run.s)]}) on {grid}, so the "
+                f"adhesive neck (range rho) is unresolved{_bistable(run)}; the band is the grid error between "
+                f"{coarser}^2 and {run.nx}^2 alone, and the rest of the error is unknown and may be large (tens of per "
+                "cent or more), above all in the tensile part, near contact lines and in patch statistics")
+    return (f"NOT CONVERGED, not estimated by a refinement study: one adhesive run on one grid ({grid}), so the "
+            f"adhesive neck (range rho) is unresolved{_bistable(run)}; the error is unknown and may be large (tens of "
+            "per cent or more), above all in the tensile part, near contact lines and in patch statistics; "
+            + hw_context(hw, keys) + " (between a curve and this one, compare shapes, not digits)")
 
 
 # ------------------------------------------------------------------ the strategy's error band
