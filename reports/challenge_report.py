@@ -29,6 +29,7 @@ from common import (CHALLENGE, condition_check_lines, condition_summary, realiza
 from best_report import draw_point, draw_realisation, draw_tabor, headline, load_best  # noqa: E402
 import speed_report  # noqa: E402
 from surface_report import headline_surfaces, surface_section  # noqa: E402
+from stored_distributions import draw_stored_curve, draw_stored_profiles  # noqa: E402
 from cmc.analysis import bands, refinement  # noqa: E402
 from cmc.analysis.conditions import condition_checks, load_bands, run_band  # noqa: E402
 from cmc.analysis.family import FAMILY_QUANTITIES, STRATEGIES  # noqa: E402
@@ -428,18 +429,6 @@ def _stored_note(ref):
             f"({m.get('sampling', '')}); not rerun here")
 
 
-def _stored_band(reference_dir, quantity, adhesive, x, y):
-    """(band of the curve (x, y), stored curve): the stored reference's relative band, interpolated
-    at x in its representation (bands.stored_band; NaN outside its range); (None, None) without a
-    banded stored curve. How a run that has no finer grid here borrows the band measured when the
-    references were made."""
-    ref = _stored(reference_dir, quantity, adhesive)
-    if ref is None or ref["band"] is None:
-        return None, None
-    logx = ref["meta"].get("representation", "lin-lin").startswith("log")
-    return bands.stored_band(x, y, ref["x"], ref["y"], ref["band"], logx), ref
-
-
 def _merged_sweeps(runs):
     """Load sweeps grouped by (case name, grid): one curve each, from several runs where a sweep was
     continued in another run (e.g. the high loads). At a pressure that two runs share, the step of
@@ -824,16 +813,13 @@ def _problem(r):
 
 def _band_or_stored(c, d, finer_curve, finer_nx, logx, logy, reference_dir, quantity, adhesive):
     """(band, legend text, table text) of a curve (c, d) at the reference load: its change to the
-    same case on the next finer grid when that run is here, else the stored reference's relative
-    band; (None, ...) when neither exists."""
+    same case on the next finer grid when that run is here; (None, ...) otherwise (the stored
+    reference is drawn beside it with its own band, draw_stored_curve)."""
     if finer_curve is not None:
         b = bands.refinement_band(c, d, finer_curve[0], finer_curve[1], logx, logy)
         if np.isfinite(b).any():
             return b, f"band: change to {finer_nx}²", f"|this − {finer_nx}²| at {int(np.isfinite(b).sum())} of {len(c)} points"
-    b, ref = _stored_band(reference_dir, quantity, adhesive, c, d)
-    if b is not None and np.isfinite(b).any():
-        return b, "band: stored reference's, relative", f"the relative band of `{ref['path']}`"
-    return None, "", "–"
+    return None, "", "– (no finer run of this case here)"
 
 
 def _hist_figure(dists, key_edges, key_density, xscale, yscale, xunit, yunit, xlabel, ylabel, title, path,
@@ -875,6 +861,8 @@ def _hist_figure(dists, key_edges, key_density, xscale, yscale, xunit, yunit, xl
         e = obs[key_edges]
         rows.append([_problem(r), r.label, fmt(st["p"] / 1e3, 4), len(d), f"{fmt(e[0] * xunit, 3)} – {fmt(e[-1] * xunit, 3)}",
                      band_from])
+    for ad in (True, False):
+        rows += draw_stored_curve(ax, _stored(reference_dir, csv_stem, ad), ad, xunit, yunit, yscale == "log")
     if not rows:
         plt.close(fig)
         return None
@@ -923,6 +911,8 @@ def _spectrum(dists, out_dir, data_dir, reference_dir):
         csvs.append(csv)
         rows.append([_problem(r), r.label, fmt(st["p"] / 1e3, 4), len(q), f"{fmt(q.min(), 3)} – {fmt(q.max(), 3)}",
                      band_from])
+    for ad in (True, False):
+        rows += draw_stored_curve(ax, _stored(reference_dir, "stress_spectrum", ad), ad, 1.0, 1.0, True)
     if not rows:
         plt.close(fig)
         return None
@@ -956,7 +946,7 @@ def _zoom_centre(y, g, p):
     return y[int(edges[np.argmin(np.abs(edges - i_max))])] if len(edges) else y[i_max]
 
 
-def _cross_section(dists, out_dir, data_dir):
+def _cross_section(dists, out_dir, data_dir, reference_dir):
     have = [(r, o, st, f) for r, o, st, f in dists if "cross_section_y" in o and
             ("cross_section_gap" in o or "cross_section_pressure" in o)]
     if not have:
@@ -1007,6 +997,9 @@ def _cross_section(dists, out_dir, data_dir):
         csvs.append(csv)
         rows.append([_problem(r), r.label, fmt(x0 * 1e6 if finite(x0) else None, 4), len(y),
                      "; ".join(how) if how else "– (no run of this case on a finer grid)"])
+    for ad in (True, False):
+        rows += draw_stored_profiles(axes[:, 1], [_stored(reference_dir, q, ad) for q in ("cross_section_gap",
+                                                                                           "cross_section_pressure")], ad, yc)
     for a in axes[:, 1]:
         a.set_xlim((yc - 1e-6) * 1e6, (yc + 1e-6) * 1e6)
     axes[0, 0].set_ylabel("gap (µm)")
@@ -1293,8 +1286,8 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
                          data_dir, ("patch_area_m2", "density_per_m2"), "patch_size_distribution", reference_dir)
     dist_cols = ["problem", "run", "p (kPa)", "bins", "range ({})", "band"]
     dist_note = ["Band (shaded): per point, the change of the curve to the same case on the next finer grid, "
-                 "interpolated in the figure's axes; without a finer run here, the stored reference's relative band "
-                 f"({method_link(out_dir, 'distributions-and-spectrum')}).", ""]
+                 "interpolated in the figure's axes; the stored references (dashed, their grids named) with their bands "
+                 f"as stored ({method_link(out_dir, 'distributions-and-spectrum')}).", ""]
     section(1, "Distribution of contact patch size (log-log)", patch, [c.format("µm²") for c in dist_cols], dist_note)
 
     def area_rows(content):
@@ -1341,7 +1334,7 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
             ["Numbers: the table of item 6.", ""])
     section(8, "Mean gap as a function of pressure (log pressure)", _no_rows(area_rows(sweep["gap"])), sweep_cols,
             ["Numbers: the table of item 2.", ""])
-    section(9, "Gap and stress along the cross section x = 50 µm", _cross_section(dists, out_dir, data_dir),
+    section(9, "Gap and stress along the cross section x = 50 µm", _cross_section(dists, out_dir, data_dir, reference_dir),
             ["problem", "run", "x (µm)", "points", "band"],
             ["Band (shaded in the zooms): per point, the largest change of the profile to the same case on the next "
              "finer grid near it, at least the solver's tolerance in the problem's scale; large at contact lines, "

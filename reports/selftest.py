@@ -13,6 +13,7 @@ lines instead of a crash. Exit 0 when all is well, 1 with the failures listed,
 import json
 import math
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -449,6 +450,11 @@ def main(argv):
         tabor_csv = os.path.join(out, "challenge", "data", "tabor_sweep__256x256.csv")
         if not os.path.isfile(tabor_csv) or any(ln.startswith("7.0") for ln in open(tabor_csv)):
             failures.append("challenge/data/tabor_sweep__256x256.csv is missing or holds the run that did not converge")
+        # Items 1, 3, 4, 5 and 9 draw the stored references beside the runs, their grids and bands as stored.
+        for num in ("1", "3", "4", "5", "9"):
+            part = idx.split(f"## {num}.")[-1].split("\n## ")[0]
+            if not re.search(r"\| stored reference \(\d+²\)[^|]*\|.*\| as stored \(", part):
+                failures.append(f"challenge/index.md, item {num}: no row of the stored reference with its grid and band")
         if "cluster-measure" in idx:
             failures.append("challenge/index.md uses a run of results/cluster-measure/ (cost measurements)")
         if "challenge-scaled-hardwall-s32" in idx or "seeds/seed29" in idx:

@@ -3,11 +3,15 @@
 reference/challenge/README.md) from cmc's own challenge runs.
 
     /usr/bin/python3 scripts/challenge_reference.py [--results results] [--out reference/challenge] [--cmc build/cmc]
+                                                    [--only tabor|reference-load]
 
 Inputs (read only, SI, layout of solver/cmc/output/Writer.cpp):
-  results/challenge-reference/        the challenge's problem (adhesion, mu_T = 3) at 250 kPa:
-                                      summary.json + result.h5 step_*/observables
-                                      -> items 1, 3, 4, 5, 9
+  results/**/                         the runs at 250 kPa with summary.json + result.h5
+                                      step_*/observables, of each problem (adhesion with mu_T = 3,
+                                      also the scaled family's member s = 1, which is the
+                                      challenge; the hard wall) -> items 1, 3, 4, 5, 9 from the
+                                      finest run that has a coarser grid of the same case and
+                                      strategy, their bands twice the change from that grid
   results/challenge-load-sweep/       adhesive load sweep, if present -> items 2, 8
   results/challenge-tabor-sweep/*/    adhesive Tabor sweep, if present -> items 6, 7
   results/challenge-tabor-sweep-n*/*/ the same sweep on finer grids (scripts/tabor_sweep.sh --grid N), if
@@ -43,14 +47,14 @@ import numpy as np
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 from challenge_report import (Run, _centers, _find_runs, _merged_sweeps, _observables,  # noqa: E402
                               _reference_load_runs, _stopped, band_floor, finer_sweep, grid_change, hardwall_sweep_band,
-                              profile_band, sweep_band)  # (the report's extraction)
+                              sweep_band)  # (the report's extraction)
 from cmc import reference_files  # noqa: E402
 from cmc.analysis import bands  # noqa: E402
 from cmc.analysis.conditions import condition_checks, load_bands, run_band, run_strategy_error  # noqa: E402
 from cmc.analysis.family import FAMILY_STORE  # noqa: E402
 from cmc.analysis.refinement import REFINEMENT_BISTABILITY, own_refinement_words  # noqa: E402
-from cmc.analysis.runs import strategy_of  # noqa: E402
-from common import (CHALLENGE, STRATEGY_WORDS, condition_summary, load_json,  # noqa: E402
+from cmc.analysis.runs import dx_over_rho, strategy_of, tabor_of  # noqa: E402
+from common import (CHALLENGE, STRATEGY_WORDS, case_name, condition_summary, get, load_json,  # noqa: E402
                     read_reference_csv, roundoff_note, transfer_caveat)
 
 RHO, LAMBDA_S, P0 = CHALLENGE["rho"], CHALLENGE["lambda_s"], CHALLENGE["p0"]
@@ -79,13 +83,19 @@ def _mtime_utc(path):
     return t.strftime("%Y-%m-%dT%H:%M:%SZ")
 
 
+def _over_rho(run):
+    """dx over the problem's range rho (cmc.analysis.runs.dx_over_rho: the specified range, not a
+    coarse-grained law's longer one), NaN without one."""
+    return dx_over_rho(run.s) or float("nan")
+
+
 def _grid_text(run):
     """The grid, with dx/rho and dx/lambda_s as cmc computed them (summary.json surface_facts)."""
     facts = run.s.get("surface_facts") or {}
     if "dx_over_range" not in facts:  # no adhesion: no range to compare with
         return (f"{run.nx}x{run.ny}, dx = {run.dx * 1e9:.4g} nm = "
                 f"{facts.get('dx_over_cutoff_wavelength', float('nan')):.3g} lambda_s (L = {run.size * 1e6:.4g} um)")
-    return (f"{run.nx}x{run.ny}, dx = {run.dx * 1e9:.4g} nm = {facts.get('dx_over_range', float('nan')):.3g} rho "
+    return (f"{run.nx}x{run.ny}, dx = {run.dx * 1e9:.4g} nm = {_over_rho(run):.3g} rho "
             f"= {facts.get('dx_over_cutoff_wavelength', float('nan')):.3g} lambda_s "
             f"(L = {run.size * 1e6:.4g} um; rho = {RHO * 1e9:.4g} nm)")
 
@@ -130,8 +140,8 @@ def _toml_value(v):
 
 def _overrides(summary):
     """The --set options the run was given, as far as its resolved case shows them: every key of
-    the case file (with its bases) whose resolved value differs, and the strategy key when the
-    file lacks it."""
+    the case file (with its bases) whose resolved value differs, and the strategy and backend keys
+    when the file lacks them."""
     path = summary.get("case_file")
     try:
         from cmc.case_files import read_case_file  # with the bases it names
@@ -148,7 +158,8 @@ def _overrides(summary):
             absent = k not in (file.get(sec) or {})
             if (not absent and fv != v and not (isinstance(fv, (int, float)) and isinstance(v, (int, float))
                                                 and abs(fv - v) <= 1e-12 * abs(v))) or \
-                    (absent and (sec, k) == ("interaction", "coarse_graining") and v != "none"):
+                    (absent and (sec, k) == ("interaction", "coarse_graining") and v != "none") or \
+                    (absent and (sec, k) == ("grid", "backend") and v != "cpu"):
                 out.append(f" --set '{sec}.{k}={_toml_value(v)}'")
     return "".join(out)
 
@@ -196,13 +207,20 @@ def _bistable(run):
     return ""
 
 
-def adhesive_error(run, hw, keys):
-    return (f"NOT CONVERGED, not estimated by a refinement study: one adhesive run on one grid "
-            f"({run.nx}^2, dx = {run.dx * 1e9:.3g} nm = "
-            f"{(run.s.get('surface_facts') or {}).get('dx_over_range', float('nan')):.3g} rho, far coarser than the "
-            "~0.75 rho of the "
-            f"published solution), so the adhesive neck (range rho) is unresolved{_bistable(run)}; "
-            f"the error is unknown and may be large (tens of per cent or more), above all in the tensile part, near contact lines and in patch statistics; "
+def adhesive_error(run, hw, keys, coarser=None):
+    """What an adhesive curve's error is not: the grid leaves rho unresolved. coarser: the grid
+    the band was measured against, where there is one (the band then covers the grid error at
+    this dx/rho alone)."""
+    grid = (f"{run.nx}^2, dx = {run.dx * 1e9:.3g} nm = {_over_rho(run):.3g} rho, far coarser than the ~0.75 rho of "
+            "the published solution")
+    if coarser:
+        return (f"NOT CONVERGED in rho: one adhesive case ({STRATEGY_WORDS[strategy_of(run.s)]}) on {grid}, so the "
+                f"adhesive neck (range rho) is unresolved{_bistable(run)}; the band is the grid error between "
+                f"{coarser}^2 and {run.nx}^2 alone, and the rest of the error is unknown and may be large (tens of per "
+                "cent or more), above all in the tensile part, near contact lines and in patch statistics")
+    return (f"NOT CONVERGED, not estimated by a refinement study: one adhesive run on one grid ({grid}), so the "
+            f"adhesive neck (range rho) is unresolved{_bistable(run)}; the error is unknown and may be large (tens of "
+            "per cent or more), above all in the tensile part, near contact lines and in patch statistics; "
             + hw_context(hw, keys) + " (between a curve and this one, compare shapes, not digits)")
 
 
@@ -275,11 +293,11 @@ def _clean(x, y, log_x, log_y):
     return x[m], y[m], int(len(x) - m.sum())
 
 
-def _with_refinement_band(curve, x, y, xf, yf, log_x, log_y, n, nf, base_error):
-    """Adds the band |y - y_finer(x)| (bands.refinement_band) to a curve of the run at the
-    reference load: points outside the finer curve's range (or where both grids agree exactly)
-    carry no band and are left out, and `sampling` says how many."""
-    b = bands.refinement_band(x, y, xf, yf, log_x, log_y)
+def _with_refinement_band(curve, x, y, xc, yc, log_x, log_y, n, nc, base_error):
+    """Adds the band 2 |y - y_coarser(x)| (bands.finest_grid_band) to a curve of the finest run at
+    the reference load: points outside the coarser curve's range (or where both grids agree
+    exactly) carry no band and are left out, and `sampling` says how many."""
+    b = bands.finest_grid_band(x, y, xc, yc, log_x, log_y)
     keep = np.isfinite(b) & (b > 0)
     curve["columns"][0] = curve["columns"][0][:3] + (x[keep],)
     curve["columns"][1] = curve["columns"][1][:3] + (y[keep],)
@@ -287,23 +305,24 @@ def _with_refinement_band(curve, x, y, xf, yf, log_x, log_y, n, nf, base_error):
     dropped = int(len(x) - keep.sum())
     if dropped:
         extra = dict(curve["extra"])
-        extra["sampling"] += (f"; {dropped} point(s) outside the {nf}^2 curve's range left out (no band there)")
+        extra["sampling"] += (f"; {dropped} point(s) outside the {nc}^2 curve's range left out (no band there)")
         curve["extra"] = list(extra.items())
     med = float(np.median(b[keep] / np.abs(y[keep]))) if keep.any() else float("nan")
-    curve["estimated_error"] = (f"band: per point, |this curve ({n}^2) - the same run on the next finer grid ({nf}^2)|, "
-                                "the finer curve interpolated in the representation (median "
-                                f"{100 * med:.2g} % of the value): the change under one refinement, a lower estimate "
-                                "of the grid error. " + base_error).strip()
+    curve["estimated_error"] = (f"band: per point, twice |this curve ({n}^2) - the same case on the next coarser grid "
+                                f"({nc}^2)|, the coarser curve interpolated in the representation (median {100 * med:.2g} "
+                                "% of the value): the two-grid first-order bound of the grid error "
+                                "(python/cmc/analysis/bands.py finest_grid_band). " + base_error).strip()
     return curve
 
 
-def reference_load_curves(run, hw, notes, finer=None):
-    """Items 1, 3, 4, 5, 9 from the run at the reference load; `finer` = (run, step) of the same
-    case on the next finer grid gives the distributions and the spectrum their bands."""
+def reference_load_curves(run, hw, notes, coarser=None):
+    """Items 1, 3, 4, 5, 9 from the finest run at the reference load; `coarser` = (run, step) of
+    the same case on the next coarser grid gives them their bands."""
     obs, st = _observables(run, notes)
     if not obs:
         return [], st
-    fobs = _observables(finer[0], notes)[0] if finer else {}
+    fobs = _observables(coarser[0], notes)[0] if coarser else {}
+    nc = coarser[0].nx if coarser else None
     # The summary and result.h5 must belong to the same run (a run may be being rewritten).
     with h5py.File(run.h5path, "r") as f:
         g = f.get(f"step_{int(st['index']):04d}")
@@ -320,7 +339,7 @@ def reference_load_curves(run, hw, notes, finer=None):
               f"challenge surface without adhesion (hard wall; E* = {run.Estar / 1e6:g} MPa, L = "
               f"{run.size * 1e3:g} mm, H = 0.8, lambda_r = 20 um, lambda_s = 0.1 um) {label}")
     conv = " (not converged)" if run.adhesive else ""
-    base = (lambda keys: adhesive_error(run, hw, keys)) if run.adhesive else (lambda keys: "")
+    base = (lambda keys: adhesive_error(run, hw, keys, nc if fobs else None)) if run.adhesive else (lambda keys: "")
     curves = []
 
     def hist(q, item, title, ek, dk, log_x, log_y, xcol, ycol, rep, keys, what):
@@ -334,10 +353,9 @@ def reference_load_curves(run, hw, notes, finer=None):
         c = dict(name=q, quantity=q, item=item, title=title + f", cmc {run.nx}^2{conv}",
                  columns=[xcol + (x,), ycol + (y,)], x=xcol[0], y=ycol[0], representation=rep,
                  extra=prov + [("parameters", params), ("sampling", samp), ("generator", GENERATOR)],
-                 estimated_error=base(keys) or "no band: no run of this case on a finer grid")
+                 estimated_error=base(keys) or "no band: no run of this case on a coarser grid")
         if ek in fobs and dk in fobs and len(fobs[ek]) == len(fobs[dk]) + 1:
-            _with_refinement_band(c, x, y, _centers(fobs[ek], log_x), fobs[dk], log_x, log_y, run.nx, finer[0].nx,
-                                  base(keys))
+            _with_refinement_band(c, x, y, _centers(fobs[ek], log_x), fobs[dk], log_x, log_y, run.nx, nc, base(keys))
         curves.append(c)
 
     hist("patch_size_distribution", 1, "Challenge item 1: contact patch size distribution", "patch_area_edges",
@@ -366,10 +384,10 @@ def reference_load_curves(run, hw, notes, finer=None):
                           ("C_Pa2m2", "Pa^2 m^2", "isotropic stress spectrum, integral d^2q C = variance", y)],
                  x="q_per_m", y="C_Pa2m2", representation="log-log",
                  extra=prov + [("parameters", params), ("sampling", samp), ("generator", GENERATOR)],
-                 estimated_error=base(keys) or "no band: no run of this case on a finer grid")
-        qf, Cf = fobs.get("stress_spectrum_q"), fobs.get("stress_spectrum_C")
-        if qf is not None and Cf is not None and len(qf) == len(Cf):
-            _with_refinement_band(c, x, y, qf, Cf, True, True, run.nx, finer[0].nx, base(keys))
+                 estimated_error=base(keys) or "no band: no run of this case on a coarser grid")
+        qc, Cc = fobs.get("stress_spectrum_q"), fobs.get("stress_spectrum_C")
+        if qc is not None and Cc is not None and len(qc) == len(Cc):
+            _with_refinement_band(c, x, y, qc, Cc, True, True, run.nx, nc, base(keys))
         curves.append(c)
 
     ys = obs.get("cross_section_y")
@@ -392,21 +410,68 @@ def reference_load_curves(run, hw, notes, finer=None):
                                ("sampling", f"every grid point of the line ({len(x)}), from result.h5 "
                                             f"step_{int(st['index']):04d}/observables/cross_section_*"),
                                ("generator", GENERATOR)],
-                 estimated_error=(base(keys) or "no band: no run of this case on a finer grid"))
-        b, floor = (profile_band(run, key, x, y, fobs["cross_section_y"], fobs[key])
+                 estimated_error=(base(keys) or "no band: no run of this case on a coarser grid"))
+        b, floor = (finest_profile_band(run, key, x, y, fobs["cross_section_y"], fobs[key])
                     if "cross_section_y" in fobs and key in fobs else (None, None))
         if b is not None:
             add_abs_band(c, b)
             c["estimated_error"] = (
-                f"band: per point y_i, the largest |this profile ({run.nx}^2, linear between its points) - the "
-                f"same case's on the next finer grid ({finer[0].nx}^2)| at the finer points nearest y_i (y_i and the "
-                "midpoints beside it), so that the band holds the finer profile everywhere; at least "
+                f"band: per point y_i, twice |this profile ({run.nx}^2) - the same case's on the next coarser grid "
+                f"({nc}^2, linear between its points, periodic)| at y_i, the two-grid first-order bound "
+                "(python/cmc/analysis/bands.py finest_profile_band); at least "
                 f"{floor:.3g} {col[1]} (the solver's tolerance times "
                 + ("the rms height" if what == "gap" else "E* times the rms slope") + "; median "
                 f"{float(np.median(b)):.3g}, largest {float(np.max(b)):.3g} {col[1]}, at a contact line, which moves by "
                 "up to a grid spacing between the grids). " + base(keys)).strip()
         curves.append(c)
     return curves, st
+
+
+def finest_profile_band(run, key, y, v, yc, vc):
+    """(band, floor) of the finest run's cross-section profile v(y) (key cross_section_gap or
+    _pressure) from the same case's profile (yc, vc) on the next coarser grid:
+    bands.finest_profile_band over the periodic line (length L), at least bands.profile_floor from
+    the run's solver tolerance, rms height, E* and rms slope. (None, None) without a band."""
+    floor = bands.profile_floor(key, get(run.s, "case", "solver", "tolerance") or 0.0,
+                                get(run.s, "surface_facts", "rms_height") or 0.0, run.Estar,
+                                get(run.s, "case", "surface", "rms_gradient") or 1.0)
+    b = bands.finest_profile_band(y, v, yc, vc, floor, period=run.size)
+    return (None, None) if b is None else (b, floor)
+
+
+# ------------------------------------------------------------------ which runs the distributions come from
+# The scaled family's member s = 1 is the challenge itself (lambda_s = 0.1 um, w = 50 mJ/m^2):
+# the headline's coarse-grained runs are this case. The report leaves the family's runs out.
+CHALLENGE_MEMBER = "challenge-scaled-s1"
+
+
+def member_runs(results):
+    """The converged runs of case CHALLENGE_MEMBER under `results`, with mu_T the problem's
+    (cmc.analysis.runs.tabor_of: the specified range, not a coarse-grained law's)."""
+    out = []
+    for f in sorted(glob.glob(os.path.join(results, "**", "summary.json"), recursive=True)):
+        s = load_json(f)
+        if isinstance(s, dict) and case_name(s) == CHALLENGE_MEMBER and s.get("status") == "converged":
+            r = Run(s, os.path.dirname(f))
+            r.run_tabor = tabor_of(s)
+            out.append(r)
+    return out
+
+
+def distribution_pair(runs, adhesive):
+    """The runs items 1, 3, 4, 5 and 9 come from: of every case and strategy at the reference load
+    with result.h5 (the report's _reference_load_runs, one case at a time), the finest grid that
+    has a coarser grid of the same case, and that coarser grid, as [(run, step) coarser, (run,
+    step) finest]; on a tie the case with more grids, then the first by name. A case with one
+    grid alone: [(run, step)] of the finest such; [] without any."""
+    cases = sorted({(r.name, strategy_of(r.s)) for r in runs if os.path.isfile(r.h5path)})
+    seqs = [_reference_load_runs([r for r in runs if (r.name, strategy_of(r.s)) == c and os.path.isfile(r.h5path)],
+                                 adhesive) for c in cases]
+    seqs = [q for q in seqs if q]
+    if not seqs:
+        return []
+    best = max(seqs, key=lambda q: (len(q) >= 2, q[-1][0].nx, len(q)))
+    return best[-2:]
 
 
 def load_sweep_curves(runs, hw, adhesive, ref_pair):
@@ -579,7 +644,34 @@ def files_table(curves):
     return L + [""]
 
 
-def readme_adhesionless(curves, pair):
+def _sweep_band_words(curves, pair):
+    """The adhesionless README's sentence on the load sweep's bands."""
+    sweep = {c["quantity"]: c for c in curves}.get("contact_area_vs_pressure")
+    if sweep is None:
+        return ""
+    if "best estimates" in sweep.get("title", ""):
+        return ("The load sweep's rows are best estimates (`../best_estimates.json`), each with the error of its own "
+                "refinement sequence (the file's `estimated_error` and column `grid_n`).")
+    if sweep.get("estimated_error", "").startswith("band per point: the change from"):
+        how = ("the change to the same sweep on a grid twice as fine, measured at the loads both ran and interpolated "
+               "in log p between them (each file's `estimated_error` says which loads and runs)")
+    elif len(pair) >= 2:
+        (r0, a), (r1, b) = pair[0], pair[1]
+        how = (f"(only run on {r0.nx}²) the change at 250 kPa between {r0.nx}² and {r1.nx}² (contact fraction "
+               f"{a['ar']:.5g} → {b['ar']:.5g}, mean gap {a['gap'] * 1e6:.6g} → {b['gap'] * 1e6:.6g} µm), for a_r "
+               "scaled by each load's contact perimeter (the counted area's grid error is a boundary effect; at least "
+               "one grid point), for the mean gap the same relative change at every load (assumed; at least the "
+               "solver's tolerance times the rms height)")
+    else:
+        return ""
+    return (f"The load sweep's band is {how}: a change under one refinement, a lower estimate of the grid error; the "
+            "counted contact area converges as dx, its perimeter-corrected value much faster.")
+
+
+def readme_adhesionless(curves, pair, dist=()):
+    """The README of reference/challenge/adhesionless/. pair: the hard-wall runs at 250 kPa, coarsest
+    first (the load sweep's modelled band); dist: [(run, step) coarser, finest] behind items 1, 3, 4,
+    5 and 9 (distribution_pair)."""
     L = ["# Challenge reference curves without adhesion", "",
          "The challenge's surface pressed on the half-space with the hard wall alone (no adhesion): the adhesionless "
          "counterpart that the problem definition compares with (with adhesion, about half as much contact area "
@@ -587,28 +679,21 @@ def readme_adhesionless(curves, pair):
          "format and provenance as [../README.md](../README.md); generated by the same command "
          "(`/usr/bin/python3 scripts/challenge_reference.py`). Items 6 and 7 (against the Tabor parameter) have no "
          "adhesionless counterpart.", "", "## Files", ""] + files_table(curves)
-    if len(pair) >= 2:
-        (r0, a), (r1, b) = pair[0], pair[1]
-        sweep = {c["quantity"]: c for c in curves}.get("contact_area_vs_pressure")
-        measured = sweep and sweep.get("estimated_error", "").startswith("band per point: the change from")
-        how_sweep = ("for the load sweep the change to the same sweep on a grid twice as fine, measured at the loads "
-                     "both ran and interpolated in log p between them (each file's `estimated_error` says which loads "
-                     "and runs)" if measured else
-                     f"for the load sweep (only run on {r0.nx}²) the change at "
-                     f"250 kPa (contact fraction {a['ar']:.5g} → {b['ar']:.5g}, mean gap {a['gap'] * 1e6:.6g} → "
-                     f"{b['gap'] * 1e6:.6g} µm), for a_r scaled by each load's contact perimeter (the counted area's "
-                     "grid error is a boundary effect; at least one grid point), for the mean gap the same relative "
-                     "change at every load (assumed; at least the solver's tolerance times the rms height)")
-        L += ["## Accuracy", "",
-              f"The hard-wall problem converges under refinement (no adhesion range to resolve). The bands are the "
-              f"change of each curve between {r0.nx}² and {r1.nx}² (`{_rel(r0.folder)}`, `{_rel(r1.folder)}`): per "
-              f"point for the distributions, the spectrum and the cross sections (there at the same y, and at least the "
-              f"solver's tolerance in the problem's scale); {how_sweep}. A change under one refinement is a lower "
-              "estimate of the grid error; the counted contact area converges as dx, its perimeter-corrected value "
-              "much faster (see each file's `estimated_error`).", ""]
-    L += ["## Regenerate", "", "```",
+    sweep_words = _sweep_band_words(curves, pair)
+    if len(dist) >= 2 or sweep_words:
+        L += ["## Accuracy", "", "The hard-wall problem converges under refinement (no adhesion range to resolve)."
+              + (f" Items 1, 3, 4, 5 and 9 come from {dist[1][0].nx}² (`{_rel(dist[1][0].folder)}`); their bands are "
+                 f"twice the change of each curve from {dist[0][0].nx}² (`{_rel(dist[0][0].folder)}`) to "
+                 f"{dist[1][0].nx}²: per point for the distributions and the spectrum (the coarser curve interpolated "
+                 "in the representation), at the same y for the cross sections (there at least the solver's tolerance "
+                 "in the problem's scale). That is the two-grid first-order bound (`python/cmc/analysis/bands.py`, "
+                 "`refinement.py` `sequence_error`): it covers a power-law convergence of any order down to "
+                 "log2(1.5) = 0.58, and the counted contact area and the patch statistics converge as dx." if len(dist) >= 2 else "")
+              + (" " + sweep_words if sweep_words else ""), ""]
+    commands = run_commands(dist[-1][0], dist[-1][1], dist[0] if len(dist) >= 2 else None) if dist else []
+    L += ["## Regenerate", "", "```"] + (commands or [
           "build/cmc run cases/challenge/reference-load-hardwall.toml --out results/challenge-hardwall",
-          "build/cmc run cases/challenge/reference-load-hardwall.toml --set grid.n=4096 --out results/challenge-hardwall-n4096",
+          "build/cmc run cases/challenge/reference-load-hardwall.toml --set grid.n=4096 --out results/challenge-hardwall-n4096"]) + [
           "build/cmc run cases/challenge/load-sweep-hardwall.toml --out results/challenge-load-sweep-hardwall",
           "build/cmc run cases/challenge/load-sweep-hardwall.toml --set grid.n=4096 "
           "--set 'loading.values=[12.5e3,250e3,2.5e6,10e6,25e6]' --out results/challenge-load-sweep-hardwall-n4096",
@@ -652,10 +737,63 @@ def _own_refinement_sentence(banded):
         "from the family. " for mus, files in by.items())
 
 
-def readme(curves, out_dir, hw, ref_run, ref_step, keep_from=None):
-    """The README of reference/challenge/. keep_from (--only tabor): a stored README whose
-    paragraphs on the reference-load run and the hard-wall refinement are kept where their runs
-    are not at hand."""
+def run_commands(run, step, coarser):
+    """The lines of the README's regenerate block that rerun the runs behind items 1, 3, 4, 5, 9
+    (their provenance's command), [] without them."""
+    if run is None or step is None:
+        return []
+    out = ["build/" + dict(provenance(run, [step]))["command"] + "   # items 1, 3, 4, 5, 9"]
+    if coarser:
+        out.append("build/" + dict(provenance(coarser[0], [coarser[1]]))["command"] + "   # their bands")
+    return out
+
+
+def accuracy_head(ref_run):
+    """The first paragraph of the README's accuracy section: the grids, against rho."""
+    if ref_run is None:
+        return ("The adhesive runs use the challenge's grid 2048² (dx = 48.8 nm = λ_s/2.05 ≈ 24 ρ, ρ = 2.071 nm), far "
+                "coarser than the ≈ 0.75 ρ of the published solution (65536²). The adhesive neck is not resolved and "
+                "every grid point is bistable, so these curves are **not converged**.")
+    return (f"Items 1, 3, 4, 5 and 9 come from {ref_run.nx}² (dx = {ref_run.dx * 1e9:.3g} nm = {_over_rho(ref_run):.3g} ρ, "
+            f"ρ = {RHO * 1e9:.4g} nm; {STRATEGY_WORDS[strategy_of(ref_run.s)]}), far coarser than the ≈ 0.75 ρ of the "
+            "published solution (65536²): the adhesive neck is not resolved"
+            + _bistable(ref_run).replace(" and every", ", every").replace("rho^2", "ρ²")
+            + ", so these curves are **not converged** in ρ. The other files name their grids (the table above).")
+
+
+def distribution_paragraphs(curves):
+    """The README's paragraphs on the bands of items 1, 3, 4, 5 and 9."""
+    L = []
+    if any(c.get("band") for c in curves if c["item"] in (1, 3, 4, 5)):
+        L += ["**Distributions and spectrum** (items 1, 3, 4, 5): the band is, per point, twice the change of the "
+              "curve from the same case on the next coarser grid to this one (the coarser curve interpolated in the "
+              "representation; points outside its range are left out): the two-grid first-order bound "
+              "(`python/cmc/analysis/bands.py` `finest_grid_band`, `refinement.py` `sequence_error`), which covers "
+              "a power-law convergence of any order down to log2(1.5) = 0.58. It bounds the grid error of the numerics at "
+              "this dx/ρ only: both grids leave ρ unresolved, which the family measures for a_r and the mean gap "
+              "only. Each file's `estimated_error` gives the median relative half-width.", ""]
+    else:
+        L += ["The distributions (items 1, 3, 4, 5) have **no error estimate**: no run of the reference-load case "
+              "on a coarser grid with observables.", ""]
+    if any(c.get("band") for c in curves if c["item"] == 9):
+        L += ["**Cross sections** (item 9): the band is, per point, twice the change of the profile from the same "
+              "case on the next coarser grid (linear between its points, periodic) to this one, at the same y "
+              "(`bands.py` `finest_profile_band`); at least the solver's tolerance in the problem's scale (times the "
+              "rms height for the gap, times E* times the rms slope for the stress), which is the band wherever both "
+              "grids agree exactly. It is large at contact lines, which move by up to a grid spacing between the "
+              "grids, so a prediction from another grid may fail there by many band widths; its median says more "
+              "(`cmc check` prints both).", ""]
+    else:
+        L += ["The **cross sections** (item 9) have no error estimate: no run of the reference-load case on a "
+              "coarser grid.", ""]
+    return L
+
+
+def readme(curves, out_dir, hw, ref_run, ref_step, keep_from=None, keep_bands=False, coarser=None):
+    """The README of reference/challenge/. keep_from (--only): a stored README whose paragraphs
+    on the reference-load run and the hard-wall refinement are kept where their runs are not at
+    hand, and with keep_bands (--only reference-load) those on the bands of the curves not
+    recomputed. coarser: (run, step) of the grid that gives ref_run's curves their bands."""
     have = {c["quantity"]: c for c in curves}
     L = ["# Challenge reference curves", "",
          "`cmc check PRED.csv --quantity Q` compares a prediction with `reference/challenge/Q.csv` by default. "
@@ -673,9 +811,10 @@ def readme(curves, out_dir, hw, ref_run, ref_step, keep_from=None):
               f"`{_rel(ref_run.folder)}` (case `{ref_run.s.get('case_file')}`, {ref_run.name}: the challenge's "
               f"problem, exponential adhesion with μ_T = {ref_run.run_tabor:.4g}); contact fraction "
               f"{ref_step['ar']:.4g} (perimeter-corrected {ref_step['ar_corr'] or float('nan'):.4g}), mean gap "
-              f"{(ref_step['gap'] or float('nan')) * 1e9:.4g} nm, {int(ref_step['n_patches'] or 0)} patches. The numbers equal "
-              "`reports/challenge/data/*__challenge-reference_*.csv` (same extraction, "
-              "`reports/challenge_report.py`), except that empty bins are left out of log-scaled curves.", ""]
+              f"{(ref_step['gap'] or float('nan')) * 1e9:.4g} nm, {int(ref_step['n_patches'] or 0)} patches"
+              + (f"; their bands from the same case on {coarser[0].nx}² (`{_rel(coarser[0].folder)}`)" if coarser else "")
+              + ". The extraction is the challenge report's (`reports/challenge_report.py`), except that empty bins "
+              "are left out of log-scaled curves.", ""]
     elif keep_from:
         L += _stored_block(keep_from, "Items 1, 3, 4, 5 and 9 are the step")
     miss = [(q, item) for q, item in ALL if q not in have]
@@ -687,12 +826,11 @@ def readme(curves, out_dir, hw, ref_run, ref_step, keep_from=None):
             L.append(f"- `{q}` (item {item}): not yet computed, run {how}, then regenerate.")
         L.append("")
     banded = [have[q] for q, _ in ALL if q in have and have[q].get("band")]  # the files table's order
-    checks = condition_checks() if banded else []
-    L += ["## Accuracy", "",
-          "The adhesive runs use the challenge's grid 2048² (dx = 48.8 nm = λ_s/2.05 ≈ 24 ρ, ρ = 2.071 nm), far "
-          "coarser than the ≈ 0.75 ρ of the published solution (65536²). The adhesive neck is not resolved and "
-          "every grid point is bistable, so these curves are **not converged**.", ""]
-    if banded:
+    L += ["## Accuracy", "", accuracy_head(ref_run), ""]
+    if banded and keep_bands and keep_from:
+        L += _stored_block(keep_from, "**Error bands.**", "**Caveat.**")
+    elif banded:
+        checks = condition_checks()
         L += ["**Error bands.** " + ", ".join(f"`{c['quantity']}.csv`" for c in banded) + " carry the reference's "
               "own uncertainty as a column (`# band: <y>_err`, the half-width in y's unit), and `cmc check` scores a "
               "prediction against it (inside the band passes; outside, it says by how much in units of the band). "
@@ -709,27 +847,7 @@ def readme(curves, out_dir, hw, ref_run, ref_step, keep_from=None):
                  "other conditions\".) " if checks else "")
               + roundoff_note(rel=_rel), "",
               "**Caveat.** " + (transfer_caveat() or "No transfer check possible (the store lacks the runs)."), ""]
-    dist = [c for c in curves if c["item"] in (1, 3, 4, 5)]
-    if any(c.get("band") for c in dist):
-        L += ["**Distributions and spectrum** (items 1, 3, 4, 5): the band is, per point, the change of the curve "
-              "from this grid to the same case on the next finer grid (the finer curve interpolated in the "
-              "representation; points outside its range are left out). That is the grid error of the numerics at "
-              "this dx/ρ, a lower estimate: both grids leave ρ unresolved, which the family measures for a_r and the "
-              "mean gap only. Each file's `estimated_error` gives the median relative half-width.", ""]
-    else:
-        L += ["The distributions (items 1, 3, 4, 5) have **no error estimate**: no run of the reference-load case "
-              "on a finer grid (`--set grid.n=4096`).", ""]
-    if any(c.get("band") for c in curves if c["item"] == 9):
-        L += ["**Cross sections** (item 9): the band is, per point, the largest change of the profile (linear between "
-              "its points) to the same case on the next finer grid at the finer points nearest it (the point and the "
-              "midpoints beside it), so that the band holds the finer profile everywhere; at least the solver's "
-              "tolerance in the problem's scale (times the rms height for the gap, times E* times the rms slope for "
-              "the stress), which is the band wherever both grids agree exactly. It is large at contact lines, which "
-              "move by up to a grid spacing between the grids, so a prediction from another grid may fail there by "
-              "many band widths; its median says more (`cmc check` prints both).", ""]
-    else:
-        L += ["The **cross sections** (item 9) have no error estimate: no run of the reference-load case on a finer "
-              "grid.", ""]
+    L += distribution_paragraphs(curves)
     if hw:
         n1, n2 = hw["grids"]
         L += [f"For context only, the **hard-wall** problem at the same load (`{hw['folder']}`"
@@ -747,10 +865,10 @@ def readme(curves, out_dir, hw, ref_run, ref_step, keep_from=None):
           "One command runs everything behind these files (and `adhesionless/`), resumable, then rewrites them: "
           "`scripts/sweeps.sh` (hours on 2 cores; the commands it runs, with their `--set` options, are also in "
           "each file's `command` line). Its parts:", "",
-          "```",
+          "```"] + (run_commands(ref_run, ref_step, coarser) or [
           "build/cmc run cases/challenge/reference-load.toml --out results/challenge-reference   # items 1, 3, 4, 5, 9",
           "build/cmc run cases/challenge/reference-load.toml --set grid.n=4096 --out results/challenge-reference-n4096"
-          "   # their bands",
+          "   # their bands"]) + [
           "build/cmc run cases/challenge/load-sweep.toml --out results/challenge-load-sweep     # items 2, 8",
           "scripts/tabor_sweep.sh                                                                 # items 6, 7",
           "/usr/bin/python3 scripts/roundoff_spread.py NAME:RUN_A:RUN_B ...  # round-off spread: one case by two "
@@ -760,8 +878,9 @@ def readme(curves, out_dir, hw, ref_run, ref_step, keep_from=None):
           "/usr/bin/python3 scripts/challenge_reference.py        # rewrites reference/challenge/*.csv and this README",
           "build/cmc check reports/challenge/data/gap_distribution__challenge-reference_2048.csv --quantity gap_distribution",
           "```", "",
-          "A finer grid (e.g. `--set grid.n=8192` for the reference load) gives the next band once its run is in "
-          "`results/`: the curves take the band from the next finer run of the same case.", ""]
+          "A finer grid of the same case (`--set grid.n=N`, twice the finest) becomes the source of items 1, 3, 4, 5 "
+          "and 9 once its run is in `results/`, with its band from the grid before it; "
+          "`scripts/challenge_reference.py --only reference-load` rewrites those alone.", ""]
     return "\n".join(L)
 
 
@@ -779,12 +898,80 @@ def stored_curve(path, quantity, item):
                 extra=prov, estimated_error=meta.get("estimated_error", ""))
 
 
+def write_curves(cmc, curves, out):
+    for c in curves:
+        path = os.path.join(out, c["quantity"] + ".csv")
+        text = write_curve(cmc, c, path)
+        print(f"challenge_reference: {_rel(path)}: {len(c['columns'][0][3])} points, {len(text)} bytes")
+
+
+def kept_curves(out, curves):
+    """The stored curves of `out` other than `curves`' quantities, read back (stored_curve)."""
+    new = {c["quantity"] for c in curves}
+    kept = [stored_curve(os.path.join(out, q + ".csv"), q, item) for q, item in ALL if q not in new]
+    return [c for c in kept if c is not None]
+
+
+def only_tabor(a, runs, hw):
+    """--only tabor: items 6 and 7 from the Tabor sweep's runs, the other stored curves kept."""
+    curves = tabor_curves([r for r in runs if r.name.startswith("challenge-tabor")], hw)
+    if len(curves) != 2:
+        sys.exit("challenge_reference: --only tabor: no Tabor sweep with its runs under "
+                 f"{_rel(a.results)}/challenge-tabor-sweep/ (scripts/tabor_sweep.sh makes them)")
+    write_curves(a.cmc, curves, a.out)
+    kept = kept_curves(a.out, curves)
+    if next((c for c in kept if c["item"] == 9), None) is None:
+        sys.exit("challenge_reference: --only tabor: the stored reference-load curves are missing; "
+                 "regenerate everything (without --only)")
+    # The README's reference-load paragraph and hard-wall table come from their runs; without
+    # them, the stored README's paragraphs are kept as they are and only the parts that depend
+    # on the curves are rewritten.
+    write_atomically(os.path.join(a.out, "README.md"),
+                     readme(kept + curves, a.out, hw, None, None, keep_from=os.path.join(a.out, "README.md")))
+    print(f"challenge_reference: {_rel(os.path.join(a.out, 'README.md'))} (the other curves kept)")
+
+
+def regenerate(a, runs, members, hw, notes):
+    """Every curve of both problems from the runs (with --only reference-load items 1, 3, 4, 5 and
+    9 alone, the other stored curves kept and read back for the READMEs) and the READMEs."""
+    only = a.only == "reference-load"
+    written = {}
+    for adhesive in (True, False):
+        out = a.out if adhesive else os.path.join(a.out, "adhesionless")
+        pair = _reference_load_runs(runs, adhesive)
+        dist = distribution_pair(runs + members, adhesive)
+        curves, ref_step = [], None
+        if dist:
+            curves, ref_step = reference_load_curves(dist[-1][0], hw, notes, dist[0] if len(dist) > 1 else None)
+        if not only:
+            curves += load_sweep_curves(runs, hw, adhesive, pair)
+            curves += tabor_curves([r for r in runs if r.name.startswith("challenge-tabor")], hw) if adhesive else []
+        written[adhesive] = curves
+        if only and not curves:
+            continue
+        write_curves(a.cmc, curves, out)
+        path = os.path.join(out, "README.md")
+        shown = kept_curves(out, curves) + curves if only else curves
+        coarser = dist[0] if len(dist) > 1 else None
+        write_atomically(path, readme(shown, out, hw, dist[-1][0] if dist else None, ref_step,
+                                      keep_from=path if only else None, keep_bands=only, coarser=coarser)
+                         if adhesive else readme_adhesionless(shown, pair, dist))
+        print(f"challenge_reference: {_rel(path)}" + (" (the other curves kept)" if only else ""))
+    for n in notes:
+        print("challenge_reference: note: " + str(n), file=sys.stderr)
+    if only and not (written[True] or written[False]):
+        sys.exit(f"challenge_reference: --only reference-load: no run at 250 kPa with observables under {_rel(a.results)}")
+    if not only and not written[True]:
+        sys.exit("challenge_reference: no curves: no adhesive challenge run with observables found")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--only", choices=["tabor"], default=None,
-                    help="recompute items 6 and 7 (the Tabor sweep: its runs and the family's stores) only: the "
-                         "other stored curves are kept as they are and read back for the README, so that their runs "
-                         "need not be at hand (e.g. after the family was run at another mu_T)")
+    ap.add_argument("--only", choices=["tabor", "reference-load"], default=None,
+                    help="tabor: recompute items 6 and 7 (the Tabor sweep: its runs and the family's stores) only; "
+                         "reference-load: items 1, 3, 4, 5 and 9 (the runs at 250 kPa with observables) of both "
+                         "problems only. The other stored curves are kept as they are and read back for the README, "
+                         "so that their runs need not be at hand (e.g. after the family was run at another mu_T)")
     ap.add_argument("--results", default=os.path.join(ROOT, "results"))
     ap.add_argument("--hardwall-refine", default=None, help="default: RESULTS/refine/reference-load-hardwall")
     ap.add_argument("--out", default=os.path.join(ROOT, "reference", "challenge"))
@@ -800,55 +987,9 @@ def main():
         if r.status == "converged" or (r.status == "not_converged" and r.is_load_sweep()):
             runs.append(r)
     if a.only == "tabor":
-        curves = tabor_curves([r for r in runs if r.name.startswith("challenge-tabor")], hw)
-        if len(curves) != 2:
-            sys.exit("challenge_reference: --only tabor: no Tabor sweep with its runs under "
-                     f"{_rel(a.results)}/challenge-tabor-sweep/ (scripts/tabor_sweep.sh makes them)")
-        for c in curves:
-            path = os.path.join(a.out, c["quantity"] + ".csv")
-            text = write_curve(a.cmc, c, path)
-            print(f"challenge_reference: {_rel(path)}: {len(c['columns'][0][3])} points, {len(text)} bytes")
-        new = {c["quantity"] for c in curves}
-        kept = [stored_curve(os.path.join(a.out, q + ".csv"), q, item) for q, item in ALL if q not in new]
-        kept = [c for c in kept if c is not None]
-        ref = next((c for c in kept if c["item"] == 9), None)
-        if ref is None:
-            sys.exit("challenge_reference: --only tabor: the stored reference-load curves are missing; "
-                     "regenerate everything (without --only)")
-        # The README's reference-load paragraph and hard-wall table come from their runs; without
-        # them, the stored README's paragraphs are kept as they are and only the parts that depend
-        # on the curves are rewritten.
-        write_atomically(os.path.join(a.out, "README.md"),
-                         readme(kept + curves, a.out, hw, None, None, keep_from=os.path.join(a.out, "README.md")))
-        print(f"challenge_reference: {_rel(os.path.join(a.out, 'README.md'))} (the other curves kept)")
-        apply_best(a.out, a.cmc)
-        return
-    written = {}
-    for adhesive in (True, False):
-        out = a.out if adhesive else os.path.join(a.out, "adhesionless")
-        pair = _reference_load_runs(runs, adhesive)
-        curves, ref_run, ref_step = [], None, None
-        if pair:
-            ref_run = pair[0][0]
-            c, ref_step = reference_load_curves(ref_run, hw, notes, pair[1] if len(pair) > 1 else None)
-            curves += c
-        curves += load_sweep_curves(runs, hw, adhesive, pair)
-        if adhesive:
-            curves += tabor_curves([r for r in runs if r.name.startswith("challenge-tabor")], hw)
-        for c in curves:
-            path = os.path.join(out, c["quantity"] + ".csv")
-            text = write_curve(a.cmc, c, path)
-            print(f"challenge_reference: {_rel(path)}: {len(c['columns'][0][3])} points, {len(text)} bytes")
-        written[adhesive] = (curves, pair)
-        if adhesive:
-            write_atomically(os.path.join(out, "README.md"), readme(curves, out, hw, ref_run, ref_step))
-        else:
-            write_atomically(os.path.join(out, "README.md"), readme_adhesionless(curves, pair))
-        print(f"challenge_reference: {_rel(os.path.join(out, 'README.md'))}")
-    for n in notes:
-        print("challenge_reference: note: " + str(n), file=sys.stderr)
-    if not written[True][0]:
-        sys.exit("challenge_reference: no curves: no adhesive challenge run with observables found")
+        only_tabor(a, runs, hw)
+    else:
+        regenerate(a, runs, member_runs(a.results), hw, notes)
     apply_best(a.out, a.cmc)
 
 

@@ -35,14 +35,6 @@ def test_refinement_band_is_the_distance_to_the_finer_curve():
     assert list(bands.refinement_band([1.0, 2.0], [5.0, 5.0], [1.0, 3.0], [4.0, 6.0], False, False)) == [1.0, 0.0]
 
 
-def test_stored_band_borrows_the_relative_band():
-    # stored: band 1 at y = 10, 4 at y = 20: 10 % and 20 %; at x = 2 15 %, times |-2|: 0.3; at x = 5 none
-    got = bands.stored_band([2.0, 5.0], [-2.0, 1.0], [1.0, 3.0], [10.0, 20.0], [1.0, 4.0], False)
-    assert got[0] == pytest.approx(0.3) and np.isnan(got[1])
-    # a stored value of 0 gives no relative band there: only (3, 20 %) is left, too few to interpolate
-    assert np.isnan(bands.stored_band([3.0], [1.0], [1.0, 3.0], [0.0, 20.0], [1.0, 4.0], False)).all()
-
-
 def test_profile_band_holds_the_finer_profile():
     y, v = [0.0, 1.0, 2.0, 3.0], [0.0, 0.0, 4.0, 4.0]
     yf = np.arange(0.0, 3.5, 0.5)
@@ -58,6 +50,29 @@ def test_profile_band_holds_the_finer_profile():
     assert (np.abs(np.interp(yf, y, v) - vf) <= np.interp(yf, y, b) + 1e-15).all()
     assert bands.profile_band(y, v, yf[:3], vf[:3], floor) is None  # the finer profile covers part of the line
     assert bands.profile_band(y, v, yf, vf, 0.0) is None
+
+
+def test_finest_grid_band_is_twice_the_change_from_the_coarser_grid():
+    # the coarser curve through (1, 4), (3, 6) is 4 at x = 1 and 5 at x = 2: 2 x |5 - 4| = 2, 2 x |5 - 5| = 0;
+    # x = 4 lies beyond it: no band
+    got = bands.finest_grid_band([1.0, 2.0, 4.0], [5.0, 5.0, 5.0], [1.0, 3.0], [4.0, 6.0], False, False)
+    assert list(got[:2]) == [2.0, 0.0] and np.isnan(got[2])
+    # log-log: the coarser density through (1, 1), (100, 10^4) is 100 at x = 10; the finer 90 there: 2 x 10 = 20
+    assert bands.finest_grid_band([10.0], [90.0], [1.0, 100.0], [1.0, 1e4], True, True)[0] == pytest.approx(20.0)
+
+
+def test_finest_profile_band_is_twice_the_change_at_least_the_floor():
+    # finer profile on spacing 0.5, the coarser on spacing 1 (its step half a spacing later), line length 4
+    y, v = np.arange(0.0, 4.0, 0.5), [0.0, 0.0, 0.0, 4.0, 4.0, 4.0, 4.0, 0.0]
+    yc, vc = [0.0, 1.0, 2.0, 3.0], [0.0, 0.0, 4.0, 4.0]
+    # v_c linear: 0, 0, 0, 2, 4, 4, 4 at y = 0 ... 3; at y = 3.5, periodic, halfway between 4 (y = 3) and 0 (y = 4): 2.
+    # Twice the differences: 0, 0, 0, 4, 0, 0, 0, 4; at least the floor 0.01
+    b = bands.finest_profile_band(y, v, yc, vc, 0.01, period=4.0)
+    assert list(b) == pytest.approx([0.01, 0.01, 0.01, 4.0, 0.01, 0.01, 0.01, 4.0])
+    # without the period the coarser profile ends at y = 3 and does not cover y = 3.5: no band
+    assert bands.finest_profile_band(y, v, yc, vc, 0.01) is None
+    assert bands.finest_profile_band(y[:7], v[:7], yc, vc, 0.01)[3] == pytest.approx(4.0)
+    assert bands.finest_profile_band(y, v, yc, vc, 0.0, period=4.0) is None
 
 
 def test_sweep_floor():

@@ -4,8 +4,9 @@ and draw or format what they return; none of them computes a band or an extrapol
 
 - refinement: observed order, Richardson extrapolation, the error of a refinement sequence and
   the challenge's own refinement of a Tabor-sweep point.
-- bands: the change of a value or a curve under one refinement, the bands of a cross-section
-  profile and of a hard-wall load sweep, and the interpolation in a quantity's representation.
+- bands: the change of a value or a curve under one refinement, the band of a curve or a
+  cross-section profile on the finest grid of a sequence (twice the change from the next coarser
+  grid), the bands of a hard-wall load sweep, and the interpolation in a quantity's representation.
 - family: the scaled family's members and the error a resolution strategy has on them.
 - conditions: a run's band from the family at mu_T = 3 and 250 kPa and at its own mu_T or load,
   and the check of that band at other conditions.

@@ -1,12 +1,15 @@
-"""Error bands from the same case on a finer grid: the change of a value or a curve under one
-refinement, the band of a cross-section profile, the bands of a hard-wall load sweep, and the
-interpolation in a quantity's representation that compares curves sampled on different grids.
+"""Error bands from the same case on another grid: the change of a value or a curve under one
+refinement, the band of a curve or a cross-section profile on the finest grid of a sequence, the
+bands of a hard-wall load sweep, and the interpolation in a quantity's representation that
+compares curves sampled on different grids.
 
 Every function is pure (numbers and arrays in, numbers and arrays out). A band is a half-width in
 the quantity's own unit unless its name says "relative". A load-sweep step is a dict with "p"
 (Pa), "ar", "gap" (m), "perimeter" and "converged", as the challenge report reads it.
 """
 import numpy as np
+
+from .refinement import sequence_error
 
 
 def relative_change(coarse, fine):
@@ -50,13 +53,33 @@ def refinement_band(x, y, xf, yf, logx, logy):
     return np.abs(np.asarray(y, dtype=float) - interp_curve(x, xf, yf, logx, logy))
 
 
-def stored_band(x, y, xr, yr, br, logx):
-    """The band a curve (x, y) borrows from a stored reference (xr, yr) with band br: the
-    reference's band relative to its values, interpolated at x on the representation's abscissa
-    (log where logx), times |y|. NaN outside the reference's range or where its value is 0."""
-    ya = np.abs(np.asarray(yr, dtype=float))
-    rb = np.divide(br, ya, out=np.full(len(ya), np.nan), where=ya > 0)
-    return interp_curve(x, xr, rb, logx, False) * np.abs(y)
+def _two_grid_bound(coarse, fine):
+    """Per point refinement.sequence_error of the two grids' values (coarser first): twice their
+    difference, the two-grid first-order bound. NaN where either value is not finite."""
+    out = [sequence_error([c, f]) for c, f in zip(coarse, fine)]
+    return np.array([np.nan if e is None else e["error"] for e in out])
+
+
+def finest_grid_band(x, y, xc, yc, logx, logy):
+    """The band of a curve (x, y) on the finest grid of a refinement sequence, from the same case's
+    curve (xc, yc) on the next coarser grid: per point twice |y - y_c(x)| (_two_grid_bound), y_c
+    interpolated at x by interp_curve. NaN where the coarser curve has no value there."""
+    return _two_grid_bound(interp_curve(x, xc, yc, logx, logy), np.asarray(y, dtype=float))
+
+
+def finest_profile_band(y, v, yc, vc, floor, period=None):
+    """The band of a cross-section profile v(y) on the finest grid of a refinement sequence, from
+    the same case's profile (yc, vc) on the next coarser grid, read as `cmc check` reads a curve
+    (linear between its points; periodic with `period` where given, so that the whole line is
+    covered): per point twice |v(y_i) - v_c(y_i)| (_two_grid_bound), at least `floor`
+    (profile_floor). None where a value is not finite, the floor is not positive, or without a
+    period the coarser profile does not cover the line."""
+    y, v, yc, vc = (np.asarray(a, dtype=float) for a in (y, v, yc, vc))
+    if len(y) < 2 or len(yc) < 2 or not (np.isfinite(v).all() and np.isfinite(vc).all()) or not floor > 0:
+        return None
+    if period is None and (y[0] < yc[0] or y[-1] > yc[-1]):
+        return None
+    return np.maximum(_two_grid_bound(np.interp(y, yc, vc, period=period), v), floor)
 
 
 def profile_floor(key, tolerance, rms_height, contact_modulus, rms_gradient):
