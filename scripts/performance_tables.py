@@ -187,7 +187,7 @@ def gpu_section(path):
                      r.get("iterations", "–"), num(r.get("fft_pairs"), 5), num(r.get("solve_s")),
                      num(1e3 * r["fft_pair_s"]) if r.get("fft_pair_s") else "–", per,
                      num(r.get("a_r"), 4), num(1e6 * r["mean_gap_m"], 6) if r.get("mean_gap_m") else "–",
-                     num(r.get("gpu_peak_mib", 0) / 1024, 3), r.get("status", "?")])
+                     num(r["gpu_peak_mib"] / 1024, 3) if r.get("gpu_peak_mib") else "–", r.get("status", "?")])
     lines += ["The challenge at 250 kPa on one GPU (`grid.backend = \"cuda\"`), as stored with each run's command "
               f"in `{shown}`; the pair is cuFFT's r2c + c2r of the grid timed in the same run, and the ratios "
               "are the solve's time per iteration and per FFT pair in units of it.", ""]
