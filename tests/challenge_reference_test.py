@@ -12,11 +12,14 @@
   neighbours' log-log interpolation by more than the sum of the three rows' bands (no dent where
   rows of two kinds meet), where the three rows' a_r is at most 0.5: nearer full contact a_r
   saturates and kappa falls as 1/p, a curvature a log-log line over a doubling of the load does
-  not follow (7 % off at 10 MPa, a_r 0.63, with bands of 6 %).
+  not follow (7 % off at 10 MPa, a_r 0.63, with bands of 6 %);
+- the distributions, spectrum and cross sections (items 1, 3, 4, 5, 9) of both problems name a
+  grid of at least 8192^2 and carry a band from the next coarser grid.
 """
 import math
 import json
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -74,6 +77,32 @@ def dents(path):
     return out
 
 
+DISTRIBUTIONS = ("patch_size_distribution", "gap_distribution", "stress_distribution", "stress_spectrum",
+                 "cross_section_gap", "cross_section_pressure")
+# The grid items 1, 3, 4, 5 and 9 must come from, both problems: dx = 12.2 nm, 5.9 rho with adhesion.
+MIN_DISTRIBUTION_GRID = 8192
+
+
+def distribution_grids():
+    """Items 1, 3, 4, 5 and 9 of both problems: the file names a grid of at least
+    MIN_DISTRIBUTION_GRID^2 and carries a band column, every half-width > 0, measured against the
+    next coarser grid of the same case."""
+    out = []
+    for folder in (REF, os.path.join(REF, "adhesionless")):
+        for quantity in DISTRIBUTIONS:
+            path = os.path.join(folder, quantity + ".csv")
+            meta, names, rows = read(path)
+            grid = re.match(r"(\d+)x(\d+)", meta.get("grid", ""))
+            if grid is None or min(int(grid.group(1)), int(grid.group(2))) < MIN_DISTRIBUTION_GRID:
+                out.append(f"{path}: grid {meta.get('grid')!r}, not at least {MIN_DISTRIBUTION_GRID}^2")
+            band = meta.get("band")
+            if band not in names or not rows or not all(r[names.index(band)] > 0 for r in rows):
+                out.append(f"{path}: no band column with a half-width > 0 in every row (band: {band!r})")
+            elif "next coarser grid" not in meta.get("estimated_error", ""):
+                out.append(f"{path}: its estimated_error does not say the band comes from the next coarser grid")
+    return out
+
+
 def row_at(path, x0, tol=0.01):
     meta, names, rows = read(path)
     return next((r for r in rows if abs(r[0] / x0 - 1) < tol), None), names
@@ -112,6 +141,7 @@ def main(argv):
             fails.append("contact_area_vs_pressure: a curve 3 % above the best a_r passes cmc check")
         if check(cmc, REF, "contact_area_vs_pressure", 0.97, tmp) != 5:
             fails.append("contact_area_vs_pressure: a curve 3 % below the best a_r passes cmc check")
+    fails += distribution_grids()
     if fails:
         print("FAIL: " + "\nFAIL: ".join(fails))
         return 1
