@@ -31,8 +31,7 @@ import h5py
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(ROOT, "scripts"))
-from check_docs import SMALL_GRID, make_mirror  # noqa: E402
+from check_docs import SMALL_GRID, make_mirror  # scripts/ is on PYTHONPATH (ctest sets it)
 
 L = 1.0e-4  # m, the challenge's system size: the published files' height unit
 # The HDF5 file holds seed 28's heights divided by L; cmc multiplies them back. Measured (same build
