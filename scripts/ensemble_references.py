@@ -51,7 +51,8 @@ def transfers(records, main_records, n, key, x_key, problem, kind):
     fine = [r for r in records if r["tag"].startswith(f"ens-{kind}-") and r["n"] == 2 * n]
     if not fine:
         return []
-    case = {"hardwall_load": "challenge-load-sweep-hardwall", "load": "challenge-load-sweep"}.get(kind)
+    case = {"hardwall_load": "challenge-load-sweep-hardwall", "load": "challenge-load-sweep",
+            "reference": "challenge-reference", "reference_hardwall": "challenge-hardwall"}.get(kind)
     own = [dict(r, physics=dict(r.get("physics") or {}, **{"surface.seed": ensemble.OWN_SEED}))
            for r in main_records if r.get("case_name") == case and r["n"] == 2 * n and r.get("strategy") == "plain"]
     coarse = [r for r in records if r["tag"].startswith(f"ens-{kind}-") and r["n"] == n]
@@ -181,10 +182,14 @@ def main(argv):
         print(f"ensemble_references: {e}", file=sys.stderr)
         return 1
     rl = best["reference_load"]
-    at_p0 = {problem: ensemble.reference_load_questions(
-        [r for r in records if r["tag"].startswith(f"ens-{kind}-") and r["n"] == n_grid], rl.get(problem), seeds,
-        rl["p_tilde"])
-        for problem, kind in (("hardwall", "reference_hardwall"), ("adhesive", "reference"))}
+    at_p0 = {}
+    for problem, kind in (("hardwall", "reference_hardwall"), ("adhesive", "reference")):
+        moved = {key: transfers(records, main_records, n_grid, key, "pressure_Pa", problem, kind)
+                 for _, key, _ in ensemble.HEADLINE}
+        checked.update({(problem, "reference_load/" + key): t for key, t in moved.items() if t})
+        at_p0[problem] = ensemble.reference_load_questions(
+            [r for r in records if r["tag"].startswith(f"ens-{kind}-") and r["n"] == n_grid], rl.get(problem), seeds,
+            rl["p_tilde"], moved)
     write_atomically(os.path.join(a.out, "ensemble", "summary.json"),
                      json.dumps({"generator": "scripts/ensemble_references.py", "seeds": seeds, "reference_load": at_p0,
                                  "grid": n_grid, "rows": summary(records, seeds, n_grid),

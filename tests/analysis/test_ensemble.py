@@ -97,6 +97,14 @@ def test_reference_load_questions_by_hand():
     assert got["mean_gap_over_h_rms"]["surface"]["value"] == pytest.approx(1.1)
     assert "a_rep" not in got  # no best estimate of it given
     assert ensemble.reference_load_questions(recs, None, [1, 2, 28], 0.01) == {}
+    # a transfer check at 250 kPa (seed 2's refinement factor 2 % off seed 28's) widens the
+    # correction's 1 % to hypot(1 %, 2 x 2 %) in the ensemble's and realisation's bands (not seed
+    # 28's own); a_r's alone
+    moved = {"a_r": [{"x": 2.5e5, "largest": 0.02, "seed": 2}]}
+    wide = ensemble.reference_load_questions(recs, est, [1, 2, 28], p_tilde=0.01, transfer=moved)
+    assert wide["a_r"]["surface"] == got["a_r"]["surface"]
+    assert wide["a_r"]["ensemble"]["band"] == pytest.approx(0.0231 * math.hypot(0.01, 0.04, 2 * s.stderr / 0.021))
+    assert wide["mean_gap"] == got["mean_gap"]
 
 
 def test_transfer_rows_and_the_correction_they_widen():

@@ -214,14 +214,15 @@ HEADLINE = (("a_r", "a_r", "a_r"), ("a_rep", "a_rep", "a_rep"), ("mean_gap", "me
 
 
 def reference_load_questions(records: Sequence[dict], estimate: Optional[dict], seeds: Sequence[int],
-                             p_tilde: float) -> Dict[str, dict]:
+                             p_tilde: float, transfer: Optional[Dict[str, List[dict]]] = None) -> Dict[str, dict]:
     """The headline's three answers at the reference load for one problem: records are the
     ensemble's 250 kPa runs of that problem, estimate its best estimate (best_estimates.json's
     reference_load entry). Per quantity (and kappa = a_r / p_tilde, and the mean gap over the rms
     height, which transfers best between surfaces): "surface" (the best estimate), "ensemble" and
     "realisation" ({value, band, m}; pointwise: one number is scored here, 2 standard errors and
     the row's prediction interval), each carried to the best estimate's grid by seed 28's
-    correction. {} without a best estimate."""
+    correction, for the ensemble and realisation widened by the surfaces' spread of its refinement
+    factor where transfer ({record key: transfer_rows}) measured it. {} without a best estimate."""
     if not estimate:
         return {}
     out: Dict[str, dict] = {}
@@ -239,8 +240,9 @@ def reference_load_questions(records: Sequence[dict], estimate: Optional[dict], 
         if st is None or c is None:
             continue
         entry = {"surface": {"value": own_best, "band": c.relative_error * abs(own_best)}}
+        carried = with_transfer(c, (transfer or {}).get(key, []))  # other surfaces: their spread too
         for question in ("ensemble", "realisation"):
-            r = reference_rows([st], [c], question)[0]
+            r = reference_rows([st], [carried], question)[0]
             entry[question] = {"value": r.value, "band": r.band, "m": r.m}
         out[name] = entry
     if "a_r" in out:
