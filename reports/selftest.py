@@ -218,7 +218,7 @@ def profile_band_checks(np):
     cmc.analysis.bands) holds the finer profile at every finer point when read as `cmc check`
     reads it (band and curve linear between points), with numbers worked by hand, and is never
     below its floor."""
-    from challenge_report import profile_band
+    from cmc.report.challenge_figures import profile_band
 
     class R:  # the parts of a run that profile_band reads
         s = {"case": {"solver": {"tolerance": 1e-3}, "surface": {"rms_gradient": 1.0}},
@@ -248,7 +248,7 @@ def profile_band_checks(np):
 def sweep_end_checks():
     """challenge_report.sweep_end_note says why a load sweep's curve ends: full contact, a
     solver that stopped before its tolerance, or the case's last load."""
-    from challenge_report import sweep_end_note
+    from cmc.report.challenge_runs import sweep_end_note
 
     class R:  # the parts of a run that sweep_end_note reads
         s = {"case_file": "cases/x.toml", "case": {"interaction": {"kind": "exponential_adhesion"}}}
@@ -272,7 +272,7 @@ def transfer_checks():
     s > 1 at the same dx/rho, a member without its resolved run included (the ratio needs no
     reference), for each strategy; common.transfer_caveat names the strategy and says whether the
     members approach s = 1."""
-    from common import transfer_caveat  # puts python/ on the path
+    from cmc.report.common import transfer_caveat
     from cmc.analysis.transfer import transfer_check
 
     def run(role, k, a_r):
@@ -303,7 +303,7 @@ def realization_checks():
     run's a_r and mean gap against its own realization's reference, the strategies' targets (3 % /
     0.5 % at 2 rho, 6 % / 1 % at 4 rho) marked per cell and counted in the summary row, plain runs
     never marked."""
-    from common import realization_rows
+    from cmc.report.common import realization_rows
 
     def member(a_ref, g_ref, runs):
         return {"rho_m": 6e-8, "reference": {"a_r": {"value": a_ref, "refinement_error": 1e-4},
@@ -332,8 +332,8 @@ def realization_checks():
 def roundoff_checks(root):
     """scripts/roundoff_spread.py on hand-made runs: the largest relative difference per quantity
     over the steps, and a clear error (non-zero exit, nothing written) for runs of two cases;
-    reports/common.py roundoff_note states what it wrote."""
-    from common import roundoff_note
+    cmc.report.common roundoff_note states what it wrote."""
+    from cmc.report.common import roundoff_note
 
     def run(folder, name, ar, gap):
         write_json(os.path.join(root, "roundoff", folder, "summary.json"),
@@ -371,7 +371,7 @@ def speed_and_hard_checks(root):
     """The challenge report's speed and hard-case sections (speed_report.py): the hard-case table
     reads build/hard/<case>/summary.json, counts an expected failure as one, and draws the
     residual histories; a FAIL is named."""
-    import speed_report
+    from cmc.report import speed as speed_report
     hard = os.path.join(root, "hard")
     checks = [{"quantity": "iterations", "verdict": "pass"}, {"quantity": "gap", "verdict": "xfail"}]
     write_json(os.path.join(hard, "spike", "summary.json"),

@@ -12,7 +12,7 @@ spread is part of the error of every adhesive number; this script measures it
 from pairs of finished runs of the same case (same loads, step by step) and writes, per
 pair and over all pairs, the largest relative difference of a_r, repulsive a_r and mean
 gap, with each run's thread count and built-in wisdom fingerprint (summary.json grid; older
-runs lack them). reports/common.py roundoff_note() states it in the report and in the
+runs lack them). cmc.report.common roundoff_note() states it in the report and in the
 references' provenance.
 """
 import argparse

@@ -73,7 +73,7 @@ from cmc.analysis.family import (FAMILY_QUANTITIES as QUANTITIES, adhesionless, 
                                  condition_members, deviation, member_reference, seed_members, strategy_run_near)
 from cmc.analysis.s_route import s_extrapolation  # noqa: E402
 from cmc.analysis.transfer import STRATEGY_TARGETS, meets_target  # noqa: E402
-from common import condition_check_lines, condition_summary, s_extrapolation_verdict  # noqa: E402
+from cmc.report.common import condition_check_lines, condition_summary, s_extrapolation_verdict  # noqa: E402
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 CASE = "cases/challenge/scaled-family.toml"

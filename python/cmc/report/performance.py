@@ -15,7 +15,7 @@ import re
 
 import numpy as np
 
-from common import finite, fmt, gpu_row_head, gpu_section, load_json, md_table, plt, savefig
+from .common import finite, fmt, gpu_row_head, gpu_section, load_json, md_table, plt, savefig
 
 
 def _records(perf_dir, notes):
