@@ -93,6 +93,100 @@ def _gpu_grids(reference_dir):
     return lines
 
 
+def _challenge_runs_table(ch, members, out_dir):
+    """The challenge's own coarse runs (the family's member s = 1) with their strategies' error
+    bars, and the transfer check's caveat per strategy."""
+    rows = []
+    est = {e["role"]: e for e in ch.get("estimates", [])}
+    for r in ch["runs"]:
+        e = est.get(r["role"])
+        def cell(short, scale, digits):
+            v = r[short] * scale
+            if e and e[short]["error"] is not None:
+                return f"{v:.{digits}g} ± {e[short]['error'] * scale:.2g}"
+            return f"{v:.{digits}g}"
+        stopped = r.get("status", "converged") != "converged"  # at its outer-step cap: the store says how far
+        rows.append([r["role"].split("_")[0], f"{r['n']}²" + (" (stopped before its tolerance)" if stopped else ""),
+                     fmt(r["dx_over_rho"], 3), cell("a_r", 1, 4),
+                     cell("a_rep", 1, 4), cell("mean_gap", 1e6, 5), r["iterations"], fmt(r["wall_s"], 3),
+                     "; ".join(e["measured_on"]) if e and e["measured_on"] else "–"])
+    lines = [md_table(["run", "grid", "dx/ρ", "a_r", "repulsive a_r", "mean gap (µm)", "iterations",
+                       "wall (s)", "strategy error measured on"], rows), ""]
+    for strategy in STRATEGIES:
+        caveat = transfer_caveat(list(members.values()), strategy, brief=True)
+        if caveat:
+            lines += ["**Caveat.** " + caveat.rstrip(".") + f" ({method_link(out_dir, 'the-transfer-check')}).", ""]
+    return lines
+
+
+def _family_values_table(fam):
+    """The second route's table: each member's converged values as s falls toward 1."""
+    rows = []
+    for m in fam:
+        ref = m["reference"]
+        stopped = ref["a_r"].get("status", "converged") != "converged"  # stopped at a cap: a bound, see the store
+        rows.append([m["s"], fmt(m["lambda_s_m"] * 1e6, 3), fmt(m["rho_m"] * 1e9, 4),
+                     f"{ref['a_r']['grid']}²" + (" (stopped before its tolerance)" if stopped else ""),
+                     f"{ref['a_r']['value']:.4g} ± {ref['a_r']['refinement_error']:.2g}",
+                     f"{ref['a_rep']['value']:.4g} ± {ref['a_rep']['refinement_error']:.2g}",
+                     f"{ref['mean_gap']['value'] * 1e6:.5g} ± {ref['mean_gap']['refinement_error'] * 1e6:.2g}"])
+    lines = ["Second route: the family's converged values (the resolved grid, ± its refinement error) as s "
+             "falls toward the challenge (s = 1):", "",
+             md_table(["s", "λ_s (µm)", "ρ (nm)", "grid", "a_r", "repulsive a_r", "mean gap (µm)"], rows), ""]
+    if len(fam) < 2:
+        lines += ["One member is not enough to extrapolate in s: s = 16 and 8 (resolved on 4096² and 8192²) are "
+                  "pending (`scripts/scaled_family.py --s 16 8`).", ""]
+    return lines
+
+
+def _s_extrapolation_lines(x, out_dir):
+    """The extrapolation in s (cmc.analysis.s_route s_extrapolation's result x) as a table."""
+    sa, sb = x["members"][:2]
+    lines = [f"Extrapolated in s: R(s), each member's converged value over its hard-wall value, on two lines "
+             f"through s = {sb} and {sa} (in log s and in s) to s = 1, times the challenge's own hard-wall value "
+             f"({method_link(out_dir, 'second-route-extrapolation-in-s')}).", ""]
+    rows = []
+    for _, short, _ in FAMILY_QUANTITIES:
+        q = x[short]
+        scale, digits = (1e6, 5) if short == "mean_gap" else (1.0, 4)
+        rows.append([_FAMILY_LABEL[short],
+                     f"{q['ratios'][str(sb)]['value']:.4f}", f"{q['ratios'][str(sa)]['value']:.4f}",
+                     f"{q['ratio_at_1_log_s']:.4f} / {q['ratio_at_1_linear_s']:.4f}",
+                     f"{q['adhesionless_at_1']['value'] * scale:.{digits + 1}g}",
+                     f"{q['value'] * scale:.{digits}g} ± {q['error'] * scale:.2g}"])
+    lines += [md_table(["quantity", f"R(s = {sb})", f"R(s = {sa})", "R(1): line in log s / in s",
+                        "hard wall, s = 1", "s = 1 by extrapolation"], rows), ""]
+    verdict = s_extrapolation_verdict(x)
+    if verdict:
+        lines += [verdict, ""]
+    return lines
+
+
+def _routes_side_by_side(x, ch):
+    """Per strategy, its finest run's estimate (route 1) beside the extrapolation in s (route 2)."""
+    lines = []
+    for strategy in STRATEGIES if ch else ():
+        est = sorted(ch.get("estimates", []), key=lambda e: -e["n"])
+        est = [e for e in est if e["role"].startswith(strategy + "_")]
+        if est and est[0]["a_r"]["error"] is not None:
+            e = est[0]
+            rows = []
+            for _, short, _ in FAMILY_QUANTITIES:
+                scale, digits = (1e6, 5) if short == "mean_gap" else (1.0, 4)
+                a, b = e[short], x[short]
+                diff = route_difference(a, b)
+                rows.append([_FAMILY_LABEL[short],
+                             f"{a['value'] * scale:.{digits}g} ± {a['error'] * scale:.2g}",
+                             f"{b['value'] * scale:.{digits}g} ± {b['error'] * scale:.2g}",
+                             "–" if diff is None else f"{diff:.2f}"])
+            lines += [f"Both routes side by side (route 1: the `{strategy}` run on {e['n']}² with the strategy's "
+                      "error measured on the family; route 2: the extrapolation in s). A difference beyond the sum "
+                      "of the two errors (last column above 1) is a finding, not noise.", "",
+                      md_table(["quantity", f"route 1 ({e['n']}², {strategy})", "route 2 (in s)",
+                                "difference / sum of errors"], rows), ""]
+    return lines
+
+
 def _adhesion_resolution(reference_dir, out_dir):
     """The challenge's adhesive numbers with error bars, from the scaled-family store
     (reference/challenge-scaled/scaled_family.json, written by scripts/scaled_family.py)."""
@@ -111,84 +205,15 @@ def _adhesion_resolution(reference_dir, out_dir):
               f"({method_link(out_dir, 'adhesion-resolution-strategies-and-the-scaled-family')}; "
               f"`{rel(os.path.join(reference_dir, 'challenge-scaled', 'README.md'), '.')}`).", ""]
     if ch:
-        rows = []
-        est = {e["role"]: e for e in ch.get("estimates", [])}
-        for r in ch["runs"]:
-            e = est.get(r["role"])
-            def cell(short, scale, digits):
-                v = r[short] * scale
-                if e and e[short]["error"] is not None:
-                    return f"{v:.{digits}g} ± {e[short]['error'] * scale:.2g}"
-                return f"{v:.{digits}g}"
-            stopped = r.get("status", "converged") != "converged"  # at its outer-step cap: the store says how far
-            rows.append([r["role"].split("_")[0], f"{r['n']}²" + (" (stopped before its tolerance)" if stopped else ""),
-                         fmt(r["dx_over_rho"], 3), cell("a_r", 1, 4),
-                         cell("a_rep", 1, 4), cell("mean_gap", 1e6, 5), r["iterations"], fmt(r["wall_s"], 3),
-                         "; ".join(e["measured_on"]) if e and e["measured_on"] else "–"])
-        lines += [md_table(["run", "grid", "dx/ρ", "a_r", "repulsive a_r", "mean gap (µm)", "iterations",
-                            "wall (s)", "strategy error measured on"], rows), ""]
-        for strategy in STRATEGIES:
-            caveat = transfer_caveat(list(members.values()), strategy, brief=True)
-            if caveat:
-                lines += ["**Caveat.** " + caveat.rstrip(".") + f" ({method_link(out_dir, 'the-transfer-check')}).", ""]
+        lines += _challenge_runs_table(ch, members, out_dir)
     else:
         lines += [f"The challenge's own runs: not computed yet ({cmd}).", ""]
     fam = [m for s, m in sorted(members.items(), reverse=True) if m.get("reference", {}).get("a_r")]
     if fam:
-        rows = []
-        for m in fam:
-            ref = m["reference"]
-            stopped = ref["a_r"].get("status", "converged") != "converged"  # stopped at a cap: a bound, see the store
-            rows.append([m["s"], fmt(m["lambda_s_m"] * 1e6, 3), fmt(m["rho_m"] * 1e9, 4),
-                         f"{ref['a_r']['grid']}²" + (" (stopped before its tolerance)" if stopped else ""),
-                         f"{ref['a_r']['value']:.4g} ± {ref['a_r']['refinement_error']:.2g}",
-                         f"{ref['a_rep']['value']:.4g} ± {ref['a_rep']['refinement_error']:.2g}",
-                         f"{ref['mean_gap']['value'] * 1e6:.5g} ± {ref['mean_gap']['refinement_error'] * 1e6:.2g}"])
-        lines += ["Second route: the family's converged values (the resolved grid, ± its refinement error) as s "
-                  "falls toward the challenge (s = 1):", "",
-                  md_table(["s", "λ_s (µm)", "ρ (nm)", "grid", "a_r", "repulsive a_r", "mean gap (µm)"], rows), ""]
-        if len(fam) < 2:
-            lines += ["One member is not enough to extrapolate in s: s = 16 and 8 (resolved on 4096² and 8192²) are "
-                      "pending (`scripts/scaled_family.py --s 16 8`).", ""]
+        lines += _family_values_table(fam)
     x = s_extrapolation(list(members.values()))
     if x:
-        sa, sb = x["members"][:2]
-        lines += [f"Extrapolated in s: R(s), each member's converged value over its hard-wall value, on two lines "
-                  f"through s = {sb} and {sa} (in log s and in s) to s = 1, times the challenge's own hard-wall value "
-                  f"({method_link(out_dir, 'second-route-extrapolation-in-s')}).", ""]
-        rows = []
-        for _, short, _ in FAMILY_QUANTITIES:
-            q = x[short]
-            scale, digits = (1e6, 5) if short == "mean_gap" else (1.0, 4)
-            rows.append([_FAMILY_LABEL[short],
-                         f"{q['ratios'][str(sb)]['value']:.4f}", f"{q['ratios'][str(sa)]['value']:.4f}",
-                         f"{q['ratio_at_1_log_s']:.4f} / {q['ratio_at_1_linear_s']:.4f}",
-                         f"{q['adhesionless_at_1']['value'] * scale:.{digits + 1}g}",
-                         f"{q['value'] * scale:.{digits}g} ± {q['error'] * scale:.2g}"])
-        lines += [md_table(["quantity", f"R(s = {sb})", f"R(s = {sa})", "R(1): line in log s / in s",
-                            "hard wall, s = 1", "s = 1 by extrapolation"], rows), ""]
-        verdict = s_extrapolation_verdict(x)
-        if verdict:
-            lines += [verdict, ""]
-        for strategy in STRATEGIES if ch else ():
-            est = sorted(ch.get("estimates", []), key=lambda e: -e["n"])
-            est = [e for e in est if e["role"].startswith(strategy + "_")]
-            if est and est[0]["a_r"]["error"] is not None:
-                e = est[0]
-                rows = []
-                for _, short, _ in FAMILY_QUANTITIES:
-                    scale, digits = (1e6, 5) if short == "mean_gap" else (1.0, 4)
-                    a, b = e[short], x[short]
-                    diff = route_difference(a, b)
-                    rows.append([_FAMILY_LABEL[short],
-                                 f"{a['value'] * scale:.{digits}g} ± {a['error'] * scale:.2g}",
-                                 f"{b['value'] * scale:.{digits}g} ± {b['error'] * scale:.2g}",
-                                 "–" if diff is None else f"{diff:.2f}"])
-                lines += [f"Both routes side by side (route 1: the `{strategy}` run on {e['n']}² with the strategy's "
-                          "error measured on the family; route 2: the extrapolation in s). A difference beyond the sum "
-                          "of the two errors (last column above 1) is a finding, not noise.", "",
-                          md_table(["quantity", f"route 1 ({e['n']}², {strategy})", "route 2 (in s)",
-                                    "difference / sum of errors"], rows), ""]
+        lines += _s_extrapolation_lines(x, out_dir) + _routes_side_by_side(x, ch)
     return lines
 
 
@@ -225,24 +250,19 @@ def _realizations(reference_dir, case_dir, out_dir):
     return lines
 
 
-def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
-    os.makedirs(out_dir, exist_ok=True)
-    data_dir = os.path.join(out_dir, "data")
-    runs = _find_runs(results_dir, notes)
-    lines = ["# Contact Mechanics Challenge: cmc's results", "",
-             "The nine quantities of the problem definition (Müser & Dapp, section \"Quantities to be predicted\"), "
-             "with and without adhesion, drawn in the representations it asks for. Default parameters: E* = 25 MPa, "
-             "ḡ = 1, L = 0.1 mm, λ_r = 20 µm, λ_s = 0.1 µm, H = 0.8, γ0 = 50 mJ/m², ρ = 2.071 nm (μ_T = 3), reference "
-             "pressure p = 250 kPa = 0.01 E*ḡ. Numbers behind every figure are in `data/*.csv` (columns as `cmc check` "
-             "reads them). The last section says how each number was obtained and how far to trust it.", ""]
-    best = load_best(reference_dir)
-    user = {a: (pair[0] if pair else None) for a, pair in ((a, _reference_load_runs(runs, a)) for a in (True, False))}
-    lines += headline(best, user, reference_dir, surfaces=headline_surfaces(results_dir, runs, reference_dir))
-    lines += surface_section(results_dir, runs, reference_dir, user)
-    for a in (True, False):
-        stopped_run = _stopped_reference_runs(runs, a)
-        if stopped_run:
-            lines += [stopped_run, ""]
+INTRO = ["# Contact Mechanics Challenge: cmc's results", "",
+         "The nine quantities of the problem definition (Müser & Dapp, section \"Quantities to be predicted\"), "
+         "with and without adhesion, drawn in the representations it asks for. Default parameters: E* = 25 MPa, "
+         "ḡ = 1, L = 0.1 mm, λ_r = 20 µm, λ_s = 0.1 µm, H = 0.8, γ0 = 50 mJ/m², ρ = 2.071 nm (μ_T = 3), reference "
+         "pressure p = 250 kPa = 0.01 E*ḡ. Numbers behind every figure are in `data/*.csv` (columns as `cmc check` "
+         "reads them). The last section says how each number was obtained and how far to trust it.", ""]
+DIST_COLS = ["problem", "run", "p (kPa)", "bins", "range ({})", "band"]
+SWEEP_COLS = ["run", "p (kPa)", "p/(E*ḡ)", "a_r", "a_r corrected", "mean gap (µm)", "patches", "converged"]
+TABOR_COLS = ["μ_T", "run", "grid", "p (kPa)", "a_r", "repulsive fraction", "mean gap (nm)"]
+
+
+def _trust_section(runs, results_dir, reference_dir, case_dir, out_dir):
+    """The report's last section: how the numbers were obtained, and how far to trust them."""
     tail = ["## How the numbers were obtained, and how far to trust them", ""]
     if not runs:
         tail += [f"No challenge runs found under `{results_dir}/` (a summary.json whose case name starts with "
@@ -258,10 +278,11 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
     tail += ["#" + ln if ln.startswith("## ") else ln for ln in _adhesion_resolution(reference_dir, out_dir)]
     tail += ["#" + ln if ln.startswith("## ") else ln for ln in _realizations(reference_dir, case_dir, out_dir)]
     tail += ["#" + ln if ln.startswith("## ") else ln for ln in _gpu_grids(reference_dir)]
+    return tail
 
-    sweep = _load_sweep(runs, out_dir, data_dir, case_dir, reference_dir, best)
-    tabor = _tabor(runs, out_dir, data_dir, case_dir, reference_dir, best)
-    dists = _distribution_runs(runs, notes)
+
+def _reference_hint(runs, dists, case_dir):
+    """What an item at the reference load says when it has nothing to draw."""
     ref_hint = _hint(case_dir, ["reference"], "a run at the reference load 250 kPa with observables and fields "
                                               "(result.h5 step_*/observables)")
     stopped = " ".join(t for t in (_stopped_reference_runs(runs, a) for a in (True, False)) if t)
@@ -270,86 +291,130 @@ def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
     elif not dists and runs and any(r.reference_step() for r in runs):
         ref_hint = ("not computed yet — runs at 250 kPa exist but their result.h5 has no step_*/observables "
                     "group (enable [observables] and fields in the case). " + ref_hint)
+    return ref_hint
 
-    def section(num, title, content, cols, extra_lines=()):
-        lines.append(f"## {num}. {title}")
-        lines.append("")
-        if isinstance(content, str) or content is None:
-            lines.append(content or ref_hint)
-            lines.append("")
-            return
-        path, rows = content[0], content[1]
-        csvs = content[2] if len(content) > 2 else []
-        lines.append(f"![{title}]({rel(path, out_dir)})")
-        lines.append("")
-        lines.extend(extra_lines)
-        if rows:
-            lines.append(md_table(cols, rows))
-            lines.append("")
-        if csvs:
-            lines.append("Data: " + ", ".join(f"[{os.path.basename(c)}]({rel(c, out_dir)})" for c in csvs))
-            lines.append("")
 
+def _section(lines, ref_hint, out_dir, num, title, content, cols, extra_lines=()):
+    """Appends one item to lines: its figure, extra lines, table and data files, or what is missing."""
+    lines.append(f"## {num}. {title}")
+    lines.append("")
+    if isinstance(content, str) or content is None:
+        lines.append(content or ref_hint)
+        lines.append("")
+        return
+    path, rows = content[0], content[1]
+    csvs = content[2] if len(content) > 2 else []
+    lines.append(f"![{title}]({rel(path, out_dir)})")
+    lines.append("")
+    lines.extend(extra_lines)
+    if rows:
+        lines.append(md_table(cols, rows))
+        lines.append("")
+    if csvs:
+        lines.append("Data: " + ", ".join(f"[{os.path.basename(c)}]({rel(c, out_dir)})" for c in csvs))
+        lines.append("")
+
+
+def _area_rows(content):
+    """The load sweep's tables joined into one, each row led by its run."""
+    if isinstance(content, str):
+        return content
+    path, tables = content
+    rows = []
+    for r, csv, rws in tables:
+        rows += [[r.label] + row for row in rws]
+    return (path, rows, [t[1] for t in tables])
+
+
+def _sweep_band_note(sweep, out_dir):
+    """The lines that say how the sweeps' error bands are made."""
+    return ["Error bands (shaded, and ± in the tables): for adhesive runs, the error that the run's strategy "
+            "(plain, range or shape) has on the scaled challenge family at the run's dx/ρ, measured at μ_T = 3 "
+            "and 250 kPa (assumed elsewhere unless measured there, below); for the hard wall, its change to a "
+            "finer grid: "
+            + ("; ".join(f"{'a_r' if k == 'ar' else 'mean gap'} on {v}" for k, v in sorted(sweep["hw_how"].items()))
+               if isinstance(sweep, dict) and sweep.get("hw_how") else "at 250 kPa, scaled to each load")
+            + f" ({method_link(out_dir, 'error-bands-of-the-sweeps')}). " + roundoff_note() + " "
+            + transfer_caveat(brief=True), ""]
+
+
+def _items_1_to_5(add, ctx, sweep, band_note):
+    """Items 1 to 5: patch sizes, the load sweep's contact area, gaps, stresses and the spectrum."""
+    dists, out_dir, data_dir, reference_dir = ctx
     patch = _hist_figure(dists, "patch_area_edges", "patch_area_density", "log", "log", 1e12, 1e-12,
                          "contact patch area A (µm²)", "probability density of A (1/µm²)",
                          "1. contact patch size distribution", os.path.join(out_dir, "patch_size_distribution.png"),
                          data_dir, ("patch_area_m2", "density_per_m2"), "patch_size_distribution", reference_dir)
-    dist_cols = ["problem", "run", "p (kPa)", "bins", "range ({})", "band"]
     dist_note = ["Band (shaded): per point, the change of the curve to the same case on the next finer grid, "
                  "interpolated in the figure's axes; the stored references (dashed, their grids named) with their bands "
                  f"as stored ({method_link(out_dir, 'distributions-and-spectrum')}).", ""]
-    section(1, "Distribution of contact patch size (log-log)", patch, [c.format("µm²") for c in dist_cols], dist_note)
-
-    def area_rows(content):
-        if isinstance(content, str):
-            return content
-        path, tables = content
-        rows = []
-        for r, csv, rws in tables:
-            rows += [[r.label] + row for row in rws]
-        return (path, rows, [t[1] for t in tables])
-
-    sweep_cols = ["run", "p (kPa)", "p/(E*ḡ)", "a_r", "a_r corrected", "mean gap (µm)", "patches", "converged"]
-    band_note = ["Error bands (shaded, and ± in the tables): for adhesive runs, the error that the run's strategy "
-                 "(plain, range or shape) has on the scaled challenge family at the run's dx/ρ, measured at μ_T = 3 "
-                 "and 250 kPa (assumed elsewhere unless measured there, below); for the hard wall, its change to a "
-                 "finer grid: "
-                 + ("; ".join(f"{'a_r' if k == 'ar' else 'mean gap'} on {v}" for k, v in sorted(sweep["hw_how"].items()))
-                    if isinstance(sweep, dict) and sweep.get("hw_how") else "at 250 kPa, scaled to each load")
-                 + f" ({method_link(out_dir, 'error-bands-of-the-sweeps')}). " + roundoff_note() + " "
-                 + transfer_caveat(brief=True), ""]
-    section(2, "Contact area as a function of pressure (log-log; 1 − a_r for the approach to full contact)",
-            area_rows(sweep["area"]), sweep_cols,
-            band_note + _condition_note("load", out_dir) + [n + "\n" for n in sweep["notes"]])
+    add(1, "Distribution of contact patch size (log-log)", patch, [c.format("µm²") for c in DIST_COLS], dist_note)
+    add(2, "Contact area as a function of pressure (log-log; 1 − a_r for the approach to full contact)",
+        _area_rows(sweep["area"]), SWEEP_COLS,
+        band_note + _condition_note("load", out_dir) + [n + "\n" for n in sweep["notes"]])
     gap = _hist_figure(dists, "gap_hist_edges", "gap_hist_density", "log", "log", 1e6, 1e-6,
                        "gap g (µm)", "probability density P(g) (1/µm)", "3. gap distribution (contact points excluded)",
                        os.path.join(out_dir, "gap_distribution.png"), data_dir, ("gap_m", "density_per_m"),
                        "gap_distribution", reference_dir)
-    section(3, "Gap distribution function (log-log)", gap, [c.format("µm") for c in dist_cols], ["Band: as in item 1.", ""])
+    add(3, "Gap distribution function (log-log)", gap, [c.format("µm") for c in DIST_COLS], ["Band: as in item 1.", ""])
     stress = _hist_figure(dists, "stress_hist_edges", "stress_hist_density", "linear", "log", 1e-6, 1e6,
                           "interfacial stress p (MPa, compressive > 0)", "probability density P(p) (1/MPa)",
                           "4. interfacial stress distribution", os.path.join(out_dir, "stress_distribution.png"),
                           data_dir, ("stress_Pa", "density_per_Pa"), "stress_distribution", reference_dir,
                           extra=lambda ax: ax.axvline(0, color="gray", lw=0.8))
-    section(4, "Interfacial stress distribution (stress linear, probability logarithmic)", stress,
-            [c.format("MPa") for c in dist_cols], ["Band: as in item 1.", ""])
-    section(5, "Interfacial stress spectrum (log-log)", _spectrum(dists, out_dir, data_dir, reference_dir),
-            ["problem", "run", "p (kPa)", "q points", "q range (1/m)", "band"], ["Band: as in item 1.", ""])
-    tabor_cols = ["μ_T", "run", "grid", "p (kPa)", "a_r", "repulsive fraction", "mean gap (nm)"]
-    section(6, "Contact area as a function of the Tabor coefficient (log μ_T)", tabor["area"], tabor_cols,
-            band_note[:1] + ["Each μ_T has its own ρ, hence its own dx/ρ and its own error bar.", ""]
-            + _condition_note("tabor", out_dir, own=tabor.get("own_refined", False))
-            + [n + "\n" for n in dict.fromkeys(tabor.get("notes", []))])
-    section(7, "Mean gap as a function of the Tabor coefficient (log μ_T)", _no_rows(tabor["gap"]), tabor_cols,
-            ["Numbers: the table of item 6.", ""])
-    section(8, "Mean gap as a function of pressure (log pressure)", _no_rows(area_rows(sweep["gap"])), sweep_cols,
-            ["Numbers: the table of item 2.", ""])
-    section(9, "Gap and stress along the cross section x = 50 µm", _cross_section(dists, out_dir, data_dir, reference_dir),
-            ["problem", "run", "x (µm)", "points", "band"],
-            ["Band (shaded in the zooms): per point, the largest change of the profile to the same case on the next "
-             "finer grid near it, at least the solver's tolerance in the problem's scale; large at contact lines, "
-             "which move by up to a grid spacing between the grids. With adhesion both grids leave ρ unresolved "
-             f"({method_link(out_dir, 'cross-section')}).", ""])
+    add(4, "Interfacial stress distribution (stress linear, probability logarithmic)", stress,
+        [c.format("MPa") for c in DIST_COLS], ["Band: as in item 1.", ""])
+    add(5, "Interfacial stress spectrum (log-log)", _spectrum(dists, out_dir, data_dir, reference_dir),
+        ["problem", "run", "p (kPa)", "q points", "q range (1/m)", "band"], ["Band: as in item 1.", ""])
+
+
+def _items_6_to_9(add, ctx, sweep, tabor, band_note):
+    """Items 6 to 9: the Tabor sweep's contact area and mean gap, the load sweep's mean gap, the
+    cross section."""
+    dists, out_dir, data_dir, reference_dir = ctx
+    add(6, "Contact area as a function of the Tabor coefficient (log μ_T)", tabor["area"], TABOR_COLS,
+        band_note[:1] + ["Each μ_T has its own ρ, hence its own dx/ρ and its own error bar.", ""]
+        + _condition_note("tabor", out_dir, own=tabor.get("own_refined", False))
+        + [n + "\n" for n in dict.fromkeys(tabor.get("notes", []))])
+    add(7, "Mean gap as a function of the Tabor coefficient (log μ_T)", _no_rows(tabor["gap"]), TABOR_COLS,
+        ["Numbers: the table of item 6.", ""])
+    add(8, "Mean gap as a function of pressure (log pressure)", _no_rows(_area_rows(sweep["gap"])), SWEEP_COLS,
+        ["Numbers: the table of item 2.", ""])
+    add(9, "Gap and stress along the cross section x = 50 µm", _cross_section(dists, out_dir, data_dir, reference_dir),
+        ["problem", "run", "x (µm)", "points", "band"],
+        ["Band (shaded in the zooms): per point, the largest change of the profile to the same case on the next "
+         "finer grid near it, at least the solver's tolerance in the problem's scale; large at contact lines, "
+         "which move by up to a grid spacing between the grids. With adhesion both grids leave ρ unresolved "
+         f"({method_link(out_dir, 'cross-section')}).", ""])
+
+
+def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
+    """reports/challenge/index.md's text, with its figures and data/*.csv written beside it."""
+    os.makedirs(out_dir, exist_ok=True)
+    data_dir = os.path.join(out_dir, "data")
+    runs = _find_runs(results_dir, notes)
+    lines = list(INTRO)
+    best = load_best(reference_dir)
+    user = {a: (pair[0] if pair else None) for a, pair in ((a, _reference_load_runs(runs, a)) for a in (True, False))}
+    lines += headline(best, user, reference_dir, surfaces=headline_surfaces(results_dir, runs, reference_dir))
+    lines += surface_section(results_dir, runs, reference_dir, user)
+    for a in (True, False):
+        stopped_run = _stopped_reference_runs(runs, a)
+        if stopped_run:
+            lines += [stopped_run, ""]
+    tail = _trust_section(runs, results_dir, reference_dir, case_dir, out_dir)
+    sweep = _load_sweep(runs, out_dir, data_dir, case_dir, reference_dir, best)
+    tabor = _tabor(runs, out_dir, data_dir, case_dir, reference_dir, best)
+    dists = _distribution_runs(runs, notes)
+    ref_hint = _reference_hint(runs, dists, case_dir)
+
+    def add(num, title, content, cols, extra_lines=()):
+        _section(lines, ref_hint, out_dir, num, title, content, cols, extra_lines)
+
+    band_note = _sweep_band_note(sweep, out_dir)
+    ctx = (dists, out_dir, data_dir, reference_dir)
+    _items_1_to_5(add, ctx, sweep, band_note)
+    _items_6_to_9(add, ctx, sweep, tabor, band_note)
     lines += speed_report.section([(r.s, r.folder) for a in (True, False) for r, _ in _reference_load_candidates(runs, a)],
                                   reference_dir, out_dir)
     lines += tail
