@@ -6,7 +6,7 @@ import numpy as np
 
 from cmc.analysis import bands
 from .challenge_runs import _centers, _observables, _problem, _reference_load_runs, _stored
-from .common import CHALLENGE, finite, fmt, get, plt, savefig, write_csv
+from .common import CHALLENGE, finite, fmt, get, label_axes, plt, savefig, write_csv
 from .stored_distributions import draw_stored_curve, draw_stored_profiles
 
 
@@ -97,11 +97,7 @@ def _hist_figure(dists, key_edges, key_density, xscale, yscale, xunit, yunit, xl
     ax.set_yscale(yscale)
     if extra:
         extra(ax)
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel(ylabel)
-    ax.set_title(title, fontsize=10)
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7)
+    label_axes(ax, xlabel, ylabel, title)
     savefig(fig, path)
     return path, rows, csvs
 
@@ -148,11 +144,7 @@ def _spectrum(dists, out_dir, data_dir, reference_dir):
     ax.axvline(qs, color="gray", ls="--", lw=0.8)
     ax.text(qr, ax.get_ylim()[0], " q_r", fontsize=7, va="bottom")
     ax.text(qs, ax.get_ylim()[0], " q_s", fontsize=7, va="bottom")
-    ax.set_xlabel("wavenumber q (1/m)")
-    ax.set_ylabel("stress spectrum C_σ(q) (Pa² m²)")
-    ax.set_title("5. interfacial stress spectrum", fontsize=10)
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7)
+    label_axes(ax, "wavenumber q (1/m)", "stress spectrum C_σ(q) (Pa² m²)", "5. interfacial stress spectrum")
     path = os.path.join(out_dir, "stress_spectrum.png")
     savefig(fig, path)
     return path, rows, csvs

@@ -11,7 +11,7 @@ from .best import draw_point, draw_realisation, draw_tabor
 from .challenge_runs import (P0, _band, _hint, _merged_sweeps, _problem, _reference_load_runs, _stopped, _stored,
                              finer_sweep, hardwall_sweep_band, method_link, refinement_grids, sweep_band,
                              sweep_end_note)
-from .common import CHALLENGE, fmt, get, md_table, plt, rel, savefig, write_csv
+from .common import CHALLENGE, fmt, get, label_axes, md_table, plt, rel, savefig, write_csv
 
 
 def _pm(v, relerr, digits=4, scale=1.0):
@@ -155,17 +155,9 @@ def _area_figure(sweeps, stored, Es, band_of, ctx, res):
         draw_point(a1, est, "a_r", 1.0, x=P0 / Es)
     draw_realisation(a1, reference_dir, "contact_area_vs_pressure", 1.0, Es)
     a1.axhline(0.75, color="gray", ls=":", lw=0.8)
-    a1.set_xlabel("p / (E* ḡ)   (E* ḡ = 25 MPa)")
-    a1.set_ylabel("relative contact area a_r")
-    a1.set_title("2. contact area vs pressure", fontsize=10)
-    a1.grid(True, which="both", alpha=0.3)
-    a1.legend(fontsize=7)
+    label_axes(a1, "p / (E* ḡ)   (E* ḡ = 25 MPa)", "relative contact area a_r", "2. contact area vs pressure")
     _secondary_pressure_axis(a1, Es)
-    a2.set_xlabel("p / (E* ḡ)")
-    a2.set_ylabel("1 − a_r  (non-contact fraction)")
-    a2.set_title("approach to full contact", fontsize=10)
-    a2.grid(True, which="both", alpha=0.3)
-    a2.legend(fontsize=7)
+    label_axes(a2, "p / (E* ḡ)", "1 − a_r  (non-contact fraction)", "approach to full contact")
     path = os.path.join(out_dir, "contact_area_vs_pressure.png")
     savefig(fig, path)
     res["area"] = (path, tables)
@@ -203,11 +195,7 @@ def _gap_figure(sweeps, stored, Es, band_of, ctx, tables, res):
     for est in (ests.get("adhesive"), ests.get("hardwall")):
         draw_point(ax, est, "mean_gap", 1e6, x=P0 / Es)
     draw_realisation(ax, reference_dir, "mean_gap_vs_pressure", 1e6, Es)
-    ax.set_xlabel("p / (E* ḡ)   (E* ḡ = 25 MPa)")
-    ax.set_ylabel("mean gap ū (µm)")
-    ax.set_title("8. mean gap vs pressure", fontsize=10)
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7)
+    label_axes(ax, "p / (E* ḡ)   (E* ḡ = 25 MPa)", "mean gap ū (µm)", "8. mean gap vs pressure")
     _secondary_pressure_axis(ax, Es)
     path = os.path.join(out_dir, "mean_gap_vs_pressure.png")
     savefig(fig, path)
@@ -415,11 +403,7 @@ def _tabor(runs, out_dir, data_dir, case_dir, reference_dir, best=None):
             continue
         ax.set_xscale("log")
         ax.axvline(CHALLENGE["tabor"], color="gray", ls=":", lw=0.8)
-        ax.set_xlabel("Tabor coefficient μ_T  (default 3)")
-        ax.set_ylabel(ylabel)
-        ax.set_title(title + " at p = 250 kPa", fontsize=10)
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=7)
+        label_axes(ax, "Tabor coefficient μ_T  (default 3)", ylabel, title + " at p = 250 kPa")
         path = os.path.join(out_dir, fname)
         savefig(fig, path)
         res["area" if what == "ar" else "gap"] = (path, rows, csvs)

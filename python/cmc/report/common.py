@@ -100,6 +100,15 @@ def fmt(x, digits=4):
     return str(x)
 
 
+def label_axes(ax, xlabel, ylabel, title):
+    """A report's axes: their labels, the title, a grid on every decade and a small legend."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title, fontsize=10)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+
+
 def savefig(fig, path):
     os.makedirs(os.path.dirname(path), exist_ok=True)
     fig.tight_layout()
