@@ -42,10 +42,9 @@ def main(argv=None):
         print(f"make_reports.py: {e}: install python3-numpy and python3-matplotlib and run with /usr/bin/python3",
               file=sys.stderr)
         return 3
-    import challenge_report
-    import performance_report
-    import validation_report
-    from common import HAVE_H5PY
+    from cmc.report import challenge as challenge_report, performance as performance_report
+    from cmc.report import validation as validation_report
+    from cmc.report.common import HAVE_H5PY
 
     only = set(a.only or ["validation", "performance", "challenge"])
     validation_dirs = a.validation or ["build/validation", "results/validation"]

@@ -15,33 +15,13 @@ import math
 import sys
 
 
-def main(argv):
-    if len(argv) != 3:
-        print(__doc__, file=sys.stderr)
-        return 2
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError as e:  # pragma: no cover - depends on the machine
-        print(f"plot_check.py: matplotlib is missing ({e}); install python3-matplotlib", file=sys.stderr)
-        return 3
-    try:
-        with open(argv[1]) as f:
-            c = json.load(f)
-    except (OSError, ValueError) as e:
-        print(f"plot_check.py: cannot read {argv[1]}: {e}", file=sys.stderr)
-        return 2
+def axis_label(a):
+    u = a["unit"]
+    return a["label"] + ("" if u in ("1", "as in the files") else f" ({u})")
 
-    ax_x, ax_y = c["axes"]["x"], c["axes"]["y"]
-    logx, logy = bool(ax_x["log"]), bool(ax_y["log"])
 
-    def label(a):
-        u = a["unit"]
-        return a["label"] + ("" if u in ("1", "as in the files") else f" ({u})")
-
-    fig, (top, bot) = plt.subplots(2, 1, figsize=(6.4, 6.4), sharex=True,
-                                   gridspec_kw={"height_ratios": [3, 1.3]})
+def draw_curves(top, bot, c, logx, logy):
+    """The top panel: reference (with its band) and prediction; the common range shaded on both."""
     ref, pred, ev = c["reference"], c["prediction"], c["evaluation"]
 
     def keep(xs, ys):
@@ -64,12 +44,17 @@ def main(argv):
             a.set_xscale("log")
     if logy:
         top.set_yscale("log")
-    top.set_ylabel(label(ax_y))
+    top.set_ylabel(axis_label(c["axes"]["y"]))
     top.legend(loc="best", fontsize=8)
     v = c["verdict"]
     top.set_title(f"{c.get('title', c['quantity'])}\n{'PASS' if v['pass'] else 'FAIL'}: "
                   f"{v['metric']} = {v['value']:.3g} (tolerance {v['tolerance']:.3g})", fontsize=10)
 
+
+def draw_difference(bot, c, logy):
+    """The bottom panel: the difference in the representation, with the tolerance band."""
+    ev, v = c["evaluation"], c["verdict"]
+    elo, ehi = ev.get("reference_low") or [], ev.get("reference_high") or []
     # Difference in the representation.
     ex, ep, er = ev["x"], ev["prediction"], ev["reference"]
     m = c["metrics"]
@@ -106,7 +91,34 @@ def main(argv):
     if band:
         for b in band:
             bot.axhline(b, color="gray", ls="--", lw=0.8)
-    bot.set_xlabel(label(ax_x))
+    bot.set_xlabel(axis_label(c["axes"]["x"]))
+
+
+def main(argv):
+    if len(argv) != 3:
+        print(__doc__, file=sys.stderr)
+        return 2
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError as e:  # pragma: no cover - depends on the machine
+        print(f"plot_check.py: matplotlib is missing ({e}); install python3-matplotlib", file=sys.stderr)
+        return 3
+    try:
+        with open(argv[1]) as f:
+            c = json.load(f)
+    except (OSError, ValueError) as e:
+        print(f"plot_check.py: cannot read {argv[1]}: {e}", file=sys.stderr)
+        return 2
+
+    ax_x, ax_y = c["axes"]["x"], c["axes"]["y"]
+    logx, logy = bool(ax_x["log"]), bool(ax_y["log"])
+    fig, (top, bot) = plt.subplots(2, 1, figsize=(6.4, 6.4), sharex=True,
+                                   gridspec_kw={"height_ratios": [3, 1.3]})
+    draw_curves(top, bot, c, logx, logy)
+    draw_difference(bot, c, logy)
+    m = c["metrics"]
     fig.text(0.01, 0.005, f"max abs {m['max_abs']:.3g}, rms abs {m['rms_abs']:.3g} ({m['abs_unit']}); "
              f"max rel {m['max_rel']:.3g}, rms rel {m['rms_rel']:.3g}; {c['representation']}",
              fontsize=7, color="dimgray")

@@ -40,8 +40,8 @@ def grid(n):
     return {"nx": n, "ny": n, "size_x": 1e-4, "size_y": 1e-4, "dx": dx, "dy": dx, "boundary": "periodic"}
 
 
-def make_inputs(root, np, h5py):
-    res = os.path.join(root, "results")
+def _reference_inputs(res, np, h5py):
+    """A load sweep and a run at the reference load with result.h5 observables."""
     # --- a load sweep (summary only) -------------------------------------------------
     steps = []
     for k, p in enumerate([12.5e3, 25e3, 50e3, 125e3, 250e3, 500e3, 1.25e6, 2.5e6, 5e6, 10e6, 17.5e6, 25e6]):
@@ -89,6 +89,11 @@ def make_inputs(root, np, h5py):
         o["cross_section_y"] = y
         o["cross_section_gap"] = gsec
         o["cross_section_pressure"] = np.where(gsec == 0, 2e6, 0.0) - np.where((gsec > 0) & (gsec < 5e-9), 1e6, 0.0)
+
+
+def _sweep_and_stray_inputs(res):
+    """Tabor sweeps (one refined, one stopped), a stopped finer run, and runs the report must
+    ignore or survive: another project's, a cluster measurement, the family's, a malformed one."""
     # --- a Tabor sweep: one run per Tabor value (run-level), plus one run with a "tabor" per step
     for mu in (0.5, 1.0, 2.0, 3.0):
         write_json(os.path.join(res, f"challenge-tabor-{mu}", "summary.json"),
@@ -150,6 +155,10 @@ def make_inputs(root, np, h5py):
     os.makedirs(os.path.join(res, "challenge-broken"), exist_ok=True)
     with open(os.path.join(res, "challenge-broken", "summary.json"), "w") as f:
         f.write("{ not json")
+
+
+def _performance_inputs(root, res):
+    """Performance records and Google Benchmark output."""
     # --- performance records and Google Benchmark output -------------------------------
     write_json(os.path.join(res, "performance", "pk.json"), {"records": [
         {"case": "challenge-hardwall", "grid": n, "tolerance": tol, "wall_s": 0.1 * (n / 256) ** 2 / tol ** 0.1,
@@ -173,6 +182,10 @@ def make_inputs(root, np, h5py):
                         "iteration_over_floor_pair": 2.0, "time_per_floor_pair": 30.0 / 1.5 / 15.0})
     write_json(os.path.join(root, "build", "bench.json"),
                {"context": {"date": "synthetic", "num_cpus": 2, "host_name": "selftest"}, "benchmarks": benches})
+
+
+def _validation_inputs(root, np):
+    """Validation summaries: a pass with a refinement study, a Hertz case with profiles, a failure."""
     # --- validation: one passing case with a refinement study, one failing check ---------
     v = os.path.join(root, "build", "validation")
     write_json(os.path.join(v, "synthetic-pass", "summary.json"),
@@ -205,6 +218,15 @@ def make_inputs(root, np, h5py):
                                 "tolerance": 1e-3, "pass": False}]})
 
 
+def make_inputs(root, np, h5py):
+    """The synthetic inputs of every report under root."""
+    res = os.path.join(root, "results")
+    _reference_inputs(res, np, h5py)
+    _sweep_and_stray_inputs(res)
+    _performance_inputs(root, res)
+    _validation_inputs(root, np)
+
+
 def run_reports(root, out):
     cmd = [sys.executable, os.path.join(HERE, "make_reports.py"),
            "--validation", os.path.join(root, "build", "validation"), "--results", os.path.join(root, "results"),
@@ -214,11 +236,11 @@ def run_reports(root, out):
 
 
 def profile_band_checks(np):
-    """The cross-section band (challenge_report.profile_band, which reads the run for
+    """The cross-section band (cmc.report.challenge_figures profile_band, which reads the run for
     cmc.analysis.bands) holds the finer profile at every finer point when read as `cmc check`
     reads it (band and curve linear between points), with numbers worked by hand, and is never
     below its floor."""
-    from challenge_report import profile_band
+    from cmc.report.challenge_figures import profile_band
 
     class R:  # the parts of a run that profile_band reads
         s = {"case": {"solver": {"tolerance": 1e-3}, "surface": {"rms_gradient": 1.0}},
@@ -246,9 +268,9 @@ def profile_band_checks(np):
 
 
 def sweep_end_checks():
-    """challenge_report.sweep_end_note says why a load sweep's curve ends: full contact, a
+    """cmc.report.challenge_runs sweep_end_note says why a load sweep's curve ends: full contact, a
     solver that stopped before its tolerance, or the case's last load."""
-    from challenge_report import sweep_end_note
+    from cmc.report.challenge_runs import sweep_end_note
 
     class R:  # the parts of a run that sweep_end_note reads
         s = {"case_file": "cases/x.toml", "case": {"interaction": {"kind": "exponential_adhesion"}}}
@@ -272,7 +294,7 @@ def transfer_checks():
     s > 1 at the same dx/rho, a member without its resolved run included (the ratio needs no
     reference), for each strategy; common.transfer_caveat names the strategy and says whether the
     members approach s = 1."""
-    from common import transfer_caveat  # puts python/ on the path
+    from cmc.report.common import transfer_caveat
     from cmc.analysis.transfer import transfer_check
 
     def run(role, k, a_r):
@@ -303,7 +325,7 @@ def realization_checks():
     run's a_r and mean gap against its own realization's reference, the strategies' targets (3 % /
     0.5 % at 2 rho, 6 % / 1 % at 4 rho) marked per cell and counted in the summary row, plain runs
     never marked."""
-    from common import realization_rows
+    from cmc.report.common import realization_rows
 
     def member(a_ref, g_ref, runs):
         return {"rho_m": 6e-8, "reference": {"a_r": {"value": a_ref, "refinement_error": 1e-4},
@@ -332,8 +354,8 @@ def realization_checks():
 def roundoff_checks(root):
     """scripts/roundoff_spread.py on hand-made runs: the largest relative difference per quantity
     over the steps, and a clear error (non-zero exit, nothing written) for runs of two cases;
-    reports/common.py roundoff_note states what it wrote."""
-    from common import roundoff_note
+    cmc.report.common roundoff_note states what it wrote."""
+    from cmc.report.common import roundoff_note
 
     def run(folder, name, ar, gap):
         write_json(os.path.join(root, "roundoff", folder, "summary.json"),
@@ -371,7 +393,7 @@ def speed_and_hard_checks(root):
     """The challenge report's speed and hard-case sections (speed_report.py): the hard-case table
     reads build/hard/<case>/summary.json, counts an expected failure as one, and draws the
     residual histories; a FAIL is named."""
-    import speed_report
+    from cmc.report import speed as speed_report
     hard = os.path.join(root, "hard")
     checks = [{"quantity": "iterations", "verdict": "pass"}, {"quantity": "gap", "verdict": "xfail"}]
     write_json(os.path.join(hard, "spike", "summary.json"),
@@ -398,6 +420,110 @@ def speed_and_hard_checks(root):
     return failures
 
 
+def _file_checks(out):
+    """Every report's files exist; the performance table has the floor pair's row."""
+    failures = []
+    expect = {
+        "validation": ["index.md", "refinement_synthetic-pass.png", "profiles_synthetic-hertz.png"],
+        "performance": ["index.md", "iteration_vs_fft.png", "speed_vs_error_contact_fraction.png",
+                        "speed_vs_error_mean_gap.png"],
+        "challenge": ["index.md", "patch_size_distribution.png", "contact_area_vs_pressure.png",
+                      "gap_distribution.png", "stress_distribution.png", "stress_spectrum.png",
+                      "contact_area_vs_tabor.png", "mean_gap_vs_tabor.png", "mean_gap_vs_pressure.png",
+                      "cross_section.png", "tabor_refinement.png", "speed_vs_error.png"],
+    }
+    for sub, files in expect.items():
+        for f in files:
+            if not os.path.isfile(os.path.join(out, sub, f)):
+                failures.append(f"missing {sub}/{f}")
+    perf = open(os.path.join(out, "performance", "index.md")).read() if os.path.isfile(
+        os.path.join(out, "performance", "index.md")) else ""
+    row = "| BM_PolonskyKeerIteration_plain | 2048 | 20 | 15 | 30 | 1.5 | 1.5 | 1 | 1.33 |"
+    if row not in perf:
+        failures.append("performance/index.md lacks the plain iteration's row against the floor pair, "
+                        f"expected {row!r}:\n" + "\n".join(l for l in perf.splitlines() if "Iteration_plain" in l))
+    return failures
+
+
+def _challenge_index_checks(out):
+    """What challenge/index.md must and must not say of the synthetic runs."""
+    failures = []
+    idx = open(os.path.join(out, "challenge", "index.md")).read() if os.path.isfile(
+        os.path.join(out, "challenge", "index.md")) else ""
+    if "not computed yet" in idx:
+        failures.append("challenge/index.md says 'not computed yet' although every input exists")
+    # The refined Tabor point: its band is its own refinement (v_inf = 2 v_512 - v_256 = 0.02), in the table.
+    if "The Tabor sweep refined on the challenge itself" not in idx or "| 0.1 | 256² | 3.2 | 0.1 | 0.0424 |" not in idx:
+        failures.append("challenge/index.md lacks the table of the Tabor point refined on the challenge itself")
+    head = idx.split("## 1.")[0]
+    if "NOT CONVERGED: challenge-reference-test (512²)" not in head or "without adhesion (± the larger of the " \
+            "sources): relative contact area a_r: grid change" in head:
+        failures.append("challenge/index.md uses the reference-load run that did not converge, or does not say so")
+    if "| 0.7 | challenge-tabor-stopped | 256² (NOT CONVERGED) |" not in idx:
+        failures.append("challenge/index.md does not mark the Tabor run that stopped before its tolerance")
+    tabor_csv = os.path.join(out, "challenge", "data", "tabor_sweep__256x256.csv")
+    if not os.path.isfile(tabor_csv) or any(ln.startswith("7.0") for ln in open(tabor_csv)):
+        failures.append("challenge/data/tabor_sweep__256x256.csv is missing or holds the run that did not converge")
+    # Items 1, 3, 4, 5 and 9 draw the stored references beside the runs, their grids and bands as stored.
+    for num in ("1", "3", "4", "5", "9"):
+        part = idx.split(f"## {num}.")[-1].split("\n## ")[0]
+        if not re.search(r"\| stored reference \(\d+²\)[^|]*\|.*\| as stored \(", part):
+            failures.append(f"challenge/index.md, item {num}: no row of the stored reference with its grid and band")
+    if "cluster-measure" in idx:
+        failures.append("challenge/index.md uses a run of results/cluster-measure/ (cost measurements)")
+    if "challenge-scaled-hardwall-s32" in idx or "seeds/seed29" in idx:
+        failures.append("challenge/index.md uses a scaled-family run found outside results/scaled-family/")
+    if "hertz-free" in idx:
+        failures.append("challenge/index.md lists a run whose case name does not start with 'challenge'")
+    # dx/λ_s and dx/ρ are cmc's (surface_facts), not recomputed by the report.
+    if "| dx/λ_s | dx/ρ |" not in idx or "| 3.906 | 188.6 |" not in idx:
+        failures.append("challenge/index.md lacks the grid-spacing table with cmc's surface_facts")
+    # Speed against error: the store's GPU runs are on it, with errors from the best estimates.
+    if "## Speed against error" not in idx or "| hard wall | Polonsky-Keer, preconditioned | GPU: " not in idx:
+        failures.append("challenge/index.md lacks the speed-against-error section or the stored GPU runs")
+    return failures
+
+
+def _validation_checks(out):
+    """validation/index.md counts the checks and shows the failing one; the CSVs exist."""
+    failures = []
+    vidx = open(os.path.join(out, "validation", "index.md")).read()
+    # The synthetic inputs hold four checks: synthetic-pass has two that pass (penetration
+    # and its refinement study), synthetic-hertz one that passes, synthetic-fail one that
+    # fails (mean_gap).
+    if "**3 checks pass, 1 fail**" not in vidx:
+        failures.append("validation/index.md does not count 3 passing and 1 failing check")
+    if "| synthetic-fail | mean_gap | d | 0.5 | 0.001 | **FAIL** |" not in vidx:
+        failures.append("validation/index.md does not show the failing check's row")
+    # The challenge CSVs are readable by `cmc check` conventions (header row + numbers).
+    data = os.path.join(out, "challenge", "data")
+    if not os.path.isdir(data) or not any(f.startswith("load_sweep__") for f in os.listdir(data)):
+        failures.append("challenge/data/load_sweep__*.csv missing")
+    return failures
+
+
+def _empty_input_checks(root):
+    """Empty inputs: no crash, and lines saying what to run."""
+    failures = []
+    # Empty inputs: no crash, and lines saying what to run.
+    empty = os.path.join(root, "empty")
+    os.makedirs(empty, exist_ok=True)
+    r2 = subprocess.run([sys.executable, os.path.join(HERE, "make_reports.py"), "--validation",
+                         os.path.join(empty, "v"), "--results", os.path.join(empty, "r"), "--bench",
+                         os.path.join(empty, "b.json"), "--reference", os.path.join(ROOT, "reference"),
+                         "--cases", os.path.join(empty, "cases"), "--out", os.path.join(empty, "out")],
+                        capture_output=True, text=True)
+    if r2.returncode != 0:
+        failures.append(f"empty inputs: make_reports.py exited {r2.returncode}: {r2.stderr}")
+    else:
+        for sub, phrase in (("challenge", "not computed yet"), ("validation", "No validation results"),
+                            ("performance", "No records"), ("performance", "No Google Benchmark")):
+            text = open(os.path.join(empty, "out", sub, "index.md")).read()
+            if phrase not in text:
+                failures.append(f"empty inputs: {sub}/index.md lacks '{phrase}'")
+    return failures
+
+
 def main(argv):
     try:
         import numpy as np
@@ -415,92 +541,14 @@ def main(argv):
         r = run_reports(root, out)
         if r.returncode != 0:
             failures.append(f"make_reports.py exited {r.returncode}:\n{r.stdout}\n{r.stderr}")
-        expect = {
-            "validation": ["index.md", "refinement_synthetic-pass.png", "profiles_synthetic-hertz.png"],
-            "performance": ["index.md", "iteration_vs_fft.png", "speed_vs_error_contact_fraction.png",
-                            "speed_vs_error_mean_gap.png"],
-            "challenge": ["index.md", "patch_size_distribution.png", "contact_area_vs_pressure.png",
-                          "gap_distribution.png", "stress_distribution.png", "stress_spectrum.png",
-                          "contact_area_vs_tabor.png", "mean_gap_vs_tabor.png", "mean_gap_vs_pressure.png",
-                          "cross_section.png", "tabor_refinement.png", "speed_vs_error.png"],
-        }
-        for sub, files in expect.items():
-            for f in files:
-                if not os.path.isfile(os.path.join(out, sub, f)):
-                    failures.append(f"missing {sub}/{f}")
-        perf = open(os.path.join(out, "performance", "index.md")).read() if os.path.isfile(
-            os.path.join(out, "performance", "index.md")) else ""
-        row = "| BM_PolonskyKeerIteration_plain | 2048 | 20 | 15 | 30 | 1.5 | 1.5 | 1 | 1.33 |"
-        if row not in perf:
-            failures.append("performance/index.md lacks the plain iteration's row against the floor pair, "
-                            f"expected {row!r}:\n" + "\n".join(l for l in perf.splitlines() if "Iteration_plain" in l))
-        idx = open(os.path.join(out, "challenge", "index.md")).read() if os.path.isfile(
-            os.path.join(out, "challenge", "index.md")) else ""
-        if "not computed yet" in idx:
-            failures.append("challenge/index.md says 'not computed yet' although every input exists")
-        # The refined Tabor point: its band is its own refinement (v_inf = 2 v_512 - v_256 = 0.02), in the table.
-        if "The Tabor sweep refined on the challenge itself" not in idx or "| 0.1 | 256² | 3.2 | 0.1 | 0.0424 |" not in idx:
-            failures.append("challenge/index.md lacks the table of the Tabor point refined on the challenge itself")
-        head = idx.split("## 1.")[0]
-        if "NOT CONVERGED: challenge-reference-test (512²)" not in head or "without adhesion (± the larger of the " \
-                "sources): relative contact area a_r: grid change" in head:
-            failures.append("challenge/index.md uses the reference-load run that did not converge, or does not say so")
-        if "| 0.7 | challenge-tabor-stopped | 256² (NOT CONVERGED) |" not in idx:
-            failures.append("challenge/index.md does not mark the Tabor run that stopped before its tolerance")
-        tabor_csv = os.path.join(out, "challenge", "data", "tabor_sweep__256x256.csv")
-        if not os.path.isfile(tabor_csv) or any(ln.startswith("7.0") for ln in open(tabor_csv)):
-            failures.append("challenge/data/tabor_sweep__256x256.csv is missing or holds the run that did not converge")
-        # Items 1, 3, 4, 5 and 9 draw the stored references beside the runs, their grids and bands as stored.
-        for num in ("1", "3", "4", "5", "9"):
-            part = idx.split(f"## {num}.")[-1].split("\n## ")[0]
-            if not re.search(r"\| stored reference \(\d+²\)[^|]*\|.*\| as stored \(", part):
-                failures.append(f"challenge/index.md, item {num}: no row of the stored reference with its grid and band")
-        if "cluster-measure" in idx:
-            failures.append("challenge/index.md uses a run of results/cluster-measure/ (cost measurements)")
-        if "challenge-scaled-hardwall-s32" in idx or "seeds/seed29" in idx:
-            failures.append("challenge/index.md uses a scaled-family run found outside results/scaled-family/")
-        if "hertz-free" in idx:
-            failures.append("challenge/index.md lists a run whose case name does not start with 'challenge'")
-        # dx/λ_s and dx/ρ are cmc's (surface_facts), not recomputed by the report.
-        if "| dx/λ_s | dx/ρ |" not in idx or "| 3.906 | 188.6 |" not in idx:
-            failures.append("challenge/index.md lacks the grid-spacing table with cmc's surface_facts")
-        vidx = open(os.path.join(out, "validation", "index.md")).read()
-        # The synthetic inputs hold four checks: synthetic-pass has two that pass (penetration
-        # and its refinement study), synthetic-hertz one that passes, synthetic-fail one that
-        # fails (mean_gap).
-        if "**3 checks pass, 1 fail**" not in vidx:
-            failures.append("validation/index.md does not count 3 passing and 1 failing check")
-        if "| synthetic-fail | mean_gap | d | 0.5 | 0.001 | **FAIL** |" not in vidx:
-            failures.append("validation/index.md does not show the failing check's row")
-        # The challenge CSVs are readable by `cmc check` conventions (header row + numbers).
-        data = os.path.join(out, "challenge", "data")
-        if not os.path.isdir(data) or not any(f.startswith("load_sweep__") for f in os.listdir(data)):
-            failures.append("challenge/data/load_sweep__*.csv missing")
+        failures += _file_checks(out) + _challenge_index_checks(out) + _validation_checks(out)
         failures += profile_band_checks(np)
         failures += sweep_end_checks()
         failures += roundoff_checks(root)
         failures += transfer_checks()
         failures += realization_checks()
         failures += speed_and_hard_checks(root)
-        # Speed against error: the store's GPU runs are on it, with errors from the best estimates.
-        if "## Speed against error" not in idx or "| hard wall | Polonsky-Keer, preconditioned | GPU: " not in idx:
-            failures.append("challenge/index.md lacks the speed-against-error section or the stored GPU runs")
-        # Empty inputs: no crash, and lines saying what to run.
-        empty = os.path.join(root, "empty")
-        os.makedirs(empty, exist_ok=True)
-        r2 = subprocess.run([sys.executable, os.path.join(HERE, "make_reports.py"), "--validation",
-                             os.path.join(empty, "v"), "--results", os.path.join(empty, "r"), "--bench",
-                             os.path.join(empty, "b.json"), "--reference", os.path.join(ROOT, "reference"),
-                             "--cases", os.path.join(empty, "cases"), "--out", os.path.join(empty, "out")],
-                            capture_output=True, text=True)
-        if r2.returncode != 0:
-            failures.append(f"empty inputs: make_reports.py exited {r2.returncode}: {r2.stderr}")
-        else:
-            for sub, phrase in (("challenge", "not computed yet"), ("validation", "No validation results"),
-                                ("performance", "No records"), ("performance", "No Google Benchmark")):
-                text = open(os.path.join(empty, "out", sub, "index.md")).read()
-                if phrase not in text:
-                    failures.append(f"empty inputs: {sub}/index.md lacks '{phrase}'")
+        failures += _empty_input_checks(root)
     finally:
         if not keep:
             shutil.rmtree(root, ignore_errors=True)

@@ -1,9 +1,13 @@
 #!/usr/bin/python3
-"""Size limits of the C++ sources: no function over 80 lines, no file over 600 lines.
+"""Size limits of the C++ and Python sources: no function over 80 lines, no file over 600 lines.
 
 usage: scripts/check_sizes.py [--root DIR] [--exclude PATH ...] [--max-function N] [--max-file N] [FOLDER ...]
 
 FOLDERs (default: solver validation) are relative to --root (default: this repository).
+Every Python file (.py) under --root counts too, wherever it is, for both limits, except
+under folders whose names start with '.' and, at the top, build* and results (made, not
+written). A Python function's lines run from its `def` line to its last line (Python's own
+parser, ast); a function nested in another counts inside it too.
 Every file under them counts for the file limit (its lines, as wc -l counts them); the C++
 and CUDA sources (.cpp .hpp .h .cc .cu .cuh) also for the function limit. A function's
 lines run from the line of its body's opening brace to the line of its closing brace, both
@@ -21,6 +25,7 @@ A heuristic rather than clang's AST: it needs no compile flags or CUDA headers (
 and .cuh files parse too), no package beyond Python, and runs in well under a second.
 """
 import argparse
+import ast
 import os
 import re
 import sys
@@ -277,9 +282,45 @@ def source_files(root, folders, excludes):
                     yield rel
 
 
+def python_files(root, excludes):
+    """Every .py file under root (relative paths, sorted), but in hidden folders and the
+    top-level build* and results folders."""
+    excluded = [os.path.normpath(e) for e in excludes]
+    for dirpath, dirnames, filenames in os.walk(root):
+        top = os.path.normpath(os.path.relpath(dirpath, root)) == "."
+        dirnames[:] = sorted(d for d in dirnames if not d.startswith(".")
+                             and not (top and (d.startswith("build") or d == "results")))
+        for name in sorted(filenames):
+            rel = os.path.normpath(os.path.relpath(os.path.join(dirpath, name), root))
+            if name.endswith(".py") and not any(rel == e or rel.startswith(e + os.sep) for e in excluded):
+                yield rel
+
+
+def python_breaches(root, rel, max_function, max_file):
+    """The breaches of one Python file; one that does not parse is reported as such."""
+    with open(os.path.join(root, rel), encoding="utf-8", errors="replace") as f:
+        text = f.read()
+    lines = text.count("\n")
+    found = [f"{rel}:1: file of {lines} lines (at most {max_file})"] if lines > max_file else []
+    try:
+        tree = ast.parse(text, filename=rel)
+    except SyntaxError as e:
+        return found + [f"{rel}:{e.lineno}: cannot parse: {e.msg}"]
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            length = node.end_lineno - node.lineno + 1
+            if length > max_function:
+                found.append(f"{rel}:{node.lineno}: function {node.name} of {length} lines (at most {max_function})")
+    return sorted(found, key=lambda b: int(b.split(":")[1]))
+
+
 def check(root, folders, excludes, max_function, max_file):
     breaches = []
+    for rel in python_files(root, excludes):
+        breaches += python_breaches(root, rel, max_function, max_file)
     for rel in source_files(root, folders, excludes):
+        if rel.endswith(".py"):
+            continue  # counted above
         with open(os.path.join(root, rel), encoding="utf-8", errors="replace") as f:
             text = f.read()
         lines = text.count("\n")
@@ -312,7 +353,7 @@ def main():
     for b in breaches:
         print(b)
     print(f"check_sizes: {len(breaches)} breach(es) of {args.max_function} lines a function, "
-          f"{args.max_file} lines a file in {' '.join(args.folders)}")
+          f"{args.max_file} lines a file in {' '.join(args.folders)} and every Python file")
     return 1 if breaches else 0
 
 

@@ -12,109 +12,12 @@ spread is part of the error of every adhesive number; this script measures it
 from pairs of finished runs of the same case (same loads, step by step) and writes, per
 pair and over all pairs, the largest relative difference of a_r, repulsive a_r and mean
 gap, with each run's thread count and built-in wisdom fingerprint (summary.json grid; older
-runs lack them). reports/common.py roundoff_note() states it in the report and in the
+runs lack them). cmc.report.common roundoff_note() states it in the report and in the
 references' provenance.
 """
-import argparse
-import datetime
-import json
-import os
 import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-QUANTITIES = (("contact_fraction", "a_r"), ("repulsive_fraction", "repulsive a_r"), ("mean_gap", "mean gap"))
-
-
-def fail(msg):
-    sys.exit(f"roundoff_spread.py: {msg}")
-
-
-def load(folder):
-    path = os.path.join(folder, "summary.json")
-    try:
-        with open(path) as f:
-            return json.load(f)
-    except (OSError, ValueError) as e:
-        fail(f"{path}: {e} (expected the summary.json of a finished cmc run)")
-
-
-def value(step, key):
-    ob = step.get("observables") or {}
-    v = ob.get(key, step.get(key))
-    return float(v) if isinstance(v, (int, float)) else None
-
-
-def run_info(folder, s):
-    g = s.get("grid") or {}
-    return {"folder": os.path.relpath(os.path.abspath(folder), ROOT), "status": s.get("status"),
-            "threads": g.get("threads"), "fft_plans": g.get("fft_plans"),
-            "fft_wisdom_fingerprint": g.get("fft_wisdom_fingerprint"),
-            "fft_pairs": (s.get("timing") or {}).get("fft_pairs")}
-
-
-def compare(name, a_dir, b_dir):
-    a, b = load(a_dir), load(b_dir)
-    name_a, name_b = (x.get("case", {}).get("case", {}).get("name") for x in (a, b))
-    if name_a != name_b:
-        fail(f"{name}: {a_dir} runs case '{name_a}', {b_dir} runs '{name_b}' (expected the same case)")
-    ga, gb = a.get("grid") or {}, b.get("grid") or {}
-    if (ga.get("nx"), ga.get("ny")) != (gb.get("nx"), gb.get("ny")):
-        fail(f"{name}: grids {ga.get('nx')}² and {gb.get('nx')}² differ (expected the same grid)")
-    steps = list(zip(a.get("steps") or [], b.get("steps") or []))
-    if not steps:
-        fail(f"{name}: no load step in common")
-    rows, largest = [], {k: {"relative": 0.0, "step": None} for k, _ in QUANTITIES}
-    for sa, sb in steps:
-        pa, pb = value(sa, "mean_pressure"), value(sb, "mean_pressure")
-        if pa is None or pb is None or abs(pa - pb) > 1e-6 * max(abs(pa), abs(pb)):
-            fail(f"{name}: step {sa.get('index')} is at {pa} Pa in one run and {pb} Pa in the other "
-                 "(expected the same loads)")
-        row = {"step": sa.get("index"), "pressure_Pa": pa, "iterations": [sa.get("iterations"), sb.get("iterations")]}
-        for key, _ in QUANTITIES:
-            va, vb = value(sa, key), value(sb, key)
-            if va is None or vb is None:
-                continue
-            rel = abs(va - vb) / abs(va) if va else abs(vb)
-            row[key] = rel
-            if rel > largest[key]["relative"]:
-                largest[key] = {"relative": rel, "step": sa.get("index"), "pressure_Pa": pa}
-        rows.append(row)
-    same = sum(1 for r in rows if all(r.get(k, 0.0) == 0.0 for k, _ in QUANTITIES))
-    return {"name": name, "runs": [run_info(a_dir, a), run_info(b_dir, b)], "steps_compared": len(rows),
-            "steps_identical": same, "largest": largest, "per_step": rows}
-
-
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--out", default=os.path.join(ROOT, "reference", "challenge", "roundoff_spread.json"))
-    ap.add_argument("pairs", nargs="+", metavar="NAME:RUN_A:RUN_B")
-    a = ap.parse_args()
-    comparisons = []
-    for p in a.pairs:
-        parts = p.split(":")
-        if len(parts) != 3 or not all(parts):
-            fail(f"'{p}': expected NAME:RUN_A:RUN_B (a label and two run folders)")
-        comparisons.append(compare(*parts))
-    overall = {}
-    for key, label in QUANTITIES:
-        best = max(comparisons, key=lambda c: c["largest"][key]["relative"])
-        overall[key] = {"label": label, "relative": best["largest"][key]["relative"], "from": best["name"],
-                        "step": best["largest"][key].get("step"), "pressure_Pa": best["largest"][key].get("pressure_Pa")}
-    doc = {"what": "round-off spread of the challenge's results: the same case by two builds (each plans its FFTs "
-                   "at build time) or at two thread counts; largest relative difference per quantity",
-           "command": "scripts/roundoff_spread.py " + " ".join(a.pairs),
-           "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
-           "largest": overall, "comparisons": comparisons}
-    tmp = a.out + ".tmp"
-    with open(tmp, "w") as f:
-        json.dump(doc, f, indent=1)
-        f.write("\n")
-    os.replace(tmp, a.out)
-    for c in comparisons:
-        print(f"{c['name']}: {c['steps_identical']} of {c['steps_compared']} steps with all three to the last bit; largest "
-              + ", ".join(f"{label} {c['largest'][k]['relative']:.2g}" for k, label in QUANTITIES), file=sys.stderr)
-    print(f"roundoff_spread.py: wrote {a.out}", file=sys.stderr)
-
+from cmc.roundoff_spread import main
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main(sys.argv[1:], __doc__))

@@ -17,6 +17,8 @@ packages+=(python3-dev pybind11-dev python3-pybind11 python3-pytest
            python3-setuptools python3-wheel python3-pip python3-venv)
 # Property tests of the run store and the Python API (tests/gpu_store, tests/python): hypothesis.
 packages+=(python3-hypothesis)
+# The type check of the package python/cmc (ctest python.mypy): mypy.
+packages+=(mypy)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -11,7 +11,11 @@ the checker on it:
   - braces in comments, strings, raw strings, character literals and preprocessor lines,
     a long class, enum, namespace or table of values, and a long brace initializer are no
     function: only the long function after them is reported, at its line;
-  - --exclude leaves out a folder; a source whose braces do not pair up exits 1.
+  - --exclude leaves out a folder; a source whose braces do not pair up exits 1;
+  - a Python file anywhere in the tree (not only under the FOLDERs) counts: a function of 81
+    lines (a nested one counting inside it) and a file of 601 lines exit 1, 80 and 600 exit 0;
+    a `def` inside a string is no function; build* and hidden folders are left out; a Python
+    file that does not parse exits 1.
 """
 import os
 import subprocess
@@ -27,11 +31,17 @@ def body(lines):
     return "".join(f"  x += {k};\n" for k in range(lines))
 
 
+def py_body(lines, indent=4):
+    """lines statements of a Python function body."""
+    return "".join(" " * indent + f"x += {k}\n" for k in range(lines))
+
+
 def tree(tmp, name, files):
     root = os.path.join(tmp, name)
     for folder in ("solver/cmc", "validation"):
         os.makedirs(os.path.join(root, folder))
     for rel, text in files.items():
+        os.makedirs(os.path.dirname(os.path.join(root, rel)), exist_ok=True)
         with open(os.path.join(root, rel), "w", encoding="utf-8") as f:
             f.write(text)
     return root
@@ -78,6 +88,18 @@ CASES = [
     ("exclude_folder", {"solver/cmc/Long.cpp": "int f(int x) {\n" + body(90) + "}\n"}, 0, "0 breach"),
     ("unpaired_braces", {"solver/cmc/Broken.cpp": "int f(int x) {\n  x += 1;\n"}, 1,
      "solver/cmc/Broken.cpp: cannot pair the braces"),
+    ("python_function_of_81_lines", {"scripts/long.py": "import os\n\n\ndef f(x):\n" + py_body(80)}, 1,
+     "scripts/long.py:4: function f of 81 lines"),
+    ("python_function_of_80_lines", {"scripts/fits.py": "def f(x):\n" + py_body(79)}, 0, "0 breach"),
+    ("python_nested_function", {"python/pkg/nested.py": "def outer(x):\n    def inner(x):\n" + py_body(40, 8)
+                                + "        return x\n" + py_body(40) + "    return inner(x)\n"}, 1,
+     "python/pkg/nested.py:1: function outer of 84 lines (at most 80)\ncheck_sizes: 1 breach"),
+    ("python_file_of_601_lines", {"reports/big.py": "# a line\n" * 601}, 1, "reports/big.py:1: file of 601 lines"),
+    ("python_file_of_600_lines", {"reports/fits.py": "# a line\n" * 600}, 0, "0 breach"),
+    ("python_def_in_string", {"tests/text.py": 'TEXT = """\ndef f(x):\n' + py_body(90) + '"""\n'}, 0, "0 breach"),
+    ("python_made_folders_left_out", {"build/long.py": "def f(x):\n" + py_body(90),
+                                      ".hidden/long.py": "def f(x):\n" + py_body(90)}, 0, "0 breach"),
+    ("python_syntax_error", {"scripts/broken.py": "def f(x:\n    return x\n"}, 1, "scripts/broken.py:1: cannot parse"),
 ]
 
 

@@ -21,7 +21,7 @@
                  Richardson of order 1 recovers the converged value, the band is the coarsest
                  grid's distance from it plus the spread of the other estimates, the observed order
                  is 1; a pair whose coarser grid has dx > 1.6 rho is not used, and grids that do not
-                 double give nothing. reports/challenge_report.py sweep_band on synthetic runs: a
+                 double give nothing. cmc.report.challenge_runs sweep_band on synthetic runs: a
                  Tabor-sweep point refined on grids that resolve rho takes that band (on the finest
                  grid too: its own distance from the estimate), one that is not (dx = 7.9 rho on its
                  coarser grid) keeps the family's.
@@ -175,7 +175,6 @@ def bands():
 
 def own_refinement():
     from cmc.analysis import refinement
-    import challenge_report
 
     def grid(nx, k, v, corrected=None, b=None):
         # b: the bistability number; at mu_T = 3 about dx/rho (the family: 0.99-1.04 dx/rho)
@@ -213,18 +212,28 @@ def own_refinement():
     assert got is not None and abs(got["v_inf"] - 0.02) < 1e-12, got
     assert refinement.own_refinement([grid(2048, 1.2, v[2048], b=refinement.REFINEMENT_BISTABILITY * 1.01),
                                   grid(4096, 0.6, v[4096], b=0.5 * refinement.REFINEMENT_BISTABILITY * 1.01)]) is None
+    sweep_bands_and_tabor_curves(v)
 
-    def summary(n, tabor, ar, gap):
-        return {"case": {"case": {"name": "challenge-tabor-sweep"},
-                         "interaction": {"kind": "exponential", "tabor": tabor}},
-                "status": "converged", "grid": {"nx": n, "ny": n, "dx": 1e-4 / n},
-                # rho = 2.071 nm * 3 / mu_T; b = w dx / (E* rho^2) = 0.965 dx/rho at mu_T = 3 (the challenge's)
-                "surface_facts": {"dx_over_range": 1e-4 / n / (2.071e-9 * 3 / tabor),
-                                  "bistability_number": 0.965 * tabor / 3 * 1e-4 / n / (2.071e-9 * 3 / tabor)},
-                "steps": [{"observables": {"mean_pressure": 250e3, "contact_fraction": ar,
-                                           "contact_fraction_corrected": 0.9 * ar, "mean_gap": gap}}]}
+
+def tabor_summary(n, tabor, ar, gap):
+    """summary.json of a synthetic Tabor-sweep run at 250 kPa."""
+    return {"case": {"case": {"name": "challenge-tabor-sweep"},
+                     "interaction": {"kind": "exponential", "tabor": tabor}},
+            "status": "converged", "grid": {"nx": n, "ny": n, "dx": 1e-4 / n},
+            # rho = 2.071 nm * 3 / mu_T; b = w dx / (E* rho^2) = 0.965 dx/rho at mu_T = 3 (the challenge's)
+            "surface_facts": {"dx_over_range": 1e-4 / n / (2.071e-9 * 3 / tabor),
+                              "bistability_number": 0.965 * tabor / 3 * 1e-4 / n / (2.071e-9 * 3 / tabor)},
+            "steps": [{"observables": {"mean_pressure": 250e3, "contact_fraction": ar,
+                                       "contact_fraction_corrected": 0.9 * ar, "mean_gap": gap}}]}
+
+
+def sweep_bands_and_tabor_curves(v):
+    """The Tabor sweep's bands from its own refinement (sweep_band) on synthetic runs with
+    values v[n], and its reference curves without a run that stopped early."""
+    from cmc.references import curves as challenge_reference
+    from cmc.report import challenge_runs as challenge_report
     challenge_report.run_band = lambda s, short: (1.0, 0.33, 0.01, 0.33, [])  # the family's, say
-    runs = [challenge_report.Run(summary(n, mu, v[n] * (1 + mu), 1e-6 * (1 + 0.001 * 2048 / n)), f"/x/{n}/{mu}")
+    runs = [challenge_report.Run(tabor_summary(n, mu, v[n] * (1 + mu), 1e-6 * (1 + 0.001 * 2048 / n)), f"/x/{n}/{mu}")
             for n in (2048, 4096) for mu in (0.1, 1.0)]
     assert all(r.name == "challenge-tabor-sweep" for r in runs), [r.name for r in runs]
     at = {(r.nx, r.run_tabor): r for r in runs}
@@ -240,14 +249,13 @@ def own_refinement():
     assert own is None and band == 0.33, (band, own)
 
     # A run that stopped before its tolerance is no point of the reference curves (items 6, 7).
-    import challenge_reference
     tmp = tempfile.mkdtemp(prefix="cmc_scaled_family_test_")
     try:
         sweep = []
         for mu, status in ((0.1, "converged"), (0.3, "not_converged"), (1.0, "converged"), (3.0, "converged")):
             d = os.path.join(tmp, f"mu_T_{mu}")
             os.makedirs(d)
-            s = summary(2048, mu, 0.03, 1e-6)
+            s = tabor_summary(2048, mu, 0.03, 1e-6)
             s["status"] = status
             s["steps"][0]["converged"] = status == "converged"
             s["grid"].update(size_x=1e-4, size_y=1e-4)

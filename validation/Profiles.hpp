@@ -1,5 +1,5 @@
 // Solved fields beside their analytic reference, point by point, for the validation
-// report's profile figures (reports/validation_report.py only draws these columns).
+// report's profile figures (python/cmc/report/validation.py only draws these columns).
 //
 // `cmc validate --out DIR` writes DIR/<case>/profiles.csv for the references that have
 // a field-wise closed form (hertz, hertz_periodic, westergaard): one row per grid point

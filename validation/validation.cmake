@@ -203,10 +203,19 @@ add_test(NAME docs.performance_tables COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DI
 set_tests_properties(docs.links docs.comments docs.quickstarts docs.checker_fails_on_broken_links docs.performance_tables
                      PROPERTIES LABELS "quick;python" TIMEOUT 300)
 # Size limits (scripts/check_sizes.py): no function over 80 lines and no file over 600 lines in
-# solver/ and validation/; the checker fails on what it is there to catch (tests/check_sizes_test.py).
+# solver/, validation/ and every Python file; the checker fails on what it is there to catch
+# (tests/check_sizes_test.py).
 add_test(NAME sizes.limits COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/scripts/check_sizes.py)
 add_test(NAME sizes.checker_fails_on_breaches COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/tests/check_sizes_test.py)
 set_tests_properties(sizes.limits sizes.checker_fails_on_breaches PROPERTIES LABELS "quick;python")
+# No import circle among python/cmc, scripts/ and reports/ (read, not run; the checker first
+# finds a circle it was given), and the package type-checks (Debian's mypy, pyproject.toml).
+add_test(NAME imports.no_circles COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/tests/import_cycles_test.py)
+add_test(NAME python.mypy
+         COMMAND /usr/bin/mypy --config-file ${CMAKE_SOURCE_DIR}/pyproject.toml
+                 --cache-dir ${CMAKE_BINARY_DIR}/mypy_cache ${CMAKE_SOURCE_DIR}/python/cmc
+         WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
+set_tests_properties(imports.no_circles python.mypy PROPERTIES LABELS "quick;python")
 # The README's headline table is what scripts/headline_table.py makes of the stored best estimates.
 add_test(NAME docs.headline COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/scripts/headline_table.py --check)
 set_tests_properties(docs.headline PROPERTIES LABELS "quick;python")

@@ -1,5 +1,6 @@
 """A solve on heights given as a numpy array: cmc.solve, its interactions and its Solution."""
 from dataclasses import dataclass
+from typing import Optional
 
 import numpy as np
 
@@ -24,8 +25,8 @@ class Exponential:
     (cases/README.md, [interaction]).
     """
     w: float
-    rho: float = None
-    tabor: float = None
+    rho: Optional[float] = None
+    tabor: Optional[float] = None
     coarse_graining: str = "none"
 
     def _keys(self):

@@ -205,7 +205,7 @@ def transfer_check(ratios: Dict[int, float], own_seed: int = OWN_SEED) -> Option
         return None
     own = ratios[own_seed]
     diffs = {s: abs(r / own - 1) for s, r in ratios.items() if s != own_seed}
-    worst = max(diffs, key=diffs.get)
+    worst = max(diffs, key=lambda s: diffs[s])
     return {"own": own, "others": {s: ratios[s] for s in diffs}, "largest": diffs[worst], "seed": worst}
 
 

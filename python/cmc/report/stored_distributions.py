@@ -4,13 +4,13 @@ curve with its band as the file stores it (column `# band:`), its grid named in 
 the table row. The report's own runs are drawn beside them, each with the band its own results
 give; a stored band belongs to the stored grid and is not lent to another.
 
-A stored reference is the dict of challenge_report._stored: {path, meta, x, y, band}.
+A stored reference is the dict of cmc.report.challenge_runs._stored: {path, meta, x, y, band}.
 """
 import re
 
 import numpy as np
 
-from common import CHALLENGE, fmt
+from .common import CHALLENGE, fmt
 
 
 def grid_name(ref):

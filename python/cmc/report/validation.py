@@ -12,7 +12,7 @@ import os
 
 import numpy as np
 
-from common import fmt, get, load_json, md_table, plt, read_reference_csv, rel, savefig, case_name
+from .common import fmt, get, load_json, md_table, plt, read_reference_csv, rel, savefig, case_name
 
 
 def _collect(validation_dirs, notes):

@@ -1,18 +1,17 @@
 """The challenge report's speed and stability: speed against error at the reference load (every
 run the store holds and the user's own, python/cmc/analysis/speed.py computes the numbers) and
 the hard-case suite's results (cases/hard/, `ctest -L hard`, build/hard/<case>/summary.json).
-challenge_report.py calls section(); this module only draws and tabulates."""
+cmc.report.challenge calls section(); this module only draws and tabulates."""
 import glob
 import os
 
 import numpy as np
 
-from common import fmt, load_json, md_table, plt, rel, savefig  # common puts python/ on the path
+from .common import fmt, load_json, md_table, plt, rel, savefig
 
 from cmc.analysis import speed  # noqa: E402
-from cmc.analysis.runs import load_store, record  # noqa: E402
+from cmc.analysis.runs import REPO, load_store, record  # noqa: E402
 
-REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 PROBLEMS = (("hardwall", "hard wall"), ("adhesive", "with adhesion (μ_T = 3)"))
 
 

@@ -9,7 +9,7 @@ references, the fair comparison for a surface of its own. It computes nothing bu
 import json
 import os
 
-from common import fmt, get, md_table, read_reference_csv
+from .common import fmt, get, md_table, read_reference_csv
 
 P0 = 250e3
 

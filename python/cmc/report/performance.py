@@ -15,7 +15,7 @@ import re
 
 import numpy as np
 
-from common import finite, fmt, gpu_row_head, gpu_section, load_json, md_table, plt, savefig
+from .common import finite, fmt, gpu_row_head, gpu_section, label_axes, load_json, md_table, plt, savefig
 
 
 def _records(perf_dir, notes):
@@ -53,11 +53,7 @@ def _speed_vs_error(recs, out_dir):
             for e, w, r in pts:
                 ax.annotate(f"{r.get('grid', '')}, tol {fmt(r.get('tolerance'), 2)}", (w, e), fontsize=6,
                             textcoords="offset points", xytext=(3, 3))
-        ax.set_xlabel("wall time (s)")
-        ax.set_ylabel(f"error of {q}")
-        ax.set_title(f"speed vs accuracy: {q}", fontsize=10)
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=7)
+        label_axes(ax, "wall time (s)", f"error of {q}", f"speed vs accuracy: {q}")
         path = os.path.join(out_dir, f"speed_vs_error_{re.sub(r'[^A-Za-z0-9_.-]', '_', q)}.png")
         savefig(fig, path)
         figs.append((q, path))
@@ -127,11 +123,7 @@ def _bench_plot(fam, same, out_dir):
         if fname not in ("BM_FFTPair", "BM_PolonskyKeerIteration") and d:
             ns = sorted(d)
             a1.loglog(ns, [d[n] * 1e3 for n in ns], ".--", lw=0.8, label=fname)
-    a1.set_xlabel("grid points per side n (n × n grid)")
-    a1.set_ylabel("time (ms)")
-    a1.set_title("time per FFT pair and per iteration", fontsize=10)
-    a1.grid(True, which="both", alpha=0.3)
-    a1.legend(fontsize=7)
+    label_axes(a1, "grid points per side n (n × n grid)", "time (ms)", "time per FFT pair and per iteration")
     common = sorted(set(fft) & set(it))
     rows = []
     if same:

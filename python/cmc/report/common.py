@@ -22,7 +22,7 @@ from cmc.analysis.conditions import condition_holds, quantity_holds, worst_failu
 from cmc.analysis.family import STRATEGIES, family_members, seed_members  # noqa: E402
 from cmc.analysis.s_route import assessment  # noqa: E402
 from cmc.analysis.transfer import realization_deviations, transfer_check, transfer_verdict  # noqa: E402
-from cmc.analysis.runs import get  # noqa: E402,F401
+from cmc.analysis.runs import REPO, get  # noqa: E402,F401
 
 import matplotlib  # noqa: E402
 
@@ -98,6 +98,15 @@ def fmt(x, digits=4):
             return f"{x:.{digits}g}"
         return f"{x:.{digits - 1}e}"
     return str(x)
+
+
+def label_axes(ax, xlabel, ylabel, title):
+    """A report's axes: their labels, the title, a grid on every decade and a small legend."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title, fontsize=10)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7)
 
 
 def savefig(fig, path):
@@ -188,8 +197,7 @@ def rel(path, start):
 # ---------------------------------------------------------------- round-off spread
 # Measured by scripts/roundoff_spread.py from pairs of runs of one case by two builds or at
 # two thread counts.
-ROUNDOFF_STORE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "reference", "challenge",
-                              "roundoff_spread.json")
+ROUNDOFF_STORE = os.path.join(REPO, "reference", "challenge", "roundoff_spread.json")
 
 
 def roundoff_note(path=ROUNDOFF_STORE, rel=None):
