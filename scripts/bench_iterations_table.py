@@ -9,16 +9,34 @@ usage: bench_iterations_table.py RUNS_DIR JSON_PATH TOLERANCE GRID [GRID ...]
 """
 import json
 import os
+import re
 import sys
 
 STORE = "reference/challenge/runs.json"
 
 
+def unfinished_record(path):
+    """Where a run was stopped before it converged: the counts of its last checkpoint (lower
+    bounds), or None where it has none."""
+    checkpoint = os.path.join(path, ".partial", "checkpoint.h5")
+    if not os.path.exists(checkpoint):
+        return None
+    import h5py
+    with h5py.File(checkpoint, "r") as f:
+        progress = f["progress"][()].decode()
+    counts = dict(re.findall(r"^(iterations|outer|fft_pairs) = ([0-9.]+)$", progress, re.M))
+    if "iterations" not in counts:
+        return None
+    return {"iterations": int(counts["iterations"]), "outer_steps": int(counts.get("outer", 0)),
+            "fft_pairs": float(counts.get("fft_pairs", 0)), "a_r": None, "mean_gap_m": None, "solve_s": None,
+            "threads": 1, "status": "unfinished: stopped before it converged; its last checkpoint's counts (lower bounds)"}
+
+
 def run_record(path):
-    """What one finished run measured, or None where it has no summary."""
+    """What one finished run measured, an unfinished one's last checkpoint, or None."""
     summary = os.path.join(path, "summary.json")
     if not os.path.exists(summary):
-        return None
+        return unfinished_record(path)
     with open(summary) as f:
         s = json.load(f)
     last = s["steps"][-1]
@@ -51,7 +69,7 @@ def stored_shape(n):
 
 def against_stored(run, n):
     old = stored_shape(n)
-    if run is None or old is None:
+    if run is None or old is None or run["a_r"] is None:
         return None
     return {"stored_iterations": old["iterations"], "stored_a_r": old["a_r"],
             "stored_mean_gap_m": old["mean_gap_m"], "stored_solve_s": old["solve_s"],
@@ -79,6 +97,9 @@ def grid_entry(top, n, prev):
             if warm is not None:
                 entry[f"{k}_from_{prev}"] = warm
                 entry[f"{k}_warm_over_cold"] = ratio(warm, cold[k])
+    unfinished = [k for k, r in entry.items() if isinstance(r, dict) and r.get("status", "").startswith("unfinished")]
+    if unfinished:
+        entry["unfinished"] = unfinished  # their counts, and the ratios with them, are bounds
     return entry
 
 
@@ -124,11 +145,14 @@ def print_table(grids):
         for k, r in e.items():
             if isinstance(r, dict) and "iterations" in r:
                 print(f"| {e['n']}² | {k} | {r['iterations']} | {fmt(r['outer_steps'], 'd')} | {fmt(r['a_r'], '.6f')} | "
-                      f"{fmt(None if r['mean_gap_m'] is None else r['mean_gap_m'] * 1e6, '.6f')} | {r['solve_s']:.0f} | {r['status']} |")
+                      f"{fmt(None if r['mean_gap_m'] is None else r['mean_gap_m'] * 1e6, '.6f')} | {fmt(r['solve_s'], '.0f')} | {r['status']} |")
         for k in ("shape_over_plain", "before_shape_over_plain", "plain_over_before", "shape_over_before",
                   "plain_warm_over_cold", "shape_warm_over_cold"):
             if k in e:
                 print(f"| {e['n']}² | {k.replace('_over_', '/')} | {fmt(e[k], '.2f')} | | | | | |")
+        if e.get("unfinished"):
+            print(f"| {e['n']}² | unfinished: {', '.join(e['unfinished'])} | their counts are lower bounds, "
+                  "and so are the ratios over a finished run | | | | | |")
 
 
 if __name__ == "__main__":
