@@ -1,11 +1,14 @@
 #!/usr/bin/python3
 """A run capped by solver.max_seconds (`cmc run`): the challenge's adhesive case at 512² on one
-thread, with a tension tolerance (1e-7) that its quasi-static solve does not reach in the cap
-on any machine, so the cap and nothing else ends it. The run must exit 3, write summary.json
+thread, with a tension tolerance (1e-300) that its quasi-static solve never reaches (the
+tensions change by round-off, about 3e-13 of w/ρ, at every outer step) and no outer-step
+limit in reach, so the cap and nothing else ends it (a tolerance of 1e-7 or 1e-9 converged
+in 2.7 and 5.5 s on a quiet machine). The run must exit 3, write summary.json
 (status not_converged, a message naming solver.max_seconds), and its solve must
 have used its cap and ended within 10 % of it: the limit stops a Polonsky-Keer solve in flight,
 so the overrun is one inner iteration and the outer step's bookkeeping. Measured on the shared
-2-core machine under load (six processes): a cap of 4 s ended at 4.02 s (26 outer steps).
+2-core machine: a cap of 4 s ended at 4.02-4.06 s under load (six processes), and a cap of
+10 s at 10.01 s (419 outer steps) with less.
 
 usage: tests/time_limit_test.py CMC WORKDIR
 Exits 0 on success, 1 with the reasons on failure.
@@ -28,7 +31,7 @@ def main(cmc, work):
     os.makedirs(work, exist_ok=True)
     cmd = [cmc, "run", os.path.join(root, "cases/challenge/reference-load.toml"), "--quiet", "--out", out,
            "--set", "grid.n=512", "--set", "output.fields=false", "--set", f"solver.max_seconds={CAP_S}",
-           "--set", "solver.tension_tolerance=1e-7"]
+           "--set", "solver.tension_tolerance=1e-300", "--set", "solver.max_outer_steps=100000"]
     start = time.monotonic()
     p = subprocess.run(cmd, env=dict(os.environ, CMC_THREADS="1"), capture_output=True, text=True)
     process_s = time.monotonic() - start
