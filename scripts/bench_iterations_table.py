@@ -109,9 +109,18 @@ def plan_factors(grids_out, tolerance):
     f = {"tolerance": tolerance}
     for key, name in (("plain_over_before", "plain"), ("shape_over_before", "shape"),
                       ("plain_warm_over_cold", "warm_plain"), ("shape_warm_over_cold", "warm_shape")):
-        have = [e for e in grids_out if e.get(key) is not None]
+        have = [e for e in grids_out if e.get(key) is not None and not (name.endswith("shape") and e.get("unfinished"))]
         if have:
             f[name], f[name + "_grid"] = have[-1][key], have[-1]["n"]
+    # A finer grid whose shape run was stopped unconverged, against the stored run of the same
+    # command (the older program's, which iterated like the build before at 2048²): its count
+    # bounds the factor from below there, and the larger of the two is kept.
+    for e in grids_out:
+        run, old = e.get("shape"), stored_shape(e["n"])
+        if run and old and run["status"].startswith("unfinished") and "shape" in f:
+            bound = run["iterations"] / old["iterations"]
+            if bound > f["shape"]:
+                f["shape"], f["shape_grid"], f["shape_is_lower_bound"] = bound, e["n"], True
     return f
 
 

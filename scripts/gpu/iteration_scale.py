@@ -52,4 +52,5 @@ def describe(tables):
     """One line per record: its file, tolerance and factors."""
     keys = ("plain", "shape", "warm_plain")
     return [f"{f['source']} (inner tolerance {f['tolerance']:g}): "
-            + ", ".join(f"{k} x{f[k]:.2f} ({f[k + '_grid']}²)" for k in keys if k in f) for f in tables]
+            + ", ".join(f"{k} x{f[k]:.2f}{' at least' if f.get(k + '_is_lower_bound') else ''} ({f[k + '_grid']}²)"
+                        for k in keys if k in f) for f in tables]
