@@ -25,3 +25,9 @@ foreach(test same_state resume bad_input)
                    ${CMAKE_BINARY_DIR}/start-from-tests ${test})
   set_tests_properties(start_from.${test} PROPERTIES LABELS "quick;python" TIMEOUT 300)
 endforeach()
+# A run capped by solver.max_seconds ends within 10 % of its cap with its summary written,
+# not_converged (tests/time_limit_test.py).
+add_test(NAME time_limit.capped_run
+         COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/tests/time_limit_test.py $<TARGET_FILE:cmc>
+                 ${CMAKE_BINARY_DIR}/time-limit-tests)
+set_tests_properties(time_limit.capped_run PROPERTIES LABELS "quick;python" TIMEOUT 120)

@@ -154,13 +154,13 @@ TEST(PolonskyKeer, NearFullContactWestergaard) {
 // not the answer: on a self-affine surface (256², the challenge's H and rms gradient 1,
 // cutoff 4 dx) at loads from 0.15 % to 95 % contact, both methods satisfy the
 // complementarity to the same tolerance, so their pressures agree to that tolerance and
-// their contact sets are the same. Near full contact the plain conjugate gradients restart
-// at nearly every step (points leave and join the contact set) and creep; the
-// preconditioned ones do not. Measured here (tolerance 1e-10), iterations plain /
-// preconditioned: 34 / 26 at 0.0005 E*, 113 / 42 at 0.05, 308 / 45 at 0.5, 247 / 23 at 0.9
-// (6.8x and 10.7x at half contact and beyond; on 128² the same loads gave 4.7x and 7.0x:
-// the plain method's count grows with the grid). The bound below, 5x, sits under the
-// measured ratios at this grid. On the challenge at 512²: 1212 / 38 at 17.5 MPa.
+// their contact sets are the same. Near full contact points leave and join the contact set
+// at nearly every step; the plain conjugate gradients creep there. Measured here (tolerance
+// 1e-10), iterations plain / preconditioned: 33 / 26 at 0.0005 E*, 78 / 36 at 0.05, 129 / 39
+// at 0.5, 122 / 23 at 0.9 (3.3x and 5.3x at half contact and beyond). Before the directions
+// were kept across small changes of the contact set (pk::kConjugateAcross), the plain method
+// restarted at every change and took 113, 308 and 247 (6.8x and 10.7x), the preconditioned
+// one 42, 45 and 23. The bound below, 2.5x, sits under the measured ratios at this grid.
 TEST(PolonskyKeer, StiffnessPreconditionerSameAnswerFewerIterations) {
   const auto surf = rough_surface(256, 3);
   const Grid& g = surf.map.grid;
@@ -187,8 +187,8 @@ TEST(PolonskyKeer, StiffnessPreconditionerSameAnswerFewerIterations) {
     }
     EXPECT_LT(dmax, 1e-6 * pmax);
     EXPECT_NEAR(a.penetration, b.penetration, 1e-8 * std::abs(a.penetration) + 1e-12);
-    // At half contact and beyond, at least five times fewer iterations (measured 6.8x and 10.7x).
-    if (p >= 0.5) EXPECT_LT(5 * rb.iterations, ra.iterations);
+    // At half contact and beyond, at least 2.5 times fewer iterations (measured 3.3x and 5.3x).
+    if (p >= 0.5) EXPECT_LT(2.5 * rb.iterations, ra.iterations);
   }
 }
 

@@ -516,26 +516,39 @@ TEST(QuasiStatic, TimeLimitAlsoStopsAnInnerSolve) {
 }
 
 // The cascade's move floor (qs::move_floor): kNoiseMargin times the inner solves' gap error,
-// tolerance x rms height, held between kMinMoveFloor and kMoveFloor ρ. On the challenge at
-// μ_T = 1 (ρ = 6.217 nm, rms height 750.4 nm): the case's inner tolerance 1e-6 keeps the old
-// floor 1e-3 ρ (the stored runs' bits), 1e-8 gives 1.207e-4 ρ (the 8192² run), and a
-// tolerance of 0 the smallest floor, not 0 (a cascade that never stops). The solver uses the
-// rule with Polonsky-Keer's residual scale of its heights.
+// tolerance x rms height, held between kMinMoveFloor and kMoveFloor ρ (kMonostableMoveFloor
+// ρ where no point is bistable). On the challenge at μ_T = 1 (ρ = 6.217 nm, rms height
+// 750.4 nm): the case's inner tolerance 1e-6 keeps the old floor 1e-3 ρ (the stored runs'
+// bits), 1e-8 gives 1.207e-4 ρ (the 8192² run), and a tolerance of 0 the smallest floor,
+// not 0 (a cascade that never stops); a monostable law at 1e-6 has 1e-4 ρ and at 1e-8 keeps
+// the noise rule's 1.207e-4 ρ capped there. The solver uses the rule with Polonsky-Keer's
+// residual scale of its heights, and tells monostable laws (the shape coarse-graining's)
+// from bistable ones (the challenge's patch at dx = 24 ρ) by the law's largest curvature
+// against the self-stiffness.
 TEST(QuasiStatic, MoveFloorFollowsTheInnerTolerance) {
   const double rho = 6.217e-9, h = 750.4e-9;
-  EXPECT_EQ(qs::move_floor(rho, 1e-6, h), qs::kMoveFloor * rho);
-  EXPECT_NEAR(qs::move_floor(rho, 1e-8, h) / rho, qs::kNoiseMargin * 1e-8 * h / rho, 1e-12);
-  EXPECT_NEAR(qs::move_floor(rho, 1e-8, h) / rho, 1.207e-4, 1e-7);
-  EXPECT_EQ(qs::move_floor(rho, 0.0, h), qs::kMinMoveFloor * rho);
-  EXPECT_EQ(qs::move_floor(rho, 1e-14, h), qs::kMinMoveFloor * rho);
+  EXPECT_EQ(qs::move_floor(rho, 1e-6, h, false), qs::kMoveFloor * rho);
+  EXPECT_NEAR(qs::move_floor(rho, 1e-8, h, false) / rho, qs::kNoiseMargin * 1e-8 * h / rho, 1e-12);
+  EXPECT_NEAR(qs::move_floor(rho, 1e-8, h, false) / rho, 1.207e-4, 1e-7);
+  EXPECT_EQ(qs::move_floor(rho, 0.0, h, false), qs::kMinMoveFloor * rho);
+  EXPECT_EQ(qs::move_floor(rho, 1e-14, h, false), qs::kMinMoveFloor * rho);
+  EXPECT_EQ(qs::move_floor(rho, 1e-6, h, true), qs::kMonostableMoveFloor * rho);
+  EXPECT_EQ(qs::move_floor(rho, 1e-8, h, true), qs::kMonostableMoveFloor * rho);
+  EXPECT_NEAR(qs::move_floor(rho, 1e-9, h, true) / rho, qs::kNoiseMargin * 1e-9 * h / rho, 1e-12);
   RoughPatch s;
   PeriodicHalfSpace hs(s.map.grid, 1.0);
-  const ExponentialAdhesion adh(s.w, s.rho);
-  for (double tol : {1e-4, 1e-10}) {
+  const ExponentialAdhesion plain(s.w, s.rho);
+  const ExponentialAdhesion shape = shape_coarse_grained(s.w, s.rho, hs.self_stiffness());
+  ASSERT_GT(plain.largest_curvature(), hs.self_stiffness());  // every point bistable
+  ASSERT_LT(shape.largest_curvature(), hs.self_stiffness());  // none
+  for (double tol : {1e-4, 1e-6, 1e-10}) {
     QuasiStaticAdhesion::Options o;
     o.tolerance = tol;
-    const QuasiStaticAdhesion qs(hs, s.map.heights, adh, o);
-    EXPECT_EQ(qs.move_floor(), qs::move_floor(adh.range(), tol, PolonskyKeer::residual_scale(s.map.heights))) << tol;
+    const double hr = PolonskyKeer::residual_scale(s.map.heights);
+    EXPECT_EQ(QuasiStaticAdhesion(hs, s.map.heights, plain, o).move_floor(),
+              qs::move_floor(plain.range(), tol, hr, false)) << tol;
+    EXPECT_EQ(QuasiStaticAdhesion(hs, s.map.heights, shape, o).move_floor(),
+              qs::move_floor(shape.range(), tol, hr, true)) << tol;
   }
 }
 

@@ -17,11 +17,13 @@ not fit in the time left is dropped before anything starts, and the plan says so
   6. the plain challenge on 16384² with its fields, then on 32768² started from it (the
      challenge's own check of the shape strategy: plain approaching it from below).
 Estimates come from the run store (reference/challenge/runs.json: the same kind of run on the
-same backend, scaled by the grid's points where only another grid was run) plus a start-up
-allowance. Stages are kept in order while their estimates fit in the deadline; each stage's cap
-is its estimate plus half (and 10 s), the deadline cuts the last one short, and quasi-static
-solves stop themselves inside their cap (scripts/gpu/check.sh: solver.max_seconds), so every
-run leaves its summary.
+same backend, scaled by the grid's points where only another grid was run, and by the present
+solver's iterations over the stored run's program's, measured on the CPU: scripts/gpu/iteration_scale.py)
+plus a start-up allowance. After the plan, the dry run says what every stage together needs and
+which stage is too long for a deadline of its own. Stages are kept in order while their estimates
+fit in the deadline; each stage's cap is its estimate plus half (and 10 s), the deadline cuts the
+last one short, and quasi-static solves stop themselves inside their cap (scripts/gpu/check.sh:
+solver.max_seconds), so every run leaves its summary.
 
 --scale K divides every grid by K and --cpu runs the same stages on the CPU backend: the whole
 plan, end to end, at small grids (the test command runs it with --scale 64 --cpu). The pack is
@@ -36,6 +38,8 @@ import subprocess
 import sys
 import tarfile
 import time
+
+import iteration_scale
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 TABOR = [v for line in open(os.path.join(ROOT, "cases", "challenge", "tabor-values"))
@@ -65,10 +69,11 @@ def stages(scale):
     return out
 
 
-def estimate(kind, n, backend, records):
+def estimate(kind, n, backend, records, stage="", tables=()):
     """Seconds a stage takes: the stored run of this kind and backend on the nearest grid, scaled by
-    the points (n²), plus STARTUP_S; where none is stored, the nearest adhesive or hard-wall run
-    of any kind on this backend, times 3 (a guess, printed as one)."""
+    the points (n²) and by the present solver's iterations over those of the program that made it
+    (iteration_scale.py, from `tables`), plus STARTUP_S; where none is stored, the nearest adhesive
+    or hard-wall run of any kind on this backend, times 3 (a guess, printed as one)."""
     base = "shape" if kind.startswith("shape_tabor") else "tabor_mu" if kind.startswith("tabor_mu") else kind
     # A sweep with none of its own stored is estimated from its single-load kind (hardwall_load
     # from hardwall, shape_load from shape): its 14 loads, no more a guess than that run.
@@ -86,7 +91,8 @@ def estimate(kind, n, backend, records):
         return 60.0, True
     # The nearest grid, a converged run before one stopped at a cap (which says little of a whole solve).
     r = min(same, key=lambda r: (r.get("status") != "converged", abs((r["n"] or 1) - n)))
-    t = r["run_s"] * (n / r["n"]) ** 2 * (3.0 if guess else 1.0)
+    t = (r["run_s"] * (n / r["n"]) ** 2 * (3.0 if guess else 1.0)
+         * iteration_scale.factor(kind, stage, r.get("tolerance"), tables))
     if kind.endswith("load"):
         t *= 14 if r.get("steps") is None else 1  # a sweep of 14 loads from a single-load run
     return STARTUP_S[backend] + t, guess
@@ -95,7 +101,7 @@ def estimate(kind, n, backend, records):
 PACK_S = 20  # the deadline's reserve for the last pack
 
 
-def plan(a, records):
+def plan(a, records, tables=()):
     """The stages whose estimates fit in the deadline, in order, each with its cap (its estimate
     plus half, and 10 s), and those dropped. A run started from another needs that one kept."""
     backend = "cpu" if a.cpu else "cuda"
@@ -103,7 +109,7 @@ def plan(a, records):
     for prio, stage, sets, kind, n in stages(a.scale):
         if prio in a.skip:
             continue
-        est, guess = estimate(kind, n, backend, records)
+        est, guess = estimate(kind, n, backend, records, stage, tables)
         needs = stage.startswith("adhesive_from") and not any(k[1].endswith(f"adhesive:{stage.split(':')[2]}") for k in kept)
         if needs or (total + est > a.deadline - PACK_S and not a.keep_all):
             dropped.append((prio, stage, est, guess))
@@ -111,6 +117,25 @@ def plan(a, records):
         total += est
         kept.append((prio, ("cpu-" if a.cpu else "") + stage, sets, est, guess, int(est * 1.5 + 10)))
     return kept, dropped, total
+
+
+def print_fit(dropped, total, deadline, tables):
+    """What the whole plan would need against the deadline, each stage too long for a deadline
+    of its own, and the iteration factors the estimates were scaled by."""
+    room = deadline - PACK_S
+    if dropped:
+        need = total + sum(est for _, _, est, _ in dropped)
+        print(f"reference_plan: every stage together needs about {need:.0f} s, {need - room:.0f} s more than the "
+              f"deadline less the pack's reserve ({room} s)")
+    over = [(prio, stage, est) for prio, stage, est, _ in dropped if est > room]
+    for prio, stage, est in over:
+        print(f"reference_plan: [{prio}] {stage} alone needs {est:.0f} s: over {room} s by {est - room:.0f} s")
+    if dropped and not over:
+        prio, stage, est, _ = max(dropped, key=lambda d: d[2])
+        print(f"reference_plan: every dropped stage fits {room} s on its own (the longest, [{prio}] {stage}, "
+              f"{est:.0f} s): run them with --skip in further calls")
+    for line in iteration_scale.describe(tables):
+        print(f"reference_plan: stored times scaled by the iterations measured on the CPU: {line}")
 
 
 def machine_text(a):
@@ -188,7 +213,8 @@ def main(argv):
         print("reference_plan: --scale must be >= 1 and --deadline >= 60 s", file=sys.stderr)
         return 2
     records = json.load(open(a.store)).get("records", []) if os.path.exists(a.store) else []
-    kept, dropped, total = plan(a, records)
+    tables = iteration_scale.load()
+    kept, dropped, total = plan(a, records, tables)
     print(f"reference_plan: {len(kept)} stages, about {total:.0f} s estimated in a deadline of {a.deadline} s "
           f"({'CPU' if a.cpu else 'GPU'}, grids / {a.scale}):")
     for prio, stage, sets, est, guess, cap in kept:
@@ -196,6 +222,7 @@ def main(argv):
               + (f"  {' '.join(sets)}" if sets else ""))
     for prio, stage, est, guess in dropped:
         print(f"  [{prio}] {stage:32s} estimate {est:6.0f} s: dropped, it does not fit")
+    print_fit(dropped, total, a.deadline, tables)
     if a.dry_run or not kept:
         return 0
     refused = unusable_paths(a)

@@ -27,8 +27,9 @@ struct GzSums {  // Σ_Ic z, Σ_Ic g z, Σ_Ic g
 };
 struct StepSums {
   double psum = 0.0;
-  bool changed = false;
-  CMC_HD void merge(const StepSums& o) { psum += o.psum, changed = changed || o.changed; }
+  double changed = 0.0;  // points that left or joined the contact set (a count: the same sum in any order)
+  double step = 0.0, cut = 0.0;  // Σ (τ t)² over Ic; Σ of the projection's changes² to the step
+  CMC_HD void merge(const StepSums& o) { psum += o.psum, changed += o.changed, step += o.step, cut += o.cut; }
 };
 
 // What Run::project() makes of its pass's sums: whether the pressure survived (ok), the

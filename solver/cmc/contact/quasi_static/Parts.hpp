@@ -101,6 +101,7 @@ struct JumpPrediction {
 constexpr int kRadius = 1;
 constexpr int kSide = 2 * kRadius + 1;
 constexpr double kMoveFloor = 1e-3;  // in ρ (w / peak tension): the largest move floor (move_floor)
+constexpr double kMonostableMoveFloor = 1e-4;  // in ρ: the largest where no point is bistable
 constexpr double kMinMoveFloor = 1e-6;  // in ρ: the smallest
 constexpr double kNoiseMargin = 100.0;  // the floor over the inner solves' gap error
 
@@ -122,9 +123,23 @@ constexpr double kNoiseMargin = 100.0;  // the floor over the inner solves' gap 
 // within 2e-7. The floor at the noise itself (1e-4 ρ at inner tolerance 1e-6, mu_T = 1,
 // 2048²) crept: 52 outer steps against 41 at 1e-3 ρ. Smaller floors cost cascade time
 // (2048², inner tolerance 1e-8: 1e-6 ρ 18 outer steps and 45 s, against 30.5 s at 1e-4 ρ).
-inline double move_floor(double range, double inner_tolerance, double h_scale) {
+// Where no point is bistable (`monostable`: the law's largest curvature below the
+// self-stiffness, as the shape coarse-graining makes it), the largest floor is
+// kMonostableMoveFloor ρ: there every move is continuous, a cluster of points near a
+// collective fold creeps by about the floor an outer step unless the cascade passes its
+// moves on, and a move passed on from noise is undone by the next solve instead of locking
+// in a jump. Measured (1 thread, inner tolerance 1e-6, the floor at 1e-3 ρ against 1e-4 ρ):
+// the challenge with `shape` at 2048², 153 outer steps and 429 iterations against 20 and 189,
+// the same a_r, mean gap within 1.5e-7; at 1024², 22 and 137 against 14 and 117; the s = 128
+// member (plain law, dx = 0.8 ρ) at 512², 136 and 833 against 78 and 617, a_r 2.3e-5 higher,
+// towards the state of a tighter tension tolerance. At 1e-5 ρ a point of 4.2 million
+// differed. Where points are bistable, 1e-4 ρ at inner tolerance 1e-6 passed noise on to
+// jumps: at μ_T = 1 on 1024², 5 points of a million more in contact and more outer steps
+// (docs/developer/decisions.md).
+inline double move_floor(double range, double inner_tolerance, double h_scale, bool monostable) {
   const double f = kNoiseMargin * inner_tolerance * h_scale;
-  return std::min(kMoveFloor * range, std::max(kMinMoveFloor * range, f));
+  const double largest = monostable ? kMonostableMoveFloor : kMoveFloor;
+  return std::min(largest * range, std::max(kMinMoveFloor * range, f));
 }
 
 // j in [−kRadius, n + kRadius) to [0, n); one add where n > kRadius (no division).

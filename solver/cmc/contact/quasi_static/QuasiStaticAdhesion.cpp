@@ -29,7 +29,8 @@ QuasiStaticAdhesion::QuasiStaticAdhesion(HalfSpace& hs, const Field& heights, Ex
             hs.transform_entry(response, (dy + my) % my, (dx + mx) % mx);
   }
   if (!(k_self_ > 0.0)) throw std::logic_error("QuasiStaticAdhesion: the half-space's self-stiffness is not positive");
-  move_floor_ = qs::move_floor(adh_.range(), opt_.tolerance, PolonskyKeer::residual_scale(heights));
+  move_floor_ = qs::move_floor(adh_.range(), opt_.tolerance, PolonskyKeer::residual_scale(heights),
+                               adh_.largest_curvature() < k_self_);
 }
 
 #ifndef CMC_CUDA
