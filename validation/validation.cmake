@@ -48,6 +48,11 @@ set_tests_properties(case_files.python PROPERTIES LABELS "quick;python")
 # The report scripts on synthetic inputs (Debian's python3 with matplotlib/h5py).
 add_test(NAME reports.selftest COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/reports/selftest.py)
 set_tests_properties(reports.selftest PROPERTIES LABELS "quick;python")
+# The README's figure is drawn from the stored references alone, into a scratch file here.
+add_test(NAME reports.readme_figure
+         COMMAND /usr/bin/python3 ${CMAKE_SOURCE_DIR}/scripts/readme_figure.py
+                 --out ${CMAKE_BINARY_DIR}/readme_figure_test.png)
+set_tests_properties(reports.readme_figure PROPERTIES LABELS "quick;python")
 # scripts/scaled_family.py's realizations: --seed, and error bars over every
 # stored realization (tests/scaled_family_test.py says what each checks; no cmc run).
 foreach(t seed_flag reestimate conditions bands own_refinement)

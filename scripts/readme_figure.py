@@ -1,0 +1,11 @@
+#!/usr/bin/python3
+"""Draw the README's first figure from the stored references (cmc.report.readme_figure):
+
+    /usr/bin/python3 scripts/readme_figure.py [--ref DIR] [--out PNG]
+"""
+import sys
+
+from cmc.report.readme_figure import main
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
