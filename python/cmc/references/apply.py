@@ -190,6 +190,18 @@ def with_finest_note(curve, best):
     return curve
 
 
+def _other_rows(best, name):
+    """How the load curves' other rows are made: best estimates at their own loads where the sweep
+    has two or more (apply builds the curve from them alone), else the coarse sweep's."""
+    problem = "hardwall" if name.startswith("without") else "adhesive"
+    ests = (best.get("load_sweep") or {}).get(problem) or []
+    grids = sorted({e["n"] for e in ests if e.get("n")})
+    if len(ests) >= 2:
+        return (f"; every other row is the best estimate at its own load (grids {', '.join(f'{n}²' for n in grids)},"
+                " column `grid_n`).")
+    return "; their other rows are still the 2048² load sweep's."
+
+
 def readme_block(best):
     """The README's best-estimate block: what each rewritten file takes from which run."""
     rl = best["reference_load"]
@@ -204,14 +216,13 @@ def readme_block(best):
             L.append(f"- 250 kPa {name}: {run_words(est)}: a_r {q['a_r']['value']:.5g} ± {q['a_r']['error']:.2g}, "
                      f"mean gap {q['mean_gap']['value'] * 1e6:.6g} ± {q['mean_gap']['error'] * 1e6:.2g} µm: the 250 kPa "
                      "rows of `contact_area_vs_pressure.csv` and `mean_gap_vs_pressure.csv`"
-                     + (" (in `adhesionless/`)" if name.startswith("without") else "")
-                     + "; their other rows are still the 2048² load sweep's.")
+                     + (" (in `adhesionless/`)" if name.startswith("without") else "") + _other_rows(best, name))
     grids = sorted({p["n"] for p in best["tabor"]})
     L += [f"- `contact_area_vs_tabor.csv`, `mean_gap_vs_tabor.csv`: {len(best['tabor'])} values of μ_T, each its own "
           f"best estimate (grids {', '.join(f'{n}²' for n in grids)}).",
-          "- Items 1, 3, 4, 5 and 9 (distributions, spectrum, cross sections) and the load sweep's other rows are "
-          "still the **2048²** runs (dx ≈ 24 ρ), with bands from 4096²: no finer run with those observables is "
-          "stored yet (`scripts/gpu/reference_plan.sh` makes them on one GPU).", ""]
+          "- Items 1, 3, 4, 5 and 9 (distributions, spectrum, cross sections) come from the finest stored run with "
+          "those observables that has a coarser grid of the same case (each file's `grid`), with bands from that "
+          "coarser grid.", ""]
     ex = best.get("mean_gap_extremum")
     if ex:
         L += [f"The mean gap's minimum in μ_T: μ_T* = {ex['mu']:.3g} (between {ex['mu_range'][0]:.3g} and "
