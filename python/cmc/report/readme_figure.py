@@ -12,14 +12,9 @@ from typing import List, Optional
 
 from cmc.analysis.runs import REPO as ROOT  # the checkout, through the build tree's links
 from cmc.reference_files import read_curve
+from cmc.report.stored_distributions import grid_name
 
 QUANTITY = "stress_distribution"
-
-
-def _grid(curve: dict) -> str:
-    grid = dict(curve.get("extra") or []).get("grid", "?").split(",")[0].strip()
-    a, _, b = grid.partition("x")
-    return f"{a}²" if a == b else grid
 
 
 def draw(ref_dir: str, out: str) -> None:
@@ -39,7 +34,7 @@ def draw(ref_dir: str, out: str) -> None:
         err = [v * 1e6 for v in cols[c["band"]]] if c.get("band") else [0.0] * len(y)
         lo = [max(v - e, v * 1e-3) for v, e in zip(y, err)]
         ax.fill_between(x, lo, [v + e for v, e in zip(y, err)], color=colour, alpha=0.25, linewidth=0)
-        ax.plot(x, y, color=colour, label=f"{words}, {_grid(c)}")
+        ax.plot(x, y, color=colour, label=f"{words}, {grid_name({'meta': dict(c.get('extra') or [])})}")
     ax.set_yscale("log")
     ax.set_xlabel("interfacial stress (MPa, compressive > 0)")
     ax.set_ylabel("probability density (1/MPa)")
