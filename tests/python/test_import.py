@@ -1,5 +1,5 @@
 """The package without and with its compiled core: cmc.analysis imports without it, the
-core's names say how to build it, and importing the whole API takes well under a second."""
+core's names say how to build it, and importing the whole API takes well under a second of CPU time."""
 import json
 
 from conftest import SOURCE, python
@@ -28,13 +28,15 @@ def test_import_cmc_loads_nothing_compiled():
 def test_the_whole_api_imports_in_under_a_second():
     code = """
 import time
-t = time.perf_counter()
+t = time.process_time()
 import cmc
 cmc.Case, cmc.run, cmc.solve, cmc.self_affine, cmc.check, cmc.analytic.hertz
-print(time.perf_counter() - t)
+print(time.process_time() - t)
 """
+    # CPU time, not wall time: on a machine busy with other runs the wall time of the same import
+    # grew past 1 s (load average 8 on 2 cores) while its CPU time did not.
     seconds = []
-    for _ in range(3):  # the best of three: a loaded machine slows one of them
+    for _ in range(3):  # the best of three
         r = python(code)
         assert r.returncode == 0, r.stderr
         seconds.append(float(r.stdout))

@@ -17,6 +17,13 @@ MISSING_HOW = {2: "`build/cmc run cases/challenge/load-sweep.toml --out results/
                6: "`scripts/tabor_sweep.sh` (results/challenge-tabor-sweep/mu_T_*/)",
                7: "`scripts/tabor_sweep.sh` (results/challenge-tabor-sweep/mu_T_*/)"}
 
+BEST_REGENERATE = [
+    ". scripts/python_path.sh     # the package on PYTHONPATH for the Python commands below",
+    "/usr/bin/python3 scripts/store_runs.py --commit C --origin WHY RUN ...   # a finished run into runs.json "
+    "(the load and Tabor curves: each stored record names its command)",
+    "/usr/bin/python3 scripts/best_estimates.py        # best_estimates.json: each row's best estimate from runs.json",
+]
+
 
 def files_table(curves):
     """The README's table of stored files, one row per curve in the challenge's item order."""
@@ -57,10 +64,10 @@ def _sweep_band_words(curves, pair):
             "counted contact area converges as dx, its perimeter-corrected value much faster.")
 
 
-def readme_adhesionless(curves, pair, dist=()):
+def readme_adhesionless(curves, pair, dist=(), best=False):
     """The README of reference/challenge/adhesionless/. pair: the hard-wall runs at 250 kPa, coarsest
     first (the load sweep's modelled band); dist: [(run, step) coarser, finest] behind items 1, 3, 4,
-    5 and 9 (distribution_pair)."""
+    5 and 9 (distribution_pair); best: the best estimates decide the load curves."""
     L = ["# Challenge reference curves without adhesion", "",
          "The challenge's surface pressed on the half-space with the hard wall alone (no adhesion): the adhesionless "
          "counterpart that the problem definition compares with (with adhesion, about half as much contact area "
@@ -80,12 +87,13 @@ def readme_adhesionless(curves, pair, dist=()):
                  "log2(1.5) = 0.58, and the counted contact area and the patch statistics converge as dx." if len(dist) >= 2 else "")
               + (" " + sweep_words if sweep_words else ""), ""]
     commands = run_commands(dist[-1][0], dist[-1][1], dist[0] if len(dist) >= 2 else None) if dist else []
+    sweeps = BEST_REGENERATE if best else [
+        "build/cmc run cases/challenge/load-sweep-hardwall.toml --out results/challenge-load-sweep-hardwall",
+        "build/cmc run cases/challenge/load-sweep-hardwall.toml --set grid.n=4096 "
+        "--set 'loading.values=[12.5e3,250e3,2.5e6,10e6,25e6]' --out results/challenge-load-sweep-hardwall-n4096"]
     L += ["## Regenerate", "", "```"] + (commands or [
           "build/cmc run cases/challenge/reference-load-hardwall.toml --out results/challenge-hardwall",
-          "build/cmc run cases/challenge/reference-load-hardwall.toml --set grid.n=4096 --out results/challenge-hardwall-n4096"]) + [
-          "build/cmc run cases/challenge/load-sweep-hardwall.toml --out results/challenge-load-sweep-hardwall",
-          "build/cmc run cases/challenge/load-sweep-hardwall.toml --set grid.n=4096 "
-          "--set 'loading.values=[12.5e3,250e3,2.5e6,10e6,25e6]' --out results/challenge-load-sweep-hardwall-n4096",
+          "build/cmc run cases/challenge/reference-load-hardwall.toml --set grid.n=4096 --out results/challenge-hardwall-n4096"]) + sweeps + [
           "/usr/bin/python3 scripts/challenge_reference.py", "```", ""]
     sweep = {c["quantity"]: c for c in curves}.get("contact_area_vs_pressure")
     joined = sweep is not None and " ; " in dict(sweep["extra"]).get("command", "")
@@ -188,7 +196,7 @@ def _reference_load_paragraph(ref_run, ref_step, keep_from, coarser):
               f"{ref_step['ar']:.4g} (perimeter-corrected {ref_step['ar_corr'] or float('nan'):.4g}), mean gap "
               f"{(ref_step['gap'] or float('nan')) * 1e9:.4g} nm, {int(ref_step['n_patches'] or 0)} patches"
               + (f"; their bands from the same case on {coarser[0].nx}² (`{_rel(coarser[0].folder)}`)" if coarser else "")
-              + ". The extraction is the challenge report's (`reports/challenge_report.py`), except that empty bins "
+              + ". The extraction is the challenge report's (`python/cmc/report/challenge_runs.py`), except that empty bins "
               "are left out of log-scaled curves.", ""]
     elif keep_from:
         L += _stored_block(keep_from, "Items 1, 3, 4, 5 and 9 are the step")
@@ -209,11 +217,27 @@ def _missing_lines(have):
     return L
 
 
-def _band_lines(have, keep_from, keep_bands):
-    """The paragraph on the strategies' error bands (or the stored one)."""
+def _best_band_lines(banded):
+    """The paragraph on the bands where the best estimates decide the load and Tabor curves."""
+    return ["**Error bands.** " + ", ".join(f"`{c['quantity']}.csv`" for c in banded) + " carry the reference's "
+            "own uncertainty as a column (`# band: <y>_err`, the half-width in y's unit), and `cmc check` scores a "
+            "prediction against it (inside the band passes; outside, it says by how much in units of the band). "
+            "The load and Tabor curves (items 2, 6, 7 and 8) are best estimates row by row (the block at the top, "
+            "`python/cmc/analysis/best.py`): each row's band is the error of its own refinement sequence (twice "
+            "the last change where only two grids exist, the first-order bound), plus, where its grid does not "
+            "resolve ρ, its strategy's error measured on the scaled family at the same dx/ρ "
+            "(`reference/challenge-scaled/`). Each file's `estimated_error` names the run, grid and rule of every "
+            "row, and `still_wide` the rows whose bands stay above the targets. " + roundoff_note(rel=_rel), ""]
+
+
+def _band_lines(have, keep_from, keep_bands, best=False):
+    """The paragraph on the error bands (or the stored one); best: the best estimates decide the
+    load and Tabor curves, so the strategies' bands those curves had before are not described."""
     L = []
     banded = [have[q] for q, _ in ALL if q in have and have[q].get("band")]  # the files table's order
-    if banded and keep_bands and keep_from:
+    if banded and best:
+        L += _best_band_lines(banded)
+    elif banded and keep_bands and keep_from:
         L += _stored_block(keep_from, "**Error bands.**", "**Caveat.**")
     elif banded:
         checks = condition_checks()
@@ -255,8 +279,12 @@ def _hardwall_lines(hw, keep_from):
     return L
 
 
-def _regenerate_lines(ref_run, ref_step, coarser):
-    """The commands that regenerate the files."""
+def _regenerate_lines(ref_run, ref_step, coarser, best=False):
+    """The commands that regenerate the files; best: the load and Tabor curves come from the
+    stored runs' best estimates, not from one sweep each."""
+    sweeps = BEST_REGENERATE if best else [
+        "build/cmc run cases/challenge/load-sweep.toml --out results/challenge-load-sweep     # items 2, 8",
+        "scripts/tabor_sweep.sh                                                                 # items 6, 7"]
     L = []
     L += ["## Regenerate", "",
           "One command runs everything behind these files (and `adhesionless/`), resumable, then rewrites them: "
@@ -266,14 +294,13 @@ def _regenerate_lines(ref_run, ref_step, coarser):
           "build/cmc run cases/challenge/reference-load.toml --out results/challenge-reference   # items 1, 3, 4, 5, 9",
           "build/cmc run cases/challenge/reference-load.toml --set grid.n=4096 --out results/challenge-reference-n4096"
           "   # their bands"]) + [
-          "build/cmc run cases/challenge/load-sweep.toml --out results/challenge-load-sweep     # items 2, 8",
-          "scripts/tabor_sweep.sh                                                                 # items 6, 7",
+          ] + sweeps + [
           "/usr/bin/python3 scripts/roundoff_spread.py NAME:RUN_A:RUN_B ...  # round-off spread: one case by two "
           "builds or thread counts (roundoff_spread.json, its command line)",
           "/usr/bin/python3 scripts/scaled_family.py --s 32 --coarse 2 4 6 8 12 24 --store reference/challenge-scaled"
           "   # the strategy bands",
           "/usr/bin/python3 scripts/challenge_reference.py        # rewrites reference/challenge/*.csv and this README",
-          "build/cmc check reports/challenge/data/gap_distribution__challenge-reference_2048.csv --quantity gap_distribution",
+          "build/cmc check PRED.csv --quantity gap_distribution   # score a prediction against gap_distribution.csv",
           "```", "",
           "A finer grid of the same case (`--set grid.n=N`, twice the finest) becomes the source of items 1, 3, 4, 5 "
           "and 9 once its run is in `results/`, with its band from the grid before it; "
@@ -281,11 +308,12 @@ def _regenerate_lines(ref_run, ref_step, coarser):
     return L
 
 
-def readme(curves, out_dir, hw, ref_run, ref_step, keep_from=None, keep_bands=False, coarser=None):
+def readme(curves, out_dir, hw, ref_run, ref_step, keep_from=None, keep_bands=False, coarser=None, best=False):
     """The README of reference/challenge/. keep_from (--only): a stored README whose paragraphs
     on the reference-load run and the hard-wall refinement are kept where their runs are not at
     hand, and with keep_bands (--only reference-load) those on the bands of the curves not
-    recomputed. coarser: (run, step) of the grid that gives ref_run's curves their bands."""
+    recomputed. coarser: (run, step) of the grid that gives ref_run's curves their bands. best: the
+    best estimates (best_estimates.json) will decide the load and Tabor curves."""
     have = {c["quantity"]: c for c in curves}
     L = ["# Challenge reference curves", "",
          "`cmc check PRED.csv --quantity Q` compares a prediction with `reference/challenge/Q.csv` by default. "
@@ -301,10 +329,10 @@ def readme(curves, out_dir, hw, ref_run, ref_step, keep_from=None, keep_bands=Fa
     L += _reference_load_paragraph(ref_run, ref_step, keep_from, coarser)
     L += _missing_lines(have)
     L += ["## Accuracy", "", accuracy_head(ref_run), ""]
-    L += _band_lines(have, keep_from, keep_bands)
+    L += _band_lines(have, keep_from, keep_bands, best)
     L += distribution_paragraphs(curves)
-    L += _hardwall_lines(hw, keep_from)
-    L += _regenerate_lines(ref_run, ref_step, coarser)
+    L += [] if best else _hardwall_lines(hw, keep_from)
+    L += _regenerate_lines(ref_run, ref_step, coarser, best)
     return "\n".join(L)
 
 
