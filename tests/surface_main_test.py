@@ -131,7 +131,7 @@ def layouts(mirror, folder, failures):
     """scripts/surface_file.py's reading of the other layouts: cmc's own HDF5 height map (metres, its
     box in attributes), a Fourier list (its grid: the smallest power of two that holds its modes),
     and the grid the runs take for files finer than, coarser than or not dividing the base's."""
-    from surface_file import grid_points, inspect, surface_base
+    from cmc.surface_file import grid_points, inspect, surface_base
     info = inspect(os.path.join(mirror, "seed28.h5"))
     if (info["format"], info["points"]) != ("hdf5", SMALL_GRID):
         failures.append(f"cmc surface --write's file read as {info['format']}, {info['points']}² (expected hdf5, 64²)")
