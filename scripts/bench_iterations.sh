@@ -78,4 +78,5 @@ for n in $grids; do
   fi
   prev=$n
 done
+. scripts/python_path.sh  # the package cmc, which the table command calls
 /usr/bin/python3 scripts/bench_iterations_table.py "$out" "$json" "$tolerance" $grids

@@ -44,6 +44,7 @@ cases=cases/challenge
 root=results
 reports=reports
 if [ -n "$surface" ]; then
+  . scripts/python_path.sh  # the package cmc (the build's), which scripts/surface_file.py calls
   root=$(/usr/bin/python3 scripts/surface_file.py "$surface" --cases "$cases" --results results) || exit $?
   cases="$root/cases"
   reports="reports/surfaces/$(basename "$root")"

@@ -16,6 +16,8 @@ the checker on it:
     lines (a nested one counting inside it) and a file of 601 lines exit 1, 80 and 600 exit 0;
     a `def` inside a string is no function; build* and hidden folders are left out; a Python
     file that does not parse exits 1.
+  - --max-script-average N: scripts/*.py averaging N + 1 lines exit 1 and name the longest;
+    averaging N lines, or a tree without scripts/, exit 0.
 """
 import os
 import subprocess
@@ -103,6 +105,26 @@ CASES = [
 ]
 
 
+# (name, lines of each scripts/*.py, expected exit, text expected in the output) with --max-script-average 60
+AVERAGE_CASES = [("scripts_average_61", (40, 61, 82), 1, "3 scripts (*.py) of 183 lines, 61.0 on average (at most 60; "
+                  "the longest, s2.py, 82)"),
+                 ("scripts_average_60", (40, 60, 80), 0, "0 breach"),
+                 ("no_scripts_folder", (), 0, "0 breach")]
+
+
+def script_average_cases(tmp):
+    """The failures of AVERAGE_CASES, each printed as it runs."""
+    failures = []
+    for name, counts, code, needle in AVERAGE_CASES:
+        root = tree(tmp, name, {f"scripts/s{k}.py": "# a line\n" * n for k, n in enumerate(counts)})
+        got, out = run(root, ["--max-script-average", "60"])
+        ok = got == code and needle in out
+        print(f"{'ok  ' if ok else 'FAIL'} {name}: exit {got} (expected {code})")
+        if not ok:
+            failures.append(f"{name}: expected exit {code} and '{needle}' in the output, got exit {got}:\n{out}")
+    return failures
+
+
 def main():
     failures = []
     with tempfile.TemporaryDirectory() as tmp:
@@ -113,12 +135,13 @@ def main():
             print(f"{'ok  ' if ok else 'FAIL'} {name}: exit {got} (expected {code})")
             if not ok:
                 failures.append(f"{name}: expected exit {code} and '{needle}' in the output, got exit {got}:\n{out}")
+        failures += script_average_cases(tmp)
         got, out = run(os.path.join(tmp, "no-such-tree"))
         if got != 2 or "no such folder" not in out:
             failures.append(f"missing_tree: expected exit 2 and 'no such folder', got exit {got}:\n{out}")
     for f in failures:
         print(f, file=sys.stderr)
-    print(f"{len(CASES) + 1 - len(failures)} passed, {len(failures)} failed")
+    print(f"{len(CASES) + len(AVERAGE_CASES) + 1 - len(failures)} passed, {len(failures)} failed")
     return 1 if failures else 0
 
 

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """scripts/main.sh --surface FILE end to end (ctest challenge.surface_file), in a mirror of the
-repository whose challenge cases are at 64² (scripts/check_docs.py's, with BUILD's cmc):
+repository whose challenge cases are at 64² (the docs check's, cmc.devtools.quickstarts, with BUILD's cmc):
 
   - surface files in the challenge's published layout, made here from cmc's own surfaces at 64²:
     an HDF5 file with one 2-D dataset `surface` (seed 28's heights) and a real-space ASCII
@@ -31,7 +31,7 @@ import h5py
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-from check_docs import SMALL_GRID, make_mirror  # scripts/ is on PYTHONPATH (ctest sets it)
+from cmc.devtools.quickstarts import SMALL_GRID, make_mirror  # the package cmc is on PYTHONPATH (ctest sets it)
 
 L = 1.0e-4  # m, the challenge's system size: the published files' height unit
 # The HDF5 file holds seed 28's heights divided by L; cmc multiplies them back. Measured (same build
@@ -131,7 +131,7 @@ def layouts(mirror, folder, failures):
     """scripts/surface_file.py's reading of the other layouts: cmc's own HDF5 height map (metres, its
     box in attributes), a Fourier list (its grid: the smallest power of two that holds its modes),
     and the grid the runs take for files finer than, coarser than or not dividing the base's."""
-    from surface_file import grid_points, inspect, surface_base
+    from cmc.surface_file import grid_points, inspect, surface_base
     info = inspect(os.path.join(mirror, "seed28.h5"))
     if (info["format"], info["points"]) != ("hdf5", SMALL_GRID):
         failures.append(f"cmc surface --write's file read as {info['format']}, {info['points']}² (expected hdf5, 64²)")

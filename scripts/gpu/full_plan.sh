@@ -21,6 +21,10 @@
 #   /usr/bin/python3 scripts/ensemble_store.py OUT/ensemble.tgz
 set -uo pipefail
 cd "$(dirname "$0")/../.."
+# reference_plan.py and ensemble.py are thin commands over the package cmc: its pure-Python
+# modules from the checkout (cmc.gpu_plan.plan, cmc.ensemble_runner: standard library only, as
+# the GPU machine's Python has none of our packages; ctest gpu_scripts.standard_library_only).
+export PYTHONPATH="$PWD/python${PYTHONPATH:+:$PYTHONPATH}"
 deadline=540 out=${OUT:-.} work=full-plan pack=.gpucarry gpu_workers=4 cpu_workers=$(($(nproc) - 6)) scale=1 cpu=0 skip="" keep=()
 while [ $# -gt 0 ]; do
   case "$1" in
