@@ -1,5 +1,7 @@
 """The command scripts/store_runs.py: finished runs of `cmc run` put into the run store
 (reference/challenge/runs.json), one record each (cmc.analysis.runs record)."""
+from __future__ import annotations
+from typing import Any
 import argparse
 import datetime
 import os
@@ -10,7 +12,7 @@ from cmc.analysis import runs
 from cmc.analysis.runs import REPO as ROOT
 
 
-def this_cpu():
+def this_cpu() -> str:
     model = "CPU"
     try:
         with open("/proc/cpuinfo") as f:
@@ -20,14 +22,14 @@ def this_cpu():
     return f"{model}, {os.cpu_count()} cores"
 
 
-def this_commit():
+def this_commit() -> str | None:
     def git(*args):
         return subprocess.run(["git", "-C", ROOT, *args], capture_output=True, text=True).stdout.strip()
     head = git("rev-parse", "--short=12", "HEAD")
     return (head + ("-dirty" if git("status", "--porcelain", "--untracked-files=no") else "")) or None
 
 
-def command_of(run_dir, summary):
+def command_of(run_dir: str, summary: dict[str, Any]) -> str:
     """`cmc run CASE --set ... --out RUN_DIR` as far as the summary tells: its case file and the
     grid it ran on (other overrides show in the record's case fields)."""
     n = runs.get(summary, "grid", "nx")
@@ -41,7 +43,7 @@ def command_of(run_dir, summary):
     return " ".join(parts + ["--out", run_dir])
 
 
-def main(argv, doc=None):
+def main(argv: list[str] | None, doc: str | None = None) -> int:
     ap = argparse.ArgumentParser(description=(doc or __doc__), formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("dirs", nargs="+", help="cmc run output folders (each with a summary.json)")
     ap.add_argument("--device", default=None, help="what ran them (default: this machine's CPU)")
