@@ -1,6 +1,10 @@
 """The command scripts/challenge_reference.py: the challenge reference curves
 reference/challenge/<quantity>.csv and their README.md from cmc's own challenge runs (curves,
 readme), then the best estimates put into them (apply)."""
+from __future__ import annotations
+from typing import Any
+from cmc._types import Json
+from cmc.report.challenge_runs import Run
 import argparse
 import json
 import os
@@ -14,7 +18,7 @@ from .provenance import _rel, hardwall_refinement, write_atomically, write_curve
 from .readme import ALL, readme, readme_adhesionless, stored_curve
 
 
-def write_curves(cmc, curves, out):
+def write_curves(cmc: str, curves: list[Json], out: str) -> None:
     """Has cmc write each curve to OUT/<quantity>.csv and says so."""
     for c in curves:
         path = os.path.join(out, c["quantity"] + ".csv")
@@ -22,14 +26,14 @@ def write_curves(cmc, curves, out):
         print(f"challenge_reference: {_rel(path)}: {len(c['columns'][0][3])} points, {len(text)} bytes")
 
 
-def kept_curves(out, curves):
+def kept_curves(out: str, curves: list[Json]) -> list[Json]:
     """The stored curves of `out` other than `curves`' quantities, read back (stored_curve)."""
     new = {c["quantity"] for c in curves}
     kept = [stored_curve(os.path.join(out, q + ".csv"), q, item) for q, item in ALL if q not in new]
     return [c for c in kept if c is not None]
 
 
-def only_tabor(a, runs, hw):
+def only_tabor(a: argparse.Namespace, runs: list[Run], hw: Json | None) -> None:
     """--only tabor: items 6 and 7 from the Tabor sweep's runs, the other stored curves kept."""
     curves = tabor_curves([r for r in runs if r.name.startswith("challenge-tabor")], hw)
     if len(curves) != 2:
@@ -48,7 +52,7 @@ def only_tabor(a, runs, hw):
     print(f"challenge_reference: {_rel(os.path.join(a.out, 'README.md'))} (the other curves kept)")
 
 
-def regenerate(a, runs, members, hw, notes):
+def regenerate(a: argparse.Namespace, runs: list[Run], members: list[Run], hw: Json | None, notes: list[str]) -> None:
     """Every curve of both problems from the runs (with --only reference-load items 1, 3, 4, 5 and
     9 alone, the other stored curves kept and read back for the READMEs) and the READMEs."""
     only = a.only == "reference-load"
@@ -57,7 +61,8 @@ def regenerate(a, runs, members, hw, notes):
         out = a.out if adhesive else os.path.join(a.out, "adhesionless")
         pair = _reference_load_runs(runs, adhesive)
         dist = distribution_pair(runs + members, adhesive)
-        curves, ref_step = [], None
+        curves: list[Json] = []
+        ref_step: Json | None = None
         if dist:
             curves, ref_step = reference_load_curves(dist[-1][0], hw, notes, dist[0] if len(dist) > 1 else None)
         if not only:
@@ -82,7 +87,7 @@ def regenerate(a, runs, members, hw, notes):
         sys.exit("challenge_reference: no curves: no adhesive challenge run with observables found")
 
 
-def arguments(argv, doc):
+def arguments(argv: list[str] | None, doc: str) -> argparse.Namespace:
     """The command's options (scripts/challenge_reference.py, whose usage text is `doc`)."""
     ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--only", choices=["tabor", "reference-load"], default=None,
@@ -97,7 +102,7 @@ def arguments(argv, doc):
     return ap.parse_args(argv)
 
 
-def usable_runs(results, notes):
+def usable_runs(results: str, notes: list[str]) -> list[Run]:
     """The report's discovery: every RESULTS/**/summary.json of a challenge case (not the scaled
     family). A load sweep whose last steps did not converge still gives its converged steps (the
     sweep curves keep only those and say how many); a single run must converge."""
@@ -105,11 +110,11 @@ def usable_runs(results, notes):
             if r.status == "converged" or (r.status == "not_converged" and r.is_load_sweep())]
 
 
-def main(argv, doc):
+def main(argv: list[str] | None, doc: str) -> int:
     """scripts/challenge_reference.py: the curves from the runs, then the best estimates put in."""
     a = arguments(argv, doc)
     hw = hardwall_refinement(a.hardwall_refine or os.path.join(a.results, "refine", "reference-load-hardwall"))
-    notes = []
+    notes: list[str] = []
     runs = usable_runs(a.results, notes)
     if a.only == "tabor":
         only_tabor(a, runs, hw)
@@ -119,7 +124,7 @@ def main(argv, doc):
     return 0
 
 
-def apply_best(out, cmc):
+def apply_best(out: str, cmc: str) -> None:
     """The best estimates (OUT/best_estimates.json, scripts/best_estimates.py) put into the curves
     they decide (cmc.references.apply), after the curves were written from the runs."""
     path = os.path.join(out, "best_estimates.json")

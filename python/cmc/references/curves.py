@@ -1,6 +1,9 @@
 """The challenge reference curves from cmc's runs: the distributions, spectrum and cross sections
 at the reference load (items 1, 3, 4, 5, 9), the load sweep (items 2, 8) and the Tabor sweep
 (items 6, 7), each with its provenance and band."""
+from __future__ import annotations
+from typing import Any
+from cmc._types import Json
 import glob
 import os
 
@@ -156,7 +159,8 @@ def _cross_section_curves(ctx):
     return curves
 
 
-def reference_load_curves(run, hw, notes, coarser=None):
+def reference_load_curves(run: Run, hw: Json | None, notes: list[str], coarser: tuple[Run, Json] | None = None,
+                          ) -> tuple[list[Json], Json | None]:
     """Items 1, 3, 4, 5, 9 from the finest run at the reference load; `coarser` = (run, step) of
     the same case on the next coarser grid gives them their bands."""
     obs, st = _observables(run, notes)
@@ -173,7 +177,8 @@ def reference_load_curves(run, hw, notes, coarser=None):
     return curves + _cross_section_curves(ctx), st
 
 
-def finest_profile_band(run, key, y, v, yc, vc):
+def finest_profile_band(run: Run, key: str, y: np.ndarray, v: np.ndarray, yc: np.ndarray, vc: np.ndarray,
+                        ) -> tuple[np.ndarray | None, float | None]:
     """(band, floor) of the finest run's cross-section profile v(y) (key cross_section_gap or
     _pressure) from the same case's profile (yc, vc) on the next coarser grid:
     bands.finest_profile_band over the periodic line (length L), at least bands.profile_floor from
@@ -191,7 +196,7 @@ def finest_profile_band(run, key, y, v, yc, vc):
 CHALLENGE_MEMBER = "challenge-scaled-s1"
 
 
-def member_runs(results):
+def member_runs(results: str) -> list[Run]:
     """The converged runs of case CHALLENGE_MEMBER under `results`, with mu_T the problem's
     (cmc.analysis.runs.tabor_of: the specified range, not a coarse-grained law's)."""
     out = []
@@ -204,7 +209,7 @@ def member_runs(results):
     return out
 
 
-def distribution_pair(runs, adhesive):
+def distribution_pair(runs: list[Run], adhesive: bool) -> list[tuple[Run, Json]]:
     """The runs items 1, 3, 4, 5 and 9 come from: of every case and strategy at the reference load
     with result.h5 (the report's _reference_load_runs, one case at a time), the finest grid that
     has a coarser grid of the same case, and that coarser grid, as [(run, step) coarser, (run,
@@ -220,7 +225,8 @@ def distribution_pair(runs, adhesive):
     return best[-2:]
 
 
-def load_sweep_curves(runs, hw, adhesive, ref_pair):
+def load_sweep_curves(runs: list[Run], hw: Json | None, adhesive: bool, ref_pair: list[tuple[Run, Json]],
+                      ) -> list[Json]:
     """Items 2 and 8 of one problem from its load sweep with the most converged loads, on the
     finest grid among those (several runs of the same case and grid joined, as the report joins
     them: cmc.report.challenge_runs _merged_sweeps). Adhesive: the strategy's band;
@@ -334,9 +340,9 @@ def _tabor_grid_items(runs):
     return [by_grid[grids[0]][k] for k in sorted(by_grid[grids[0]])] if grids else []
 
 
-def tabor_curves(runs, hw):
+def tabor_curves(runs: list[Run], hw: Json | None) -> list[Json]:
     """Items 6 and 7 (adhesive Tabor sweep), when run."""
-    curves = []
+    curves: list[Json] = []
     # Tabor sweep: one run per mu_T (at the reference load) on the grid with the most mu_T (at least
     # 2), the coarser where two have as many: the sweep on a finer grid (scripts/tabor_sweep.sh
     # --grid N) measures that curve's error (sweep_band), as the reference load's 4096² run does.
@@ -356,7 +362,7 @@ def tabor_curves(runs, hw):
                                                          [st["gap"] for _, st in items]), ["mean_gap"])):
         if any(v is None for v in col[3]):
             continue
-        c = dict(name=q, quantity=q, item=item,
+        c: Json = dict(name=q, quantity=q, item=item,
                  title=f"Challenge item {item}: {q.replace('_', ' ')} at 250 kPa, cmc {r0.nx}^2 (not converged)",
                  columns=[("tabor", "1", "Tabor coefficient mu_T", mus), col], x="tabor", y=col[0],
                  representation="log-lin",
