@@ -134,7 +134,7 @@ def same_physics(a: dict[str, Any], b: dict[str, Any]) -> bool:
     return True
 
 
-def record(summary: dict[str, Any], *, tag: str, command: str, device: str, date: str, commit: str | None = None,
+def record(summary: dict[str, Any], *, tag: str, command: str, device: str, date: str | None, commit: str | None = None,
            origin: str | None = None, gpu_peak_mib: float | None = None) -> dict[str, Any]:
     """One store record from a run's summary.json (parsed): what the run is (case, problem,
     strategy, grid, spacing, mu_T, load), how it ended, what it cost, its answer at the last

@@ -1,6 +1,9 @@
 """The challenge report's runs: discovery of the challenge runs under a results folder (Run),
 the step at the reference load, the observables of a step, the bands of a run's numbers, and
 the hints that say what to run where something is missing."""
+from __future__ import annotations
+from typing import Any
+from cmc._types import Json
 import glob
 import math
 import os
@@ -21,7 +24,7 @@ METHOD = os.path.join(REPO, "docs", "challenge",
                       "report-method.md")
 
 
-def method_link(out_dir, anchor, words="method"):
+def method_link(out_dir: str, anchor: str, words: str = "method") -> str:
     """A Markdown link from the report in out_dir to a section of docs/challenge/report-method.md."""
     return f"[{words}]({rel(METHOD, out_dir)}#{anchor})"
 
@@ -36,7 +39,7 @@ def _band(run, short):
     return got[1] if got else None
 
 
-def refinement_grids(run, runs):
+def refinement_grids(run: Run, runs: list[Run]) -> list[Run]:
     """The converged runs of run's case, strategy and mu_T on n/2, n, 2n, ... points a side (run's n
     among them) with a step at the reference load (the sweep refined on the challenge itself,
     scripts/tabor_sweep.sh --grid N), coarsest first."""
@@ -58,7 +61,7 @@ def refinement_grids(run, runs):
     return out
 
 
-def own_band(run, short, runs):
+def own_band(run: Run, short: str, runs: list[Run]) -> Json | None:
     """cmc.analysis.refinement own_band of a plain, converged run from the other grids of its
     point among `runs` (refinement_grids), for short = a_r or mean_gap: the band of this run's
     value from the challenge's own refinement. None where it does not apply."""
@@ -69,13 +72,14 @@ def own_band(run, short, runs):
     rows = []
     for q in grids:
         st = q.reference_step()
+        assert st is not None  # refinement_grids keeps the runs with one
         rows.append({"nx": q.nx, "dx_over_rho": get(q.s, "surface_facts", "dx_over_range"),
                      "bistability": get(q.s, "surface_facts", "bistability_number"), "value": st[key],
                      "corrected": st["ar_corr"] if short == "a_r" else None})
     return refinement.own_band(rows, grids.index(run))
 
 
-def sweep_band(run, short, runs):
+def sweep_band(run: Run, short: str, runs: list[Run]) -> tuple[float | None, Json | None]:
     """The band of a Tabor-sweep point: the challenge's own refinement where its finer grids resolve
     the adhesion (own_band), which needs no transfer from the family and replaces the family's bands there;
     else the family's (_band). Returns (relative band or None, own_refinement's result or None)."""
@@ -156,21 +160,21 @@ class Run:
             })
 
     @property
-    def label(self):
+    def label(self) -> str:
         return f"{self.name} ({self.nx}²)" if self.nx == self.ny else f"{self.name} ({self.nx}×{self.ny})"
 
-    def tag(self):
+    def tag(self) -> str:
         return re.sub(r"[^A-Za-z0-9_.-]", "_", f"{self.name}_{self.nx}")
 
-    def pressures(self):
+    def pressures(self) -> list[float]:
         return [st["p"] for st in self.steps if st["p"] is not None]
 
-    def is_load_sweep(self):
+    def is_load_sweep(self) -> bool:
         ps = {round(p, 9) for p in self.pressures() if p > 0}
         taborss = {st["tabor"] for st in self.steps if st["tabor"] is not None}
         return len(ps) >= 3 and len(taborss) <= 1
 
-    def reference_step(self):
+    def reference_step(self) -> Json | None:
         """The step nearest the reference pressure 250 kPa (within 5 %), else None."""
         best = None
         for st in self.steps:
@@ -270,7 +274,7 @@ def _reference_load_runs(runs, adhesive):
     return [by[n] for n in sorted(by)]
 
 
-def grid_change(pair, key):
+def grid_change(pair: list[tuple[Run, Json]], key: str) -> tuple[float, Run, Run] | None:
     """(bands.relative_change of step quantity `key`, coarse run, finer run) between the first two
     of [(run, step)] (coarsest first); None with fewer than two grids or without the change."""
     if len(pair) < 2:
@@ -280,21 +284,22 @@ def grid_change(pair, key):
     return None if change is None else (change, r0, r1)
 
 
-def finer_sweep(sweeps, r):
+def finer_sweep(sweeps: list[tuple[Run, list[Json], Any]], r: Run) -> tuple[Run, list[Json]] | None:
     """The load sweep of r's case on the next finer grid, (run, steps), among _merged_sweeps'
     entries; None if there is none."""
     cands = [(rf, pf) for rf, pf, _ in sweeps if rf.name == r.name and rf.adhesive == r.adhesive and rf.nx > r.nx]
     return min(cands, key=lambda c: c[0].nx) if cands else None
 
 
-def band_floor(r, key):
+def band_floor(r: Run, key: str) -> tuple[float, str]:
     """(least band, its words) of a load-sweep point of run r, for key "ar" or "gap"
     (bands.sweep_floor, from the run's grid, solver tolerance and rms height)."""
     return bands.sweep_floor(key, r.nx, r.ny, get(r.s, "case", "solver", "tolerance") or 0.0,
                              get(r.s, "surface_facts", "rms_height") or 0.0)
 
 
-def hardwall_sweep_band(pair, r, steps, key, finer=None):
+def hardwall_sweep_band(pair: list[tuple[Run, Json]], r: Run, steps: list[Json], key: str,
+                        finer: tuple[Run, list[Json]] | None = None) -> tuple[list[float] | None, str]:
     """Per-step band of a hard-wall load sweep (run r) for key "ar" or "gap", with a sentence saying
     how (bands.hardwall_sweep_band); (None, "") without one. finer = (run, steps) of the same sweep
     on a finer grid (finer_sweep); pair: the runs at 250 kPa, [(run, step)] coarsest first."""
@@ -367,7 +372,7 @@ def _stored(reference_dir, quantity, adhesive):
     return {"path": path, "meta": meta, "x": col[meta["x"]], "y": col[meta["y"]], "band": col.get(meta.get("band"))}
 
 
-def sweep_end_note(r, pts):
+def sweep_end_note(r: Run, pts: list[Json]) -> str:
     """Where a load sweep's curve ends and why (as far as the solver goes, stating where and
     why it stops): at full contact, at a load its solver did not converge at, or
     at the last load the run was given."""

@@ -8,6 +8,7 @@ Input: <validation dir>/<case>/summary.json and profiles.csv as written by
 number drawn or tabulated here is cmc's: the errors, fits and analytic columns come from
 those files and from the stored curves in reference/; this script only draws them.
 """
+from __future__ import annotations
 import os
 
 import numpy as np
@@ -218,7 +219,7 @@ def _adhesive_refinement(ref_dir, out_dir):
     return lines
 
 
-def build(validation_dirs, ref_dir, out_dir, notes):
+def build(validation_dirs: list[str], ref_dir: str, out_dir: str, notes: list[str]) -> str:
     os.makedirs(out_dir, exist_ok=True)
     runs = _collect(validation_dirs, notes)
     lines = ["# Validation report", ""]
