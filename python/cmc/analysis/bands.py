@@ -9,8 +9,8 @@ the quantity's own unit unless its name says "relative". A load-sweep step is a 
 """
 from __future__ import annotations
 from typing import Any, Sequence
-from numpy.typing import ArrayLike
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .refinement import sequence_error
 

@@ -15,11 +15,11 @@ converges slowest) is the point's best estimate; every quantity of the point com
 """
 from __future__ import annotations
 from typing import Any, Iterable
-from .._types import Json
 import math
 
 from . import family
 from .refinement import REFINEMENT_BISTABILITY, sequence_error
+from .._types import Json
 
 QUANTITIES = (("a_r", "a_r"), ("a_rep", "a_rep"), ("mean_gap", "mean_gap_m"))  # (family short, record key)
 SAME_POINT = 0.01  # two runs are at one point when their load and mu_T agree within 1 %

@@ -4,12 +4,12 @@ of the two a_r), a_r and the mean gap against mu_T, and where the mean gap has i
 in mu_T. The result is what reference/challenge/best_estimates.json holds.
 """
 from __future__ import annotations
-from typing import Any, Callable, Iterable
-from .._types import Json
+from typing import Callable, Iterable
 import json
 import os
 
 from . import best, extremum, family, runs
+from .._types import Json
 
 P0 = 250e3        # Pa, the reference load
 ESTAR = 25e6      # Pa, E*

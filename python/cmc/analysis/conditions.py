@@ -7,13 +7,13 @@ A run is given by its summary.json (parsed); a member and its runs as family.py 
 """
 from __future__ import annotations
 from typing import Any
-from .._types import Json
 import math
 
 import numpy as np
 
 from . import family
 from .runs import get, strategy_of
+from .._types import Json
 
 SAME = 0.01  # a mu_T or load within 1 % of another is the same condition
 

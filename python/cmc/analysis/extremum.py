@@ -9,12 +9,12 @@ around it, is an independent estimate; their distance is the error of locating i
 samples.
 """
 from __future__ import annotations
-from typing import Any, Sequence
-from numpy.typing import ArrayLike
-from .._types import Json
+from typing import Sequence
 import math
 
 import numpy as np
+from .._types import Json
+from numpy.typing import ArrayLike
 
 # The widest step (in decades of mu) between a bracketing sample and its neighbours: wider, and
 # the samples do not locate the extremum (the sweep's points are a quarter decade apart).

@@ -8,11 +8,11 @@ by at dx = K rho. s = 1 is the challenge itself, which has no converged referenc
 """
 from __future__ import annotations
 from typing import Any, Iterable
-from .._types import Json
 import glob
 import json
 import math
 import os
+from .._types import Json
 
 # The checkout (the build tree links these files: realpath finds the source).
 REPO = os.path.abspath(os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", ".."))

@@ -11,10 +11,10 @@ band widths (the band: the previous estimate's value +- its error).
 """
 from __future__ import annotations
 from typing import Any, Iterable
-from .._types import Json
 import math
 
 from . import best, runs
+from .._types import Json
 
 FRACTIONS = ("a_r", "a_r_corrected", "a_rep")
 REQUIRED = ("n", "pressure_Pa", "a_r", "mean_gap_m")

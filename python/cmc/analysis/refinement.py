@@ -13,8 +13,8 @@ bands built on it live here only.
 """
 from __future__ import annotations
 from typing import Any, Sequence
-from .._types import Json
 import math
+from .._types import Json
 
 # A grid resolves the adhesion for a refinement pair when it resolves the cohesive zone as well
 # as the scaled family's refinement grids do. The measure is the bistability number

@@ -22,10 +22,10 @@ the members' refinement errors carried through the lines' weights (the larger of
 """
 from __future__ import annotations
 from typing import Any
-from .._types import Json
 import math
 
 from . import family
+from .._types import Json
 
 # The route is not informative for a quantity whose error is more than this fraction of its value.
 INFORMATIVE = 0.5

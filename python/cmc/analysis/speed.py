@@ -10,10 +10,10 @@ values are the best estimate has none against itself, and is placed at the best 
 relative error (its error bar) instead, marked as such.
 """
 from typing import Any, Callable, Iterable, TypeGuard
-from .._types import Json
 from dataclasses import dataclass
 import math
 import re
+from .._types import Json
 
 REFERENCE_PRESSURE_PA = 250e3
 CHALLENGE_TABOR = 3.0

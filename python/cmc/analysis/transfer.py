@@ -6,10 +6,10 @@ A member and its runs as family.py describes them.
 """
 from __future__ import annotations
 from typing import Any, Iterable
-from .._types import Json
 import math
 
 from . import family
+from .._types import Json
 
 # The targets of a resolution strategy at dx = 2 rho and 4 rho: the largest relative error of a_r
 # and of the mean gap it may have there.

@@ -3,8 +3,6 @@ references without the runs at hand (scripts/apply_best_estimates.py; what it re
 listed there). The challenge references' command (cmc.references.challenge) calls `apply`
 after it rewrites the curves from the runs."""
 from __future__ import annotations
-from typing import Any
-from .._types import Json
 import argparse
 import json
 import os
@@ -14,6 +12,7 @@ import tomllib
 from ..analysis import best as best_mod
 from ..analysis.runs import REPO as ROOT
 from ..reference_files import CurveError, read_curve, write_atomically, write_curve
+from .._types import Json
 
 P0 = 250e3
 BEGIN, END = "<!-- best-estimates:begin -->", "<!-- best-estimates:end -->"

@@ -2,8 +2,6 @@
 (reference/challenge/best_estimates.json) from the run store and the scaled family's stores,
 decided in cmc.analysis.best and cmc.analysis.challenge, and printed."""
 from __future__ import annotations
-from typing import Any
-from cmc._types import Json
 import argparse
 import json
 import os
@@ -11,6 +9,7 @@ import sys
 
 from cmc.analysis import challenge, family, plausibility, runs
 from cmc.analysis.runs import REPO as ROOT
+from cmc._types import Json
 
 OUT = os.path.join(ROOT, "reference", "challenge", "best_estimates.json")
 

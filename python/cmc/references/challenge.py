@@ -2,9 +2,6 @@
 reference/challenge/<quantity>.csv and their README.md from cmc's own challenge runs (curves,
 readme), then the best estimates put into them (apply)."""
 from __future__ import annotations
-from typing import Any
-from cmc._types import Json
-from cmc.report.challenge_runs import Run
 import argparse
 import json
 import os
@@ -16,6 +13,8 @@ from .apply import apply as apply_best_estimates
 from .curves import distribution_pair, load_sweep_curves, member_runs, reference_load_curves, tabor_curves
 from .provenance import _rel, hardwall_refinement, write_atomically, write_curve
 from .readme import ALL, readme, readme_adhesionless, stored_curve
+from cmc._types import Json
+from cmc.report.challenge_runs import Run
 
 
 def write_curves(cmc: str, curves: list[Json], out: str) -> None:

@@ -2,8 +2,6 @@
 at the reference load (items 1, 3, 4, 5, 9), the load sweep (items 2, 8) and the Tabor sweep
 (items 6, 7), each with its provenance and band."""
 from __future__ import annotations
-from typing import Any
-from cmc._types import Json
 import glob
 import os
 
@@ -20,6 +18,7 @@ from cmc.report.challenge_runs import (Run, _centers, _merged_sweeps, _observabl
 from cmc.report.common import case_name, get, load_json, roundoff_note, transfer_caveat
 from .provenance import (GENERATOR, P0, RHO, _clean, _rel, _with_refinement_band, add_abs_band, add_band,
                          adhesive_error, provenance, strategy_band, with_band)
+from cmc._types import Json
 
 
 CONTEXT = ("run", "st", "obs", "fobs", "nc", "prov", "params", "conv", "base")

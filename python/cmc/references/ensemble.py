@@ -2,8 +2,7 @@
 (reference/challenge/ensemble/, realisation/) and their summary from the seed ensemble's store
 and the best estimates (numbers from cmc.analysis.ensemble)."""
 from __future__ import annotations
-from typing import Any, Iterable
-from cmc._types import Json
+from typing import Iterable
 import argparse
 import json
 import os
@@ -12,6 +11,7 @@ import sys
 from cmc.analysis import ensemble, runs
 from cmc.reference_files import CurveError, write_atomically, write_curve
 from cmc.analysis.runs import REPO as ROOT
+from cmc._types import Json
 
 STORE = os.path.join(ROOT, "reference", "challenge", "ensemble", "runs.json")
 BEST = os.path.join(ROOT, "reference", "challenge", "best_estimates.json")

@@ -2,8 +2,6 @@
 solver tolerance, date and command) and its error band with the sentence on what the band rests on."""
 from __future__ import annotations
 from typing import Any
-from cmc._types import Json
-from cmc.report.challenge_runs import Run
 import datetime
 import json
 import os
@@ -18,6 +16,8 @@ from cmc.analysis.runs import REPO as ROOT, dx_over_rho, strategy_of
 from cmc.report.challenge_runs import band_floor
 from cmc.report.common import CHALLENGE, STRATEGY_WORDS, load_json, roundoff_note, transfer_caveat
 from .. import reference_files
+from cmc._types import Json
+from cmc.report.challenge_runs import Run
 
 
 RHO, LAMBDA_S, P0 = CHALLENGE["rho"], CHALLENGE["lambda_s"], CHALLENGE["p0"]

@@ -2,14 +2,14 @@
 files, the reference load's runs, the accuracy of each curve and where its band comes from."""
 from __future__ import annotations
 
-from typing import Any, Sequence
-from cmc._types import Json
-from cmc.report.challenge_runs import Run
+from typing import Sequence
 from cmc.analysis.conditions import condition_checks
 from cmc.analysis.refinement import REFINEMENT_BISTABILITY
 from cmc.analysis.runs import strategy_of
 from cmc.report.common import STRATEGY_WORDS, condition_summary, read_reference_csv, roundoff_note, transfer_caveat
 from .provenance import HW_LABELS, RHO, _bistable, _over_rho, _rel, provenance
+from cmc._types import Json
+from cmc.report.challenge_runs import Run
 
 
 # ------------------------------------------------------------------ README

@@ -5,11 +5,11 @@ estimates drawn first into the figures. Reads reference/challenge/best_estimates
 """
 from __future__ import annotations
 from typing import Any
-from cmc._types import Json
 import json
 import os
 
 import numpy as np
+from cmc._types import Json
 
 P0 = 250e3
 ROWS = (("a_r", "relative contact area a_r", 1.0, 4), ("a_rep", "repulsive contact area (p > 0)", 1.0, 4),

@@ -1,7 +1,6 @@
 """The challenge report's distributions, spectrum and cross sections (items 1, 3, 4, 5, 9) at
 the reference load, drawn with their bands and written as data/*.csv."""
 from __future__ import annotations
-from typing import Any
 import os
 
 import numpy as np

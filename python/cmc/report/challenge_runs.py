@@ -3,7 +3,6 @@ the step at the reference load, the observables of a step, the bands of a run's 
 the hints that say what to run where something is missing."""
 from __future__ import annotations
 from typing import Any
-from cmc._types import Json
 import glob
 import math
 import os
@@ -16,6 +15,7 @@ from cmc.analysis.conditions import condition_checks, run_band
 from cmc.analysis.runs import REPO, strategy_of
 from .common import (CHALLENGE, case_name, condition_check_lines, condition_summary, finite, get, h5_open,
                      load_json, read_reference_csv, rel, step_groups)
+from cmc._types import Json
 
 
 P0 = CHALLENGE["p0"]

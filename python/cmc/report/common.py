@@ -6,13 +6,13 @@ of raising on a missing or malformed input: a report never crashes on missing da
 """
 from __future__ import annotations
 from typing import Any, Callable, Iterable, Sequence
-from cmc._types import Json
 import glob
 import json
 import math
 import os
 
 import numpy as np
+from cmc._types import Json
 
 try:
     import h5py  # noqa: F401

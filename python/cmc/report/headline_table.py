@@ -1,12 +1,11 @@
 """The command scripts/headline_table.py: the README's headline block from the best estimates."""
 from __future__ import annotations
-from typing import Any
-from cmc._types import Json
 import json
 import os
 import sys
 
 from cmc.analysis.runs import REPO as ROOT
+from cmc._types import Json
 
 BEST = os.path.join(ROOT, "reference", "challenge", "best_estimates.json")
 BEGIN, END = "<!-- headline:begin -->", "<!-- headline:end -->"

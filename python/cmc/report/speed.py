@@ -4,7 +4,6 @@ the hard-case suite's results (cases/hard/, `ctest -L hard`, build/hard/<case>/s
 cmc.report.challenge calls section(); this module only draws and tabulates."""
 from __future__ import annotations
 from typing import Any, Iterable, Sequence
-from cmc._types import Json
 import glob
 import os
 
@@ -14,6 +13,7 @@ from .common import fmt, load_json, md_table, plt, rel, savefig
 
 from cmc.analysis import speed  # noqa: E402
 from cmc.analysis.runs import REPO, load_store, record  # noqa: E402
+from cmc._types import Json
 
 PROBLEMS = (("hardwall", "hard wall"), ("adhesive", "with adhesion (μ_T = 3)"))
 

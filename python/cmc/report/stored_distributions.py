@@ -8,12 +8,12 @@ A stored reference is the dict of cmc.report.challenge_runs._stored: {path, meta
 """
 from __future__ import annotations
 from typing import Any
-from cmc._types import Json
 import re
 
 import numpy as np
 
 from .common import CHALLENGE, fmt
+from cmc._types import Json
 
 
 def grid_name(ref: Json) -> str:

@@ -8,11 +8,11 @@ references, the fair comparison for a surface of its own. It computes nothing bu
 """
 from __future__ import annotations
 from typing import TYPE_CHECKING, Any
-from cmc._types import Json
 import json
 import os
 
 from .common import fmt, get, md_table, read_reference_csv
+from cmc._types import Json
 
 if TYPE_CHECKING:
     from .challenge_runs import Run
