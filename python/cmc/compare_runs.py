@@ -9,16 +9,17 @@ import sys
 import h5py
 import numpy as np
 
+from . import run_folder
+
 # Wall-clock times and what is derived from them (timing.fft_pair_s is timed at run start).
 ALWAYS_IGNORED = {"wall_s", "fft_s", "fft_pair_s", "time_per_fft_pair", "time_per_iteration", "fft_share", "field_bytes_peak",
                   "row_column_pair_s", "floor_pair_s", "time_per_floor_pair"}
 
 
 def runs(top: str) -> dict[str, str]:
-    if os.path.exists(os.path.join(top, "summary.json")):
+    if os.path.exists(run_folder.summary_path(top)):
         return {"": top}
-    return {n: os.path.join(top, n) for n in sorted(os.listdir(top))
-            if os.path.exists(os.path.join(top, n, "summary.json"))}
+    return {os.path.basename(d): d for d in sorted(run_folder.find(top, recursive=False), key=os.path.basename)}
 
 
 def compare_json(x: Any, y: Any, path: str, ignored: Container[str], out: list[str]) -> None:

@@ -8,6 +8,7 @@ import json
 import os
 import sys
 
+from . import run_folder
 from .analysis.runs import REPO as ROOT
 from ._types import Json
 
@@ -19,12 +20,10 @@ def fail(msg: str) -> NoReturn:
 
 
 def load(folder: str) -> Json:
-    path = os.path.join(folder, "summary.json")
     try:
-        with open(path) as f:
-            return json.load(f)
-    except (OSError, ValueError) as e:
-        fail(f"{path}: {e} (expected the summary.json of a finished cmc run)")
+        return run_folder.read_summary(folder).data
+    except run_folder.RunFolderError as e:
+        fail(f"{e} (expected a finished cmc run)")
 
 
 def value(step: Json, key: str) -> float | None:

@@ -8,6 +8,8 @@ import json
 import math
 import os
 
+from .. import run_folder
+
 # The checkout (the build tree links these files: realpath finds the source).
 REPO = os.path.abspath(os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", ".."))
 RUN_STORE = os.path.join(REPO, "reference", "challenge", "runs.json")
@@ -227,12 +229,11 @@ def changed_tags(records: list[dict[str, Any]], new: list[dict[str, Any]]) -> li
 
 
 def read_summary(path: str) -> dict[str, Any]:
-    """A run's summary.json, parsed; StoreError where it is not a JSON object."""
+    """A run's summary.json (path FOLDER/summary.json), parsed, as cmc.run_folder reads it;
+    StoreError naming the file where it is missing, truncated or not a run's summary."""
+    if os.path.basename(path) != run_folder.SUMMARY:
+        raise StoreError(f"{path}: expected a run folder's {run_folder.SUMMARY}")
     try:
-        with open(path, encoding="utf-8") as f:
-            data = json.load(f)
-    except (OSError, ValueError) as e:
-        raise StoreError(f"{path}: not a readable summary.json ({e})") from None
-    if not isinstance(data, dict):
-        raise StoreError(f"{path}: not a run's summary (expected a JSON object, got {type(data).__name__})")
-    return data
+        return run_folder.read_summary(os.path.dirname(path)).data
+    except run_folder.RunFolderError as e:
+        raise StoreError(str(e)) from None

@@ -2,13 +2,13 @@
 refinement, coarse), the cmc sweeps that run them (resumable), and each run's record."""
 from __future__ import annotations
 from typing import Any, Iterable, Sequence
-import json
 import os
 import subprocess
 import sys
 
 from ..analysis.family import FAMILY_QUANTITIES as QUANTITIES
 from ..analysis.runs import REPO as ROOT
+from cmc import run_folder
 from cmc._types import Json
 
 
@@ -114,9 +114,8 @@ def summary_ok(path: str) -> bool:
     """A finished run (converged, or stopped at a cap: not_converged, which a rerun of the same case
     repeats bit for bit) is kept; a failed or missing one is (re)run."""
     try:
-        with open(path, encoding="utf-8") as f:
-            return json.load(f).get("status") in ("converged", "not_converged")
-    except (OSError, ValueError):
+        return run_folder.read_summary(os.path.dirname(path)).status in ("converged", "not_converged")
+    except run_folder.RunFolderError:
         return False
 
 
@@ -152,8 +151,7 @@ def finished(results: str, s: int, j: Json) -> bool:
     out = job_folder(results, s, j)
     if not summary_ok(os.path.join(ROOT, out, "summary.json")):
         return False
-    with open(os.path.join(ROOT, out, "summary.json"), encoding="utf-8") as f:
-        status = json.load(f)["status"]
+    status = run_folder.read_summary(os.path.join(ROOT, out)).data["status"]
     print(f"scaled_family: s = {s}, {j['n']}²: done ({out}" + ("" if status == "converged" else f", {status}") + ")",
           file=sys.stderr)
     return True
@@ -197,8 +195,7 @@ def run_jobs(cmc: str, results: str, s: int, jobs: list[Json], dry: bool) -> lis
 
 
 def record(out: str, role: str, n: int, rho: float, command: str) -> Json:
-    with open(os.path.join(ROOT, out, "summary.json"), encoding="utf-8") as f:
-        d = json.load(f)
+    d = run_folder.read_summary(os.path.join(ROOT, out)).data
     st = d["steps"][-1]
     facts = d["surface_facts"]
     r = {"role": role, "n": n, "dx_m": L / n, "dx_over_rho": (L / n) / rho, "status": d["status"],

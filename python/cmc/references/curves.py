@@ -2,10 +2,8 @@
 at the reference load (items 1, 3, 4, 5, 9), the load sweep (items 2, 8) and the Tabor sweep
 (items 6, 7), each with its provenance and band."""
 from __future__ import annotations
-import glob
 import os
 
-import h5py
 import numpy as np
 
 from cmc.analysis import bands
@@ -15,9 +13,10 @@ from cmc.analysis.refinement import REFINEMENT_BISTABILITY, own_refinement_words
 from cmc.analysis.runs import strategy_of, tabor_of
 from cmc.report.challenge_runs import (Run, _centers, _merged_sweeps, _observables, _reference_load_runs, _stopped,
                                        finer_sweep, grid_change, hardwall_sweep_band, sweep_band)
-from cmc.report.common import case_name, get, load_json, roundoff_note, transfer_caveat
+from cmc.report.common import case_name, get, roundoff_note, transfer_caveat
 from .provenance import (GENERATOR, P0, RHO, _clean, _rel, _with_refinement_band, add_abs_band, add_band,
                          adhesive_error, provenance, strategy_band, with_band)
+from cmc import run_folder
 from cmc._types import Json
 
 
@@ -27,9 +26,8 @@ CONTEXT = ("run", "st", "obs", "fobs", "nc", "prov", "params", "conv", "base")
 def _same_run_in_h5(run, st):
     """Stops where the summary and result.h5 do not belong to the same run (a run may be being
     rewritten): the step's mean pressure must agree."""
-    with h5py.File(run.h5path, "r") as f:
-        g = f.get(f"step_{int(st['index']):04d}")
-        p_h5 = float(g.attrs.get("mean_pressure", float("nan"))) if g is not None else float("nan")
+    got = run_folder.step_attribute(run.folder, run.step(st), "mean_pressure")
+    p_h5 = float("nan") if got is None else got
     if not (abs(p_h5 - st["p"]) <= 1e-9 * abs(st["p"])):
         raise SystemExit(f"challenge_reference: {run.h5path} (p = {p_h5}) and its summary.json (p = {st['p']}) "
                          "differ: the run is being rewritten; retry when it has finished")
@@ -199,10 +197,10 @@ def member_runs(results: str) -> list[Run]:
     """The converged runs of case CHALLENGE_MEMBER under `results`, with mu_T the problem's
     (cmc.analysis.runs.tabor_of: the specified range, not a coarse-grained law's)."""
     out = []
-    for f in sorted(glob.glob(os.path.join(results, "**", "summary.json"), recursive=True)):
-        s = load_json(f)
-        if isinstance(s, dict) and case_name(s) == CHALLENGE_MEMBER and s.get("status") == "converged":
-            r = Run(s, os.path.dirname(f))
+    for summary in run_folder.read_summaries(run_folder.find(results)):
+        s = summary.data
+        if case_name(s) == CHALLENGE_MEMBER and s.get("status") == "converged":
+            r = Run(s, summary.folder)
             r.run_tabor = tabor_of(s)
             out.append(r)
     return out
@@ -214,8 +212,8 @@ def distribution_pair(runs: list[Run], adhesive: bool) -> list[tuple[Run, Json]]
     has a coarser grid of the same case, and that coarser grid, as [(run, step) coarser, (run,
     step) finest]; on a tie the case with more grids, then the first by name. A case with one
     grid alone: [(run, step)] of the finest such; [] without any."""
-    cases = sorted({(r.name, strategy_of(r.s)) for r in runs if os.path.isfile(r.h5path)})
-    seqs = [_reference_load_runs([r for r in runs if (r.name, strategy_of(r.s)) == c and os.path.isfile(r.h5path)],
+    cases = sorted({(r.name, strategy_of(r.s)) for r in runs if r.has_result})
+    seqs = [_reference_load_runs([r for r in runs if (r.name, strategy_of(r.s)) == c and r.has_result],
                                  adhesive) for c in cases]
     seqs = [q for q in seqs if q]
     if not seqs:

@@ -13,8 +13,9 @@ import numpy as np
 from cmc.analysis import bands, refinement
 from cmc.analysis.conditions import condition_checks, run_band
 from cmc.analysis.runs import REPO, strategy_of
-from .common import (CHALLENGE, case_name, condition_check_lines, condition_summary, finite, get, h5_open,
-                     load_json, read_reference_csv, rel, step_groups)
+from .common import (CHALLENGE, case_name, condition_check_lines, condition_summary, finite, get,
+                     read_reference_csv, rel)
+from cmc import run_folder
 from cmc._types import Json
 
 
@@ -107,12 +108,16 @@ def _condition_note(kind, out_dir, own=False):
 
 
 class Run:
-    def __init__(self, summary, folder):
+    """A challenge run as the report reads it: its summary (`s`, parsed; `record`, its steps as
+    cmc.run_folder reads them) and per step the numbers the report uses (`steps`, dicts)."""
+
+    def __init__(self, summary: Json, folder: str) -> None:
         self.s = summary
+        self.record = run_folder.summary_of(folder, summary)
         self.folder = folder
         self.name = case_name(summary) or os.path.basename(folder)
         self.Estar = get(summary, "case", "material", "contact_modulus") or CHALLENGE["Estar"]
-        g = summary.get("grid") or {}
+        g: Any = summary.get("grid") or {}
         self.nx, self.ny = g.get("nx"), g.get("ny")
         self.dx = g.get("dx")
         self.size = g.get("size_x")
@@ -120,7 +125,7 @@ class Run:
         self.gpu_mark = " (GPU)" if g.get("backend") == "cuda" else ""
         self.status = summary.get("status", "?")
         self.wall_s = get(summary, "timing", "wall_s")
-        self.h5path = os.path.join(folder, "result.h5")
+        self.h5path = run_folder.result_path(folder)
         kind = get(summary, "case", "interaction", "kind")
         # The problem: the challenge's (adhesion) or its adhesionless counterpart (hard wall).
         self.adhesive = kind not in (None, "hard_wall")
@@ -134,11 +139,9 @@ class Run:
                 run_tabor = float(v)
                 break
         self.run_tabor = run_tabor
-        self.steps = []
-        for k, st in enumerate(summary.get("steps") or []):
-            if not isinstance(st, dict):
-                continue
-            ob = st.get("observables") if isinstance(st.get("observables"), dict) else {}
+        self.steps: list[Json] = []
+        for step in self.record.steps:
+            k, st, ob = step.position, step.record, step.scalar_observables
 
             def pick(key, default=None):
                 v = ob.get(key)
@@ -158,6 +161,15 @@ class Run:
                 "converged": st.get("converged", True), "branch": st.get("branch", ""),
                 "iterations": st.get("iterations"), "has_observables": bool(ob),
             })
+
+    @property
+    def has_result(self) -> bool:
+        """Whether the run's folder holds a result.h5."""
+        return run_folder.has_result(self.folder)
+
+    def step(self, st: Json) -> run_folder.Step:
+        """The run_folder.Step of one of `steps`."""
+        return next(s for s in self.record.steps if s.position == st["k"])
 
     @property
     def label(self) -> str:
@@ -195,17 +207,13 @@ def _find_runs(results_dir, notes):
     of iterations; not results) and the round-off runs (results/roundoff/: the same cases by
     another build or thread count, for scripts/roundoff_spread.py; duplicates, not results) and the runs on
     users' surface files (results/surfaces/: scripts/main.sh --surface, a report of their own)."""
-    files = set(glob.glob(os.path.join(results_dir, "**", "summary.json"), recursive=True))
     skip = tuple(os.path.join(results_dir, d) + os.sep
                  for d in ("validation", "performance", "scaled-family", "bench", "cluster-measure", "roundoff",
                            "surfaces"))
     runs = []
-    for f in sorted(files):
-        if f.startswith(skip):
-            continue
-        s = load_json(f, notes)
-        if not isinstance(s, dict):
-            continue
+    for summary in run_folder.read_summaries([d for d in run_folder.find(results_dir)
+                                              if not run_folder.summary_path(d).startswith(skip)], notes):
+        s, f = summary.data, summary.path
         name = case_name(s)
         in_challenge_dir = os.path.relpath(f, results_dir).startswith("challenge")
         if not (name.startswith("challenge") if name is not None else in_challenge_dir):
@@ -215,7 +223,7 @@ def _find_runs(results_dir, notes):
         # a realization's many coarse grids won the reference-load group (the most grids).
         if name is not None and name.startswith("challenge-scaled"):
             continue
-        runs.append(Run(s, os.path.dirname(f)))
+        runs.append(Run(s, summary.folder))
     return runs
 
 
@@ -270,7 +278,7 @@ def _reference_load_runs(runs, adhesive):
     # scripts/tabor_sweep.sh --grid N they would tie with the reference-load runs).
     _, by = max(sorted(groups.items()),
                 key=lambda item: (not item[0].startswith("challenge-tabor"), len(item[1]),
-                                  any(os.path.isfile(r.h5path) for r, _ in item[1].values())))
+                                  any(r.has_result for r, _ in item[1].values())))
     return [by[n] for n in sorted(by)]
 
 
@@ -331,24 +339,15 @@ def _hint(case_dir, words, what):
 def _observables(run, notes):
     """{dataset name: array} of the reference step's observables subgroup, or {}."""
     st = run.reference_step()
-    if st is None or not os.path.isfile(run.h5path):
+    if st is None or not run.has_result:
         return {}, st
-    h5 = h5_open(run.h5path, notes)
-    if h5 is None:
-        return {}, st
-    out = {}
-    with h5:
-        groups = step_groups(h5)
-        gname = f"step_{int(st['index']):04d}"
-        if gname not in h5 and st["k"] < len(groups):
-            gname = groups[st["k"]]
-        if gname in h5 and "observables" in h5[gname]:
-            for k, v in h5[gname]["observables"].items():
-                try:
-                    out[k] = np.asarray(v[()], dtype=float).ravel()
-                except (TypeError, ValueError):
-                    pass
-    return out, st
+    try:
+        return run_folder.observables(run.folder, run.step(st)).arrays, st
+    except ImportError:
+        notes.append("h5py is missing (install python3-h5py): fields in result.h5 were not read")
+    except run_folder.RunFolderError as e:
+        notes.append(f"{e}; its observables were not read")
+    return {}, st
 
 
 def _centers(edges, log):

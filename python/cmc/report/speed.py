@@ -4,7 +4,6 @@ the hard-case suite's results (cases/hard/, `ctest -L hard`, build/hard/<case>/s
 cmc.report.challenge calls section(); this module only draws and tabulates."""
 from __future__ import annotations
 from typing import Any, Iterable, Sequence
-import glob
 import os
 
 import numpy as np
@@ -13,6 +12,7 @@ from .common import fmt, load_json, md_table, plt, rel, savefig
 
 from cmc.analysis import speed  # noqa: E402
 from cmc.analysis.runs import REPO, load_store, record  # noqa: E402
+from cmc import run_folder
 from cmc._types import Json
 
 PROBLEMS = (("hardwall", "hard wall"), ("adhesive", "with adhesion (μ_T = 3)"))
@@ -118,9 +118,9 @@ def hard_summaries(dirs: Iterable[str]) -> list[tuple[str, Json]]:
     """(case name, summary) of every hard case's latest result under the folders (build/hard/<case>/)."""
     found: dict[str, tuple[float, Json]] = {}
     for d in dirs:
-        for f in sorted(glob.glob(os.path.join(d, "*", "summary.json"))):
-            s = load_json(f)
-            if isinstance(s, dict) and isinstance(s.get("validation"), list):
+        for summary in run_folder.read_summaries(run_folder.find(d, recursive=False)):
+            s, f = summary.data, summary.path
+            if isinstance(s.get("validation"), list):
                 name = ((s.get("case") or {}).get("case") or {}).get("name", os.path.basename(os.path.dirname(f)))
                 if name not in found or os.path.getmtime(f) > found[name][0]:
                     found[name] = (os.path.getmtime(f), s)

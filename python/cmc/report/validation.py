@@ -13,6 +13,7 @@ import os
 
 import numpy as np
 
+from cmc import run_folder
 from .common import fmt, get, load_json, md_table, plt, read_reference_csv, rel, savefig, case_name
 
 
@@ -23,13 +24,9 @@ def _collect(validation_dirs, notes):
     for d in validation_dirs:
         if not os.path.isdir(d):
             continue
-        for name in sorted(os.listdir(d)):
-            f = os.path.join(d, name, "summary.json")
-            if not os.path.isfile(f):
-                continue
-            s = load_json(f, notes)
-            if not isinstance(s, dict):
-                continue
+        folders = sorted(run_folder.find(d, recursive=False), key=os.path.basename)
+        for summary in run_folder.read_summaries(folders, notes):
+            s, f, name = summary.data, summary.path, os.path.basename(summary.folder)
             key = case_name(s) or name
             t = os.path.getmtime(f)
             if key not in runs or t > runs[key][2]:

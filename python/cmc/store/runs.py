@@ -8,6 +8,7 @@ import os
 import subprocess
 import sys
 
+from cmc import run_folder
 from cmc.analysis import runs
 from cmc.analysis.runs import REPO as ROOT
 
@@ -53,11 +54,12 @@ def main(argv: list[str] | None, doc: str | None = None) -> int:
     a = ap.parse_args(argv)
     new = []
     for d in a.dirs:
-        path = os.path.join(d, "summary.json")
-        if not os.path.isfile(path):
-            print(f"store_runs: {d}: no summary.json (expected a finished `cmc run` output folder)", file=sys.stderr)
+        try:
+            s = run_folder.read_summary(d).data
+        except run_folder.RunFolderError as e:
+            print(f"store_runs: {e} (expected a finished `cmc run` output folder)", file=sys.stderr)
             return 2
-        s = runs.read_summary(path)
+        path = run_folder.summary_path(d)
         backend = runs.get(s, "grid", "backend") or "cpu"
         tag = f"{backend}-{runs.kind_of(s)}-{runs.get(s, 'grid', 'nx')}"
         date = datetime.datetime.fromtimestamp(os.path.getmtime(path), datetime.timezone.utc).strftime("%Y-%m-%d")
