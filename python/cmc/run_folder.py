@@ -164,27 +164,36 @@ def _step_group(f: Any, step: Step) -> str | None:
     return groups[step.position] if step.position < len(groups) else None
 
 
-def observables(folder: str, step: Step) -> Observables:
-    """The step's observables in the folder's result.h5 (datasets read as 1-D float arrays; one
-    that is not numeric is left out). RunFolderError where result.h5 is missing or unreadable or
-    holds no group for the step; ImportError without h5py."""
+def _open_result(folder: str) -> Any:
+    """The folder's result.h5 opened for reading; RunFolderError where it is missing or cannot be
+    opened, ImportError without h5py."""
     h5py = _h5py()
     path = result_path(folder)
     if not os.path.isfile(path):
         raise RunFolderError(f"{folder}: no {RESULT} (the run kept no results, or has not finished)")
     try:
-        with h5py.File(path, "r") as f:
+        return h5py.File(path, "r")
+    except OSError as e:
+        raise RunFolderError(f"{path}: cannot be read ({e})") from None
+
+
+def observables(folder: str, step: Step) -> Observables:
+    """The step's observables in the folder's result.h5 (datasets read as 1-D float arrays; one
+    that is not numeric is left out). RunFolderError where result.h5 is missing or unreadable or
+    holds no group for the step; ImportError without h5py."""
+    path = result_path(folder)
+    arrays: dict[str, np.ndarray] = {}
+    try:
+        with _open_result(folder) as f:
             group = _step_group(f, step)
             if group is None:
                 raise RunFolderError(f"{path}: no group for load step {step.index} (step_{step.index:04d}; "
                                      "a run stopped before writing it?)")
-            arrays: dict[str, np.ndarray] = {}
-            if "observables" in f[group]:
-                for k, v in f[group]["observables"].items():
-                    try:
-                        arrays[k] = np.asarray(v[()], dtype=float).ravel()
-                    except (TypeError, ValueError):
-                        pass
+            for k, v in (f[group]["observables"].items() if "observables" in f[group] else ()):
+                try:
+                    arrays[k] = np.asarray(v[()], dtype=float).ravel()
+                except (TypeError, ValueError):
+                    pass
     except OSError as e:
         raise RunFolderError(f"{path}: cannot be read ({e})") from None
     return Observables(folder=folder, group=group, arrays=arrays)
@@ -194,16 +203,12 @@ def step_attribute(folder: str, step: Step, name: str) -> float | None:
     """An attribute of the step's group step_NNNN in result.h5 (e.g. "mean_pressure") as a float,
     None where the group or the attribute is missing; RunFolderError where result.h5 is missing
     or unreadable."""
-    h5py = _h5py()
-    path = result_path(folder)
-    if not os.path.isfile(path):
-        raise RunFolderError(f"{folder}: no {RESULT} (the run kept no results, or has not finished)")
     try:
-        with h5py.File(path, "r") as f:
+        with _open_result(folder) as f:
             g = f.get(f"step_{step.index:04d}")
             return float(g.attrs[name]) if g is not None and name in g.attrs else None
     except OSError as e:
-        raise RunFolderError(f"{path}: cannot be read ({e})") from None
+        raise RunFolderError(f"{result_path(folder)}: cannot be read ({e})") from None
 
 
 def read_summaries(folders: Iterable[str], notes: list[str] | None = None) -> list[Summary]:
