@@ -16,6 +16,7 @@ from cmc.analysis.runs import REPO as ROOT, dx_over_rho, strategy_of
 from cmc.report.challenge_runs import band_floor
 from cmc.report.common import CHALLENGE, STRATEGY_WORDS, load_json, roundoff_note, transfer_caveat
 from .. import reference_files
+from cmc import run_folder
 from cmc._types import Json
 from cmc.report.challenge_runs import Run
 
@@ -87,7 +88,7 @@ def provenance(run: Run, steps: list[Json]) -> list[tuple[str, str]]:
     case_file = s.get("case_file") or "?"
     return [("cmc_version", str(s.get("cmc_version") or "?")), ("case_file", case_file),
             ("grid", _grid_text(run)), ("solver_tolerance", tol),
-            ("date", _mtime_utc(os.path.join(run.folder, "summary.json"))),
+            ("date", _mtime_utc(run_folder.summary_path(run.folder))),
             ("command", f"cmc run {case_file} --out {_rel(run.folder)}{_overrides(s)}")]
 
 

@@ -6,7 +6,6 @@ of raising on a missing or malformed input: a report never crashes on missing da
 """
 from __future__ import annotations
 from typing import Any, Callable, Iterable, Sequence
-import glob
 import json
 import math
 import os
@@ -159,37 +158,6 @@ def write_csv(path: str, columns: Sequence[tuple[str, Sequence[float]]], header_
         f.write(",".join(name for name, _ in columns) + "\n")
         for i in range(n):
             f.write(",".join(f"{float(v[i]):.9e}" for _, v in columns) + "\n")
-
-
-def find_summaries(patterns: Iterable[str]) -> list[str]:
-    """Paths of summary.json files matching any of the glob patterns (recursive), sorted."""
-    out = set()
-    for p in patterns:
-        for f in glob.glob(p, recursive=True):
-            if os.path.basename(f) == "summary.json" and os.path.isfile(f):
-                out.add(os.path.normpath(f))
-    return sorted(out)
-
-
-def h5_open(path: str, notes: list[str] | None = None) -> Any:
-    if not HAVE_H5PY:
-        if notes is not None:
-            notes.append("h5py is missing (install python3-h5py): fields in result.h5 were not read")
-        return None
-    if not os.path.isfile(path):
-        return None
-    try:
-        import h5py
-        return h5py.File(path, "r")
-    except OSError as e:
-        if notes is not None:
-            notes.append(f"`{path}` could not be opened ({e}); skipped")
-        return None
-
-
-def step_groups(h5: Any) -> list[str]:
-    """Names of the step groups of a result.h5 in order (step_0000, ...)."""
-    return sorted(k for k in h5.keys() if k.startswith("step_"))
 
 
 def rel(path: str, start: str) -> str:
