@@ -1,7 +1,13 @@
 """Case files and runs: cmc.Case, cmc.run and the cmc.Result they give."""
+from __future__ import annotations
+import os
+from typing import Any, Callable
 import json
 
+import numpy as np
+
 from ._native import _core, path_text, toml_text, CaseError
+from ._types import Json
 
 
 class Case:
@@ -17,7 +23,7 @@ class Case:
         self._resolved = None
 
     @classmethod
-    def load(cls, path, set=None):
+    def load(cls, path: str | os.PathLike[str], set: dict[str, Any] | None = None) -> Case:
         """Read the case file `path`, with `set` overriding keys as ``--set`` does.
 
         `set`: a dict ``{"section.key": value}`` (values: bool, number, string or list,
@@ -41,25 +47,25 @@ class Case:
         return cls(_core.load_case(path_text(path, "path"), overrides))
 
     @property
-    def file(self):
+    def file(self) -> str:
         """The case file (as messages name it)."""
         return self._native.file
 
     @property
-    def name(self):
+    def name(self) -> str:
         return self._native.name
 
     @property
-    def description(self):
+    def description(self) -> str:
         return self._native.description
 
     @property
-    def shape(self):
+    def shape(self) -> tuple[int, int]:
         """The grid as numpy arrays of it are shaped: (ny, nx)."""
         return (self._native.ny, self._native.nx)
 
     @property
-    def resolved(self):
+    def resolved(self) -> Json:
         """The case as it runs, as a dict: overrides applied, every default filled in
         (what summary.json records under "case")."""
         if self._resolved is None:
@@ -103,20 +109,20 @@ class Result:
             self.observables.append(arrays)
 
     @property
-    def status(self):
+    def status(self) -> str:
         """"converged", "not_converged" or "failed" (summary.json's status)."""
         return self.summary["status"]
 
     @property
-    def converged(self):
+    def converged(self) -> bool:
         return self.status == "converged"
 
     @property
-    def steps(self):
+    def steps(self) -> list[Json]:
         """The records of the load steps (summary["steps"])."""
         return self.summary["steps"]
 
-    def field(self, name, step=-1):
+    def field(self, name: str, step: int = -1) -> np.ndarray:
         """Field `name` ("pressure", "displacement", "gap") of load step `step` (the last by default)."""
         if not self.fields:
             raise KeyError("this run kept no fields (the case sets output.fields = false)")
@@ -128,7 +134,8 @@ class Result:
                 f"{len(self.steps)} steps, {self.status}, grid {g.get('nx')}x{g.get('ny')})")
 
 
-def run(case, out=None, progress=None):
+def run(case: Case | str | os.PathLike[str], out: str | os.PathLike[str] | None = None,
+        progress: Callable[[Json], Any] | None = None) -> Result:
     """Run `case` (a :class:`Case`, or a case file's path) as ``cmc run`` does.
 
     The same driver and solvers as the command line: the same numbers, bit for bit, at

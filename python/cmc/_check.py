@@ -1,4 +1,6 @@
 """Predictions scored against the reference curves: cmc.check, as `cmc check` scores them."""
+from __future__ import annotations
+from typing import Any
 import json
 import os
 import re
@@ -7,6 +9,7 @@ import tempfile
 import numpy as np
 
 from ._native import _core, flag, path_text, CaseError, InputError
+from ._types import Json
 
 
 class CheckReport:
@@ -28,15 +31,15 @@ class CheckReport:
         self.text = text
 
     @property
-    def passed(self):
+    def passed(self) -> bool:
         return bool(self.report["verdict"]["pass"])
 
     @property
-    def verdict(self):
+    def verdict(self) -> Json:
         return self.report["verdict"]
 
     @property
-    def metrics(self):
+    def metrics(self) -> Json:
         return self.report["metrics"]
 
     def __repr__(self):
@@ -72,8 +75,9 @@ def _line_note(match):
     return f" (row {line - 2})" if line >= 2 else ""
 
 
-def check(prediction, quantity=None, *, reference=None, tolerance=None, metric=None, min_coverage=None,
-          adhesionless=False, against=None):
+def check(prediction: Any, quantity: str | None = None, *, reference: str | os.PathLike[str] | None = None,
+          tolerance: float | None = None, metric: str | None = None, min_coverage: float | None = None,
+          adhesionless: bool = False, against: str | None = None) -> CheckReport:
     """Score a prediction against a reference curve, as ``cmc check`` does.
 
     `prediction`: a CSV file (the columns ``cmc check --help`` and reference/README.md

@@ -1,5 +1,7 @@
 """The compiled core (cmc._core), imported with a message that says how to build it, and
 the small conversions every part of the package shares."""
+from __future__ import annotations
+from typing import Any
 import math
 import numbers
 import os
@@ -25,7 +27,7 @@ SurfaceFileError = _core.SurfaceFileError
 SurfaceFileError.__doc__ = "A height file that cannot be read: the message names the file and what was expected."
 
 
-def plain(value, what):
+def plain(value: Any, what: str) -> Any:
     """`value` as bool, int, float, str or a list of them (numpy scalars and arrays
     included): what a case's key takes. CaseError naming `what` otherwise."""
     if isinstance(value, (bool, str)):
@@ -41,7 +43,7 @@ def plain(value, what):
     raise CaseError(f"{what}: expected a bool, number, string or list, got {type(value).__name__} {value!r}")
 
 
-def toml_text(value, what):
+def toml_text(value: Any, what: str) -> str:
     """`value` written as a TOML value (what `cmc run --set key=VALUE` takes)."""
     v = plain(value, what)
     if isinstance(v, bool):
@@ -61,7 +63,7 @@ def _toml_char(c):
     return c if c >= " " and c != "\x7f" else f"\\u{ord(c):04x}"
 
 
-def length(value, what):
+def length(value: Any, what: str) -> float:
     """A length or other quantity that must be a finite number > 0, as a float."""
     try:
         v = float(value)
@@ -72,7 +74,7 @@ def length(value, what):
     return v
 
 
-def renamed(error, label, names):
+def renamed(error: Exception, label: str, names: dict[str, str]) -> Exception:
     """`error` (a CaseError from the case layer, `label: [section] key: ...`) with each
     case key that stands for an argument named as that argument: `label: size ([grid] size): ...`."""
     text = str(error)
@@ -81,7 +83,7 @@ def renamed(error, label, names):
     return type(error)(text)
 
 
-def path_text(path, what):
+def path_text(path: Any, what: str) -> str:
     """A file or folder name given as str or os.PathLike (bytes decoded as the file system does);
     CaseError for anything else and for a name with a NUL character, which no file has."""
     try:
@@ -93,7 +95,7 @@ def path_text(path, what):
     return text
 
 
-def flag(value, what):
+def flag(value: Any, what: str) -> bool:
     """A yes/no argument: True or False (numpy's bools too); CaseError for anything else, such as
     the string 'no', which Python would take as true."""
     if isinstance(value, (bool, np.bool_)):

@@ -5,7 +5,7 @@ import os
 import sys
 
 
-def main():
+def main() -> int:
     program = os.path.join(os.path.dirname(os.path.abspath(__file__)), "bin", "cmc")
     if not os.access(program, os.X_OK):
         print(f"cmc: {program} not found: this copy of the package has no program "

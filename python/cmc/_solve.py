@@ -1,4 +1,6 @@
 """A solve on heights given as a numpy array: cmc.solve, its interactions and its Solution."""
+from __future__ import annotations
+from typing import Any, Callable
 from dataclasses import dataclass
 from typing import Optional
 
@@ -6,6 +8,7 @@ import numpy as np
 
 from ._cases import Result
 from ._native import _core, flag, plain, renamed, CaseError
+from ._types import Json
 
 
 @dataclass(frozen=True)
@@ -63,15 +66,15 @@ class Solution(Result):
                 "residual", "message", "wall_s", "fft_pairs")
 
     @property
-    def pressure(self):
+    def pressure(self) -> np.ndarray:
         return self.field("pressure")
 
     @property
-    def displacement(self):
+    def displacement(self) -> np.ndarray:
         return self.field("displacement")
 
     @property
-    def gap(self):
+    def gap(self) -> np.ndarray:
         return self.field("gap")
 
     def __getattr__(self, name):
@@ -125,9 +128,11 @@ def _load_keys(loads):
     return name, {"control": _LOADS[name], "values": values if isinstance(values, list) else [values]}
 
 
-def solve(heights, size, modulus, pressure=None, *, penetration=None, force=None, mean_gap=None, interaction=None,
-          strategy="auto", tolerance=None, max_iterations=None, boundary="periodic", observables=False,
-          progress=None):
+def solve(heights: Any, size: float | tuple[float, float], modulus: float, pressure: Any = None, *,
+          penetration: Any = None, force: Any = None, mean_gap: Any = None,
+          interaction: HardWall | Exponential | Dugdale | None = None, strategy: str = "auto",
+          tolerance: float | None = None, max_iterations: int | None = None, boundary: str = "periodic",
+          observables: bool = False, progress: Callable[[Json], Any] | None = None) -> Solution:
     """Press the rigid indenter `heights` onto an elastic half-space and solve.
 
     `heights`: the indenter's heights h in metres, a (ny, nx) array (row i at y = i dy,
@@ -160,7 +165,7 @@ def solve(heights, size, modulus, pressure=None, *, penetration=None, force=None
         grid["size_y"] = size * ny / nx
     load, loading = _load_keys({"pressure": pressure, "penetration": penetration, "force": force,
                                 "mean_gap": mean_gap})
-    solver = {"kind": strategy}
+    solver: dict[str, Any] = {"kind": strategy}
     if tolerance is not None:
         solver["tolerance"] = tolerance
     if max_iterations is not None:

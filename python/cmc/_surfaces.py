@@ -1,4 +1,7 @@
 """Surfaces as numpy heights: the challenge's generator and the height-file readers."""
+from __future__ import annotations
+from typing import Any
+import numpy as np
 import warnings
 
 from ._native import _core, length, path_text, plain, renamed, CaseError
@@ -10,7 +13,8 @@ _ARGUMENTS = {"[grid] n": "n", "[grid] size": "size", "[surface] hurst": "hurst"
               "[surface] seed": "seed"}
 
 
-def self_affine(n, size, *, hurst=0.8, rolloff_wavelength=None, cutoff_wavelength=None, rms_gradient=1.0, seed=28):
+def self_affine(n: int, size: float, *, hurst: float = 0.8, rolloff_wavelength: float | None = None,
+                cutoff_wavelength: float | None = None, rms_gradient: float = 1.0, seed: int = 28) -> np.ndarray:
     """The challenge's self-affine random surface on an n x n grid of side `size` (m).
 
     The generator of a case's ``[surface] kind = "self_affine"`` (the same heights for the
@@ -27,7 +31,7 @@ def self_affine(n, size, *, hurst=0.8, rolloff_wavelength=None, cutoff_wavelengt
     if cutoff_wavelength is not None:
         surface["cutoff_wavelength"] = cutoff_wavelength
     # Material and loading only complete the case; they play no part in the surface.
-    sections = {"case": {"name": "python-self-affine"}, "grid": {"n": n, "size": size},
+    sections: dict[str, dict[str, Any]] = {"case": {"name": "python-self-affine"}, "grid": {"n": n, "size": size},
                 "material": {"contact_modulus": 1.0}, "surface": surface,
                 "loading": {"control": "mean_pressure", "values": [0.0]}}
     sections = {s: {k: plain(v, f"{_LABEL}: {k}") for k, v in keys.items()} for s, keys in sections.items()}
@@ -42,7 +46,8 @@ def self_affine(n, size, *, hurst=0.8, rolloff_wavelength=None, cutoff_wavelengt
     return s["heights"]
 
 
-def read_heights(path, size, format="challenge_hdf5", *, dataset="surface", height_unit=None, n=0):
+def read_heights(path: Any, size: float, format: str = "challenge_hdf5", *, dataset: str = "surface",
+                 height_unit: str | None = None, n: int = 0) -> np.ndarray:
     """Heights in metres from a height file, in the formats a case file's surface reads.
 
     `format`: "challenge_hdf5" (the challenge's HDF5, dataset "surface"), "challenge_ascii"

@@ -7,6 +7,8 @@ Estar the contact modulus, w the work of adhesion; any consistent units (SI thro
 cmc). Functions of numbers that return a number take numpy arrays as well (broadcast);
 invalid arguments raise ValueError, a failed root search or quadrature RuntimeError.
 """
+from __future__ import annotations
+from typing import Any
 from ._native import _core
 
 _analytic = _core.analytic
@@ -14,7 +16,8 @@ __all__ = sorted(["hertz"] + [n for n in dir(_analytic) if not n.startswith("_")
 globals().update({n: getattr(_analytic, n) for n in __all__ if n != "hertz"})
 
 
-def hertz(Estar, R, *, force=None, penetration=None, radius=None):
+def hertz(Estar: float, R: float, *, force: float | None = None, penetration: float | None = None,
+          radius: float | None = None) -> Any:
     """The Hertz contact of a sphere of radius `R` (paraboloid h = r^2/(2R)) on a half-space of
     contact modulus `Estar`, from one of `force` F, `penetration` delta or contact `radius` a.
 
@@ -25,5 +28,4 @@ def hertz(Estar, R, *, force=None, penetration=None, radius=None):
         raise ValueError(f"cmc.analytic.hertz: give exactly one of force=, penetration=, radius= (got "
                          f"{', '.join(given) or 'none'})")
     (name, value), = given.items()
-    return {"force": hertz_from_force, "penetration": hertz_from_penetration,
-            "radius": hertz_from_radius}[name](Estar, R, value)
+    return getattr(_analytic, "hertz_from_" + name)(Estar, R, value)

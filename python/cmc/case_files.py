@@ -11,6 +11,8 @@ another folder is rewritten relative to the including file. Each error raises Va
 naming the including file, its base key and the base. No defaults are added and no key is
 checked: the program's resolved case (summary.json "case") is the place for those.
 """
+from __future__ import annotations
+from typing import Any
 import os
 import posixpath
 import tomllib
@@ -18,7 +20,7 @@ import tomllib
 MAX_BASE_DEPTH = 8  # CaseLimits::kMaxBaseDepth
 
 
-def read_case_file(path):
+def read_case_file(path: str) -> dict[str, Any]:
     """The table of the case file at ``path`` with its bases merged (no ``base`` key left)."""
     return _read(path, "", [])
 

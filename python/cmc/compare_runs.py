@@ -1,5 +1,7 @@
 """The command scripts/compare_runs.py: two run folders (or folders of them) compared bit for
 bit, every summary.json value and result.h5 dataset."""
+from __future__ import annotations
+from typing import Any, Container
 import json
 import os
 import sys
@@ -7,19 +9,20 @@ import sys
 import h5py
 import numpy as np
 
+from . import run_folder
+
 # Wall-clock times and what is derived from them (timing.fft_pair_s is timed at run start).
 ALWAYS_IGNORED = {"wall_s", "fft_s", "fft_pair_s", "time_per_fft_pair", "time_per_iteration", "fft_share", "field_bytes_peak",
                   "row_column_pair_s", "floor_pair_s", "time_per_floor_pair"}
 
 
-def runs(top):
-    if os.path.exists(os.path.join(top, "summary.json")):
+def runs(top: str) -> dict[str, str]:
+    if os.path.exists(run_folder.summary_path(top)):
         return {"": top}
-    return {n: os.path.join(top, n) for n in sorted(os.listdir(top))
-            if os.path.exists(os.path.join(top, n, "summary.json"))}
+    return {os.path.basename(d): d for d in sorted(run_folder.find(top, recursive=False), key=os.path.basename)}
 
 
-def compare_json(x, y, path, ignored, out):
+def compare_json(x: Any, y: Any, path: str, ignored: Container[str], out: list[str]) -> None:
     if isinstance(x, dict) and isinstance(y, dict):
         for k in sorted(set(x) | set(y)):
             if k in ignored:
@@ -35,7 +38,7 @@ def compare_json(x, y, path, ignored, out):
         out.append(f"{path}: {x!r} != {y!r}")
 
 
-def same(x, y):
+def same(x: Any, y: Any) -> bool:
     """Identical values (NaN is identical to NaN)."""
     if isinstance(x, np.ndarray) or isinstance(y, np.ndarray):
         if np.shape(x) != np.shape(y):
@@ -51,7 +54,7 @@ def same(x, y):
     return x == y
 
 
-def compare_h5(a, b, out):
+def compare_h5(a: str, b: str, out: list[str]) -> None:
     with h5py.File(a) as fa, h5py.File(b) as fb:
         def objects(f):
             names = {"/": f}
@@ -74,7 +77,7 @@ def compare_h5(a, b, out):
                     out.append(f"result.h5/{name} attribute {k}: {x.attrs[k]!r} != {y.attrs[k]!r}")
 
 
-def main(argv, doc=None):
+def main(argv: list[str], doc: str | None = None) -> int:
     if len(argv) < 2 or argv[0] in ("-h", "--help"):
         print((doc or __doc__))
         return 2
@@ -93,7 +96,7 @@ def main(argv, doc=None):
         if not os.path.exists(os.path.join(pb, "summary.json")):
             diffs.append(f"{name + ': ' if name else ''}{pb}/summary.json: missing")
             continue
-        out = []
+        out: list[str] = []
         compare_json(json.load(open(os.path.join(pa, "summary.json"))),
                      json.load(open(os.path.join(pb, "summary.json"))), "summary.json", ignored, out)
         if os.path.exists(os.path.join(pa, "result.h5")) != os.path.exists(os.path.join(pb, "result.h5")):

@@ -21,7 +21,7 @@ class CurveError(RuntimeError):
     """cmc refused to write a curve (its message says why)."""
 
 
-def _toml_str(v) -> str:
+def _toml_str(v: object) -> str:
     return json.dumps(str(v), ensure_ascii=False)  # a JSON string is a valid TOML basic string
 
 

@@ -1,36 +1,38 @@
 """The command scripts/roundoff_spread.py: the round-off spread of the challenge's results from
 pairs of runs of one case by two builds or at two thread counts (roundoff_spread.json)."""
+from __future__ import annotations
+from typing import Any, NoReturn
 import argparse
 import datetime
 import json
 import os
 import sys
 
+from . import run_folder
 from .analysis.runs import REPO as ROOT
+from ._types import Json
 
 QUANTITIES = (("contact_fraction", "a_r"), ("repulsive_fraction", "repulsive a_r"), ("mean_gap", "mean gap"))
 
 
-def fail(msg):
+def fail(msg: str) -> NoReturn:
     sys.exit(f"roundoff_spread.py: {msg}")
 
 
-def load(folder):
-    path = os.path.join(folder, "summary.json")
+def load(folder: str) -> Json:
     try:
-        with open(path) as f:
-            return json.load(f)
-    except (OSError, ValueError) as e:
-        fail(f"{path}: {e} (expected the summary.json of a finished cmc run)")
+        return run_folder.read_summary(folder).data
+    except run_folder.RunFolderError as e:
+        fail(f"{e} (expected a finished cmc run)")
 
 
-def value(step, key):
+def value(step: Json, key: str) -> float | None:
     ob = step.get("observables") or {}
     v = ob.get(key, step.get(key))
     return float(v) if isinstance(v, (int, float)) else None
 
 
-def run_info(folder, s):
+def run_info(folder: str, s: Json) -> Json:
     g = s.get("grid") or {}
     return {"folder": os.path.relpath(os.path.abspath(folder), ROOT), "status": s.get("status"),
             "threads": g.get("threads"), "fft_plans": g.get("fft_plans"),
@@ -38,7 +40,7 @@ def run_info(folder, s):
             "fft_pairs": (s.get("timing") or {}).get("fft_pairs")}
 
 
-def compare(name, a_dir, b_dir):
+def compare(name: str, a_dir: str, b_dir: str) -> Json:
     a, b = load(a_dir), load(b_dir)
     name_a, name_b = (x.get("case", {}).get("case", {}).get("name") for x in (a, b))
     if name_a != name_b:
@@ -49,7 +51,8 @@ def compare(name, a_dir, b_dir):
     steps = list(zip(a.get("steps") or [], b.get("steps") or []))
     if not steps:
         fail(f"{name}: no load step in common")
-    rows, largest = [], {k: {"relative": 0.0, "step": None} for k, _ in QUANTITIES}
+    rows: list[Json] = []
+    largest: dict[str, dict[str, Any]] = {k: {"relative": 0.0, "step": None} for k, _ in QUANTITIES}
     for sa, sb in steps:
         pa, pb = value(sa, "mean_pressure"), value(sb, "mean_pressure")
         if pa is None or pb is None or abs(pa - pb) > 1e-6 * max(abs(pa), abs(pb)):
@@ -70,7 +73,7 @@ def compare(name, a_dir, b_dir):
             "steps_identical": same, "largest": largest, "per_step": rows}
 
 
-def main(argv=None, doc=None):
+def main(argv: list[str] | None = None, doc: str | None = None) -> None:
     ap = argparse.ArgumentParser(description=(doc or __doc__).split("\n")[0])
     ap.add_argument("--out", default=os.path.join(ROOT, "reference", "challenge", "roundoff_spread.json"))
     ap.add_argument("pairs", nargs="+", metavar="NAME:RUN_A:RUN_B")

@@ -7,12 +7,15 @@ Every function is pure (numbers and arrays in, numbers and arrays out). A band i
 the quantity's own unit unless its name says "relative". A load-sweep step is a dict with "p"
 (Pa), "ar", "gap" (m), "perimeter" and "converged", as the challenge report reads it.
 """
+from __future__ import annotations
+from typing import Any, Sequence
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .refinement import sequence_error
 
 
-def relative_change(coarse, fine):
+def relative_change(coarse: float | None, fine: float | None) -> float | None:
     """|coarse - fine| / |fine|: the change of a value under one refinement, relative to the finer
     grid's value, as `cmc refine` defines it (validation/Refine.cpp). None where either value is
     missing or the finer one is 0."""
@@ -21,33 +24,36 @@ def relative_change(coarse, fine):
     return abs(coarse - fine) / abs(fine)
 
 
-def absolute_band(relative, values, floor=None):
+def absolute_band(relative: Sequence[float], values: Sequence[float], floor: float | None = None) -> list[float]:
     """Per point the half-width relative x |value|, at least `floor` where one is given."""
     if floor is None:
         return [r * abs(v) for r, v in zip(relative, values)]
     return [max(r * abs(v), floor) for r, v in zip(relative, values)]
 
 
-def interp_curve(x, xc, yc, logx, logy):
+def interp_curve(x: ArrayLike, xc: ArrayLike, yc: ArrayLike, logx: bool, logy: bool) -> np.ndarray:
     """The curve (xc, yc) at x, interpolated in the representation's axes (log where logx / logy);
     NaN where x lies outside the curve's range, or where a value is not finite or a logged one not
     positive."""
-    x, xc, yc = (np.asarray(a, dtype=float) for a in (x, xc, yc))
-    m = np.isfinite(xc) & np.isfinite(yc) & ((xc > 0) if logx else True) & ((yc > 0) if logy else True)
-    xc, yc = xc[m], yc[m]
-    out = np.full(len(x), np.nan)
-    if len(xc) < 2:
+    xa, xca, yca = (np.asarray(a, dtype=float) for a in (x, xc, yc))
+    m = np.isfinite(xca) & np.isfinite(yca) & ((xca > 0) if logx else True) & ((yca > 0) if logy else True)
+    xca, yca = xca[m], yca[m]
+    out = np.full(len(xa), np.nan)
+    if len(xca) < 2:
         return out
-    o = np.argsort(xc)
-    xc, yc = xc[o], yc[o]
-    tx = np.log if logx else (lambda v: v)
-    ok = np.isfinite(x) & ((x > 0) if logx else True) & (x >= xc[0]) & (x <= xc[-1])
-    yi = np.interp(tx(x[ok]), tx(xc), np.log(yc) if logy else yc)
+    o = np.argsort(xca)
+    xca, yca = xca[o], yca[o]
+
+    def tx(v: np.ndarray) -> np.ndarray:
+        return np.log(v) if logx else v
+
+    ok = np.isfinite(xa) & ((xa > 0) if logx else True) & (xa >= xca[0]) & (xa <= xca[-1])
+    yi = np.interp(tx(xa[ok]), tx(xca), np.log(yca) if logy else yca)
     out[ok] = np.exp(yi) if logy else yi
     return out
 
 
-def refinement_band(x, y, xf, yf, logx, logy):
+def refinement_band(x: ArrayLike, y: ArrayLike, xf: ArrayLike, yf: ArrayLike, logx: bool, logy: bool) -> np.ndarray:
     """|y - y_f(x)|: how far a curve moves on the next finer grid (xf, yf), interpolated at x by
     interp_curve. NaN where it has no value there."""
     return np.abs(np.asarray(y, dtype=float) - interp_curve(x, xf, yf, logx, logy))
@@ -60,14 +66,15 @@ def _two_grid_bound(coarse, fine):
     return np.array([np.nan if e is None else e["error"] for e in out])
 
 
-def finest_grid_band(x, y, xc, yc, logx, logy):
+def finest_grid_band(x: ArrayLike, y: ArrayLike, xc: ArrayLike, yc: ArrayLike, logx: bool, logy: bool) -> np.ndarray:
     """The band of a curve (x, y) on the finest grid of a refinement sequence, from the same case's
     curve (xc, yc) on the next coarser grid: per point twice |y - y_c(x)| (_two_grid_bound), y_c
     interpolated at x by interp_curve. NaN where the coarser curve has no value there."""
     return _two_grid_bound(interp_curve(x, xc, yc, logx, logy), np.asarray(y, dtype=float))
 
 
-def finest_profile_band(y, v, yc, vc, floor, period=None):
+def finest_profile_band(y: ArrayLike, v: ArrayLike, yc: ArrayLike, vc: ArrayLike, floor: float,
+                        period: float | None = None) -> np.ndarray | None:
     """The band of a cross-section profile v(y) on the finest grid of a refinement sequence, from
     the same case's profile (yc, vc) on the next coarser grid, read as `cmc check` reads a curve
     (linear between its points; periodic with `period` where given, so that the whole line is
@@ -82,7 +89,8 @@ def finest_profile_band(y, v, yc, vc, floor, period=None):
     return np.maximum(_two_grid_bound(np.interp(y, yc, vc, period=period), v), floor)
 
 
-def profile_floor(key, tolerance, rms_height, contact_modulus, rms_gradient):
+def profile_floor(key: str, tolerance: float, rms_height: float, contact_modulus: float,
+                  rms_gradient: float) -> float:
     """The least band of a cross-section profile: the solver's tolerance in the problem's scale,
     times the rms height for the gap (key ending in "gap"), times E* times the rms slope for the
     stress (the challenge's unit of pressure)."""
@@ -91,7 +99,7 @@ def profile_floor(key, tolerance, rms_height, contact_modulus, rms_gradient):
     return tolerance * contact_modulus * rms_gradient
 
 
-def profile_band(y, v, yf, vf, floor):
+def profile_band(y: ArrayLike, v: ArrayLike, yf: ArrayLike, vf: ArrayLike, floor: float) -> np.ndarray | None:
     """The band of a cross-section profile v(y) against the same case's profile (yf, vf) on the
     next finer grid, read as `cmc check` reads a curve (linear between its points): per point y_i
     the largest |v(y') - v_f(y')| over the finer points y' between y_i's neighbours that are
@@ -99,22 +107,22 @@ def profile_band(y, v, yf, vf, floor):
     the band, interpolated as the checker does, holds the finer profile everywhere; at least
     `floor` (profile_floor), which is the band where both grids agree exactly. None where the
     finer profile does not cover the line, a value is not finite, or the floor is not positive."""
-    y, v, yf, vf = (np.asarray(a, dtype=float) for a in (y, v, yf, vf))
-    inside = (yf >= y[0]) & (yf <= y[-1])
-    yf, vf = yf[inside], vf[inside]
-    if len(y) < 2 or not np.isfinite(vf).all() or not np.isfinite(v).all() or len(yf) < len(y):
+    ya, va, yfa, vfa = (np.asarray(a, dtype=float) for a in (y, v, yf, vf))
+    inside = (yfa >= ya[0]) & (yfa <= ya[-1])
+    yfa, vfa = yfa[inside], vfa[inside]
+    if len(ya) < 2 or not np.isfinite(vfa).all() or not np.isfinite(va).all() or len(yfa) < len(ya):
         return None
-    d = np.abs(np.interp(yf, y, v) - vf)
-    b = np.zeros(len(y))
+    d = np.abs(np.interp(yfa, ya, va) - vfa)
+    b = np.zeros(len(ya))
     # A finer point on a coarse one counts for it alone; one between two counts for both.
-    np.maximum.at(b, np.searchsorted(y, yf, "right") - 1, d)
-    np.maximum.at(b, np.searchsorted(y, yf, "left"), d)
+    np.maximum.at(b, np.searchsorted(ya, yfa, "right") - 1, d)
+    np.maximum.at(b, np.searchsorted(ya, yfa, "left"), d)
     if not floor > 0:
         return None
     return np.maximum(b, floor)
 
 
-def sweep_floor(key, nx, ny, tolerance, rms_height):
+def sweep_floor(key: str, nx: int, ny: int, tolerance: float, rms_height: float) -> tuple[float, str]:
     """(least band, its words) of a load-sweep point, for key "ar" or "gap": one grid point
     (1/N^2, the count's quantum) for a_r, the solver's tolerance times the rms height for the mean
     gap (exact where the mean gap is 0, in full contact)."""
@@ -123,7 +131,8 @@ def sweep_floor(key, nx, ny, tolerance, rms_height):
     return tolerance * rms_height, "the solver's tolerance times the rms height"
 
 
-def measured_sweep_band(steps, finer_steps, key, n, nf):
+def measured_sweep_band(steps: list[dict[str, Any]], finer_steps: list[dict[str, Any]], key: str, n: int,
+                        nf: int) -> tuple[list[float] | None, str]:
     """Band of a hard-wall load sweep on n^2 points from the same sweep on nf^2 points: at a load
     both ran, the change between the grids. Elsewhere the change per unit of what it scales with,
     interpolated linearly in log p between the loads both ran and held beyond them: for a_r the
@@ -144,7 +153,10 @@ def measured_sweep_band(steps, finer_steps, key, n, nf):
                   + ("contact perimeter" if per else "of the value") + " interpolated linearly in log p and held")
 
 
-def hardwall_sweep_band(steps, key, n, floor, finer=None, reference=None):
+def hardwall_sweep_band(steps: list[dict[str, Any]], key: str, n: int, floor: tuple[float, str],
+                        finer: tuple[int, list[dict[str, Any]]] | None = None,
+                        reference: tuple[dict[str, Any], dict[str, Any], int, int] | None = None,
+                        ) -> tuple[list[float] | None, str]:
     """Per-step band of a hard-wall load sweep on n^2 points for key "ar" or "gap", with a sentence
     saying how; (None, "") without one. floor: sweep_floor's (value, words), the least band.
 

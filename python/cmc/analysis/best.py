@@ -13,10 +13,13 @@ smaller than the round-off spread between builds and thread counts (roundoff_spr
 Choice. The candidate with the smallest total relative error in a_r (the quantity that
 converges slowest) is the point's best estimate; every quantity of the point comes from it.
 """
+from __future__ import annotations
+from typing import Any, Iterable
 import math
 
 from . import family
 from .refinement import REFINEMENT_BISTABILITY, sequence_error
+from .._types import Json
 
 QUANTITIES = (("a_r", "a_r"), ("a_rep", "a_rep"), ("mean_gap", "mean_gap_m"))  # (family short, record key)
 SAME_POINT = 0.01  # two runs are at one point when their load and mu_T agree within 1 %
@@ -28,21 +31,21 @@ def _same(a, b, tol=SAME_POINT):
     return abs(a / b - 1) <= tol
 
 
-def at_point(records, problem, pressure, tabor=None):
+def at_point(records: Iterable[Json], problem: str, pressure: float, tabor: float | None = None) -> list[Json]:
     """The records of one problem ("adhesive" or "hardwall") at this load and mu_T."""
     return [r for r in records if r.get("problem") == problem and _same(r.get("pressure_Pa"), pressure)
             and (problem == "hardwall" or _same(r.get("tabor"), tabor))]
 
 
-def sequences(records):
+def sequences(records: Iterable[Json]) -> dict[tuple[Any, Any, Any], list[Json]]:
     """The records grouped into refinement sequences: one case, strategy and mu_T (exactly), grids
     doubling, one record per grid (the one solved to the tightest tolerance, then the latest).
     Returns {key: [records coarsest first]}."""
-    groups = {}
+    groups: dict[tuple[Any, Any, Any], dict[int, list[Json]]] = {}
     for r in records:
         key = (r.get("case_name"), r.get("strategy"), r.get("tabor"))
         groups.setdefault(key, {}).setdefault(r["n"], []).append(r)
-    out = {}
+    out: dict[tuple[Any, Any, Any], list[Json]] = {}
     for key, by_n in groups.items():
         out[key] = [sorted(rs, key=lambda r: (r.get("tolerance") or 1.0, _neg_date(r)))[0]
                     for _, rs in sorted(by_n.items())]
@@ -63,7 +66,7 @@ def _chain(seq, top):
     return chain
 
 
-def resolved(r):
+def resolved(r: Json) -> bool:
     """Whether an adhesive run resolves rho: dx <= rho and a bistability number no larger than the
     family's refinement grids' (then its refinement sequence measures its whole grid error)."""
     k, b = r.get("dx_over_rho"), r.get("bistability_number")
@@ -85,7 +88,8 @@ def _strategy_error(r, short, members, conditions):
     return {"error": err, "rule": rule}
 
 
-def candidate(seq, top, members, conditions, roundoff=None):
+def candidate(seq: list[Json], top: Json, members: list[Json] | None, conditions: list[Json] | None,
+              roundoff: dict[str, float] | None = None) -> Json:
     """The estimate that run `top` gives with the grids of its sequence below it: per quantity the
     value, the refinement error, the strategy error (adhesive runs that do not resolve rho) and
     their sum, absolute and relative. "usable" is False where an error could not be made."""
@@ -126,7 +130,7 @@ def _quantity(top, chain, short, key, members, conditions, roundoff):
     return q
 
 
-def resolution(r, short):
+def resolution(r: Json, short: str) -> float | None:
     """The least error a run's value can have: one grid point for an area fraction (1/n²), the
     solver's tolerance times the rms height for the mean gap; None where unknown."""
     if short in ("a_r", "a_rep"):
@@ -141,7 +145,8 @@ def _rank(c):
     return q["relative_error"] if q["relative_error"] is not None else q["error"]
 
 
-def sequence_candidate(seq, members, conditions, roundoff=None):
+def sequence_candidate(seq: list[Json], members: list[Json] | None, conditions: list[Json] | None,
+                       roundoff: dict[str, float] | None = None) -> Json | None:
     """A sequence's candidate: its finest converged run whose grids below make an error (a finest
     run with no coarser grid to compare with, e.g. 16384² with 8192² missing, gives way to the
     next converged one that has them); the finest converged run, unusable, where none has; None
@@ -151,7 +156,9 @@ def sequence_candidate(seq, members, conditions, roundoff=None):
     return next((c for c in cands if c["usable"]), cands[0] if cands else None)
 
 
-def best_at(records, problem, pressure, tabor, members, conditions, roundoff=None):
+def best_at(records: Iterable[Json], problem: str, pressure: float, tabor: float | None,
+            members: list[Json] | None, conditions: list[Json] | None,
+            roundoff: dict[str, float] | None = None) -> Json | None:
     """The best estimate at one point: the usable candidate with the smallest relative error in
     a_r, with every other candidate it was chosen over. None where no run at the point converged."""
     cands = [c for seq in sequences(at_point(records, problem, pressure, tabor)).values()
@@ -176,7 +183,7 @@ def _passed_over(c):
             "a_r_last_change": None if last is None or not q.get("value") else last / q["value"]}
 
 
-def ratio(a, b):
+def ratio(a: Json, b: Json) -> Json | None:
     """a/b of two estimates' quantity entries, relative errors added; None where b's value is 0
     or a relative error is unknown (a value of 0 has none): no ratio to give."""
     if not b["value"] or a.get("relative_error") is None or b.get("relative_error") is None:
@@ -186,7 +193,8 @@ def ratio(a, b):
     return {"value": v, "relative_error": rel, "error": rel * abs(v)}
 
 
-def leave_one_out(records, members, conditions, roundoff=None):
+def leave_one_out(records: Iterable[Json], members: list[Json] | None, conditions: list[Json] | None,
+                  roundoff: dict[str, float] | None = None) -> list[Json]:
     """The band rules tested on the stored sequences: at every point, for every sequence whose
     finest converged grid has at least two coarser ones below it, the candidate made without that
     finest grid, and whether the finest grid's value lies inside its band, per quantity. Returns

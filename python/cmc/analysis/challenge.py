@@ -3,10 +3,13 @@ reference load with and without adhesion (a_r, repulsive a_r, mean gap, kappa an
 of the two a_r), a_r and the mean gap against mu_T, and where the mean gap has its extremum
 in mu_T. The result is what reference/challenge/best_estimates.json holds.
 """
+from __future__ import annotations
+from typing import Callable, Iterable
 import json
 import os
 
 from . import best, extremum, family, runs
+from .._types import Json
 
 P0 = 250e3        # Pa, the reference load
 ESTAR = 25e6      # Pa, E*
@@ -21,7 +24,7 @@ ROUNDOFF_STORE = os.path.join(family.REPO, "reference", "challenge", "roundoff_s
 _ROUNDOFF_KEYS = {"contact_fraction": "a_r", "repulsive_fraction": "a_rep", "mean_gap": "mean_gap"}
 
 
-def roundoff(path=ROUNDOFF_STORE):
+def roundoff(path: str = ROUNDOFF_STORE) -> dict[str, float]:
     """The largest relative round-off spread per quantity (between builds and thread counts,
     scripts/roundoff_spread.py), {} where it was not measured."""
     try:
@@ -32,7 +35,8 @@ def roundoff(path=ROUNDOFF_STORE):
     return {_ROUNDOFF_KEYS[k]: v["relative"] for k, v in big.items() if k in _ROUNDOFF_KEYS and "relative" in v}
 
 
-def reference_load(records, members, conditions, spread=None):
+def reference_load(records: list[Json], members: list[Json] | None, conditions: list[Json] | None,
+                   spread: dict[str, float] | None = None) -> Json:
     """The best estimates at 250 kPa with adhesion (mu_T = 3) and without, kappa = a_r / p~ of
     each, and the ratio of the two a_r."""
     adh = best.best_at(records, "adhesive", P0, 3.0, members, conditions, spread)
@@ -48,9 +52,9 @@ def reference_load(records, members, conditions, spread=None):
     return out
 
 
-def tabor_values(records):
+def tabor_values(records: Iterable[Json]) -> list[float]:
     """The distinct mu_T of the adhesive runs at the reference load (within best.SAME_POINT), ascending."""
-    out = []
+    out: list[float] = []
     for mu in sorted(r["tabor"] for r in records if r.get("problem") == "adhesive" and r.get("tabor")
                      and best._same(r.get("pressure_Pa"), P0)):
         if not out or not best._same(mu, out[-1]):
@@ -58,15 +62,16 @@ def tabor_values(records):
     return out
 
 
-def tabor_curve(records, members, conditions, spread=None):
+def tabor_curve(records: list[Json], members: list[Json] | None, conditions: list[Json] | None,
+                spread: dict[str, float] | None = None) -> list[Json]:
     """The best estimate at every mu_T the store holds (at the reference load), ascending."""
     pts = [best.best_at(records, "adhesive", P0, mu, members, conditions, spread) for mu in tabor_values(records)]
     return [p for p in pts if p]
 
 
-def pressures(records, problem):
+def pressures(records: Iterable[Json], problem: str) -> list[float]:
     """The distinct loads of the problem's runs (mu_T = 3 with adhesion), ascending."""
-    out = []
+    out: list[float] = []
     for p in sorted(r["pressure_Pa"] for r in records if r.get("problem") == problem and r.get("pressure_Pa")
                     and (problem == "hardwall" or best._same(r.get("tabor"), 3.0))):
         if not out or not best._same(p, out[-1]):
@@ -74,7 +79,8 @@ def pressures(records, problem):
     return out
 
 
-def load_curve(records, problem, members, conditions, spread=None):
+def load_curve(records: list[Json], problem: str, members: list[Json] | None, conditions: list[Json] | None,
+               spread: dict[str, float] | None = None) -> list[Json]:
     """The best estimate at every load the store holds for the problem (load sweeps' steps and
     single runs alike), ascending in load."""
     tabor = 3.0 if problem == "adhesive" else None
@@ -82,10 +88,11 @@ def load_curve(records, problem, members, conditions, spread=None):
     return [p for p in pts if p]
 
 
-def grid_sweeps_of(records, key, only=None):
+def grid_sweeps_of(records: Iterable[Json], key: str, only: Callable[[Json], bool] | None = None,
+                   ) -> dict[int, tuple[list[float], list[float]]]:
     """{n: (mu list, values list)} of the Tabor sweep's case run plain and converged on each grid,
     for the record key (e.g. "a_r", "mean_gap_m"), mu ascending; only: a further test of a record."""
-    out = {}
+    out: dict[int, list[tuple[float, float]]] = {}
     for r in records:
         if r.get("case_name") == TABOR_CASE and r.get("strategy") == "plain" and r.get("status") == "converged" \
                 and best._same(r.get("pressure_Pa"), P0) and r.get(key) is not None and (only is None or only(r)):
@@ -97,7 +104,7 @@ def _rises(values):
     return all(a <= b for a, b in zip(values, values[1:]))
 
 
-def monotonicity(curve, records):
+def monotonicity(curve: list[Json], records: list[Json]) -> Json:
     """Whether a_r rises with mu_T on the best-estimate curve, and where it does not: each fall
     between neighbouring points, with the two points' grids and whether the fall lies inside
     their error bars; and, per grid the sweep ran on (three points or more), whether it rises
@@ -115,7 +122,7 @@ def monotonicity(curve, records):
     return {"monotonic": not falls, "falls": falls, "grids": grids}
 
 
-def mean_gap_extremum(curve, records):
+def mean_gap_extremum(curve: list[Json], records: list[Json]) -> Json | None:
     """Where the mean gap has its local minimum in mu_T, located on the best-estimate curve, with
     the error of locating it there, the change between the two finest complete grid sweeps, and
     the curve's own band at the samples around it; None where the curve does not bracket it."""
@@ -133,7 +140,7 @@ def mean_gap_extremum(curve, records):
     return out
 
 
-def a_r_log_slope_around(mu, records):
+def a_r_log_slope_around(mu: float, records: list[Json]) -> Json:
     """a_r's slope against log10 mu_T on one grid: the finest whose sweep, over the mu_T where it
     resolves rho, brackets mu with five points or more (neighbouring best estimates may come from
     different grids, whose step is not a slope; where rho is not resolved the counted area errs by
@@ -148,13 +155,14 @@ def a_r_log_slope_around(mu, records):
             "a_r_log_slope": [{"tabor": float(m), "slope": float(x)} for m, x in zip(mu_s, slope)]}
 
 
-def of_physics(records, physics=PHYSICS):
+def of_physics(records: Iterable[Json], physics: Json | None = PHYSICS) -> list[Json]:
     """The records of runs that solve the given physics (all of them where physics is None);
     records without a physics entry are taken to be the challenge's."""
     return [r for r in records if physics is None or runs.same_physics(r.get("physics") or {}, physics)]
 
 
-def build(records, members=None, conditions=None, spread=None, physics=PHYSICS):
+def build(records: list[Json], members: list[Json] | None = None, conditions: list[Json] | None = None,
+          spread: dict[str, float] | None = None, physics: Json | None = PHYSICS) -> Json:
     """Everything best_estimates.json holds, from the run store's records (those of the given
     physics: the challenge's by default), the family's stores and the round-off spread."""
     records = of_physics(records, physics)

@@ -5,12 +5,15 @@ other conditions (the condition stores, reference/challenge-scaled/conditions/).
 
 A run is given by its summary.json (parsed); a member and its runs as family.py describes them.
 """
+from __future__ import annotations
+from typing import Any
 import math
 
 import numpy as np
 
 from . import family
 from .runs import get, strategy_of
+from .._types import Json
 
 SAME = 0.01  # a mu_T or load within 1 % of another is the same condition
 
@@ -23,7 +26,8 @@ def _positive(x):
     return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) and x > 0
 
 
-def run_strategy_error(summary, short, members=None):
+def run_strategy_error(summary: Json, short: str, members: list[Json] | None = None,
+                       ) -> tuple[float, float | None, list[Any]] | None:
     """For a run with exponential adhesion: its dx over the case's range rho, and the relative error
     for `short` (a_r, a_rep, mean_gap) that its strategy (interaction.coarse_graining "range" or
     "shape", else "plain") has on the family at that dx/rho (family.strategy_errors over `members`,
@@ -31,7 +35,7 @@ def run_strategy_error(summary, short, members=None):
     has no run near; None for other runs."""
     if get(summary, "case", "interaction", "kind") != "exponential":
         return None
-    facts = summary.get("surface_facts") or {}
+    facts: Any = summary.get("surface_facts") or {}
     rho = facts.get("specified_range") or facts.get("interaction_range")
     g = summary.get("grid") or {}
     dx = g.get("dx_m") or g.get("dx")
@@ -43,7 +47,7 @@ def run_strategy_error(summary, short, members=None):
     return k, (err or {}).get(short), used
 
 
-def own_tabor(summary):
+def own_tabor(summary: Json) -> float | None:
     """The run's mu_T where it is not the challenge's 3 (within 1 %), else None: the condition whose
     store (condition_error's tabor) measures its band."""
     tabor = get(summary, "case", "interaction", "tabor")
@@ -51,7 +55,8 @@ def own_tabor(summary):
     return tabor if ok and not _same(tabor, 3.0) else None
 
 
-def condition_error(strategy, dx_over_rho, tabor=None, pressure=None, members=None):
+def condition_error(strategy: str, dx_over_rho: float, tabor: float | None = None, pressure: float | None = None,
+                    members: list[Json] | None = None) -> tuple[Json | None, list[Any]]:
     """The strategy's error (family.strategy_errors) measured on the family at this condition (mu_T
     within 1 %, load within 1 %; None for the challenge's own 3 and 250 kPa), or (None, []) where no
     condition store holds it or no run is near this dx/rho."""
@@ -60,7 +65,8 @@ def condition_error(strategy, dx_over_rho, tabor=None, pressure=None, members=No
     return family.strategy_errors(ms, strategy, dx_over_rho) if ms else (None, [])
 
 
-def run_band(summary, short, members=None, conditions=None):
+def run_band(summary: Json, short: str, members: list[Json] | None = None, conditions: list[Json] | None = None,
+             ) -> tuple[float, float | None, float | None, float | None, list[Any]] | None:
     """The relative error band of an adhesive run for `short`: the larger of its strategy's error
     measured on the family at mu_T = 3 and 250 kPa (run_strategy_error over `members`) and, where
     the family was also run at the run's own mu_T (`conditions`, by default the condition stores),
@@ -79,7 +85,8 @@ def run_band(summary, short, members=None, conditions=None):
     return k, (max(both) if both else None), rel, at, used
 
 
-def load_bands(summary, short, pressures, members=None, conditions=None):
+def load_bands(summary: Json, short: str, pressures: list[float], members: list[Json] | None = None,
+               conditions: list[Json] | None = None) -> tuple[list[float] | None, str]:
     """Per load of an adhesive load sweep (pressures in Pa): the relative band for `short`, and a
     sentence on what it rests on. The band measured at mu_T = 3 and 250 kPa (run_band) holds at
     every load unless the family was also run at other loads (condition members with a
@@ -88,9 +95,11 @@ def load_bands(summary, short, pressures, members=None, conditions=None):
     beyond them. (None, "") where nothing is measured at this dx/rho."""
     conditions = family.condition_members() if conditions is None else conditions
     got = run_band(summary, short, members, conditions)
-    if got is None or got[1] is None:
+    if got is None:
         return None, ""
     k, band, _, _, _ = got
+    if band is None:
+        return None, ""
     at = [(250e3, band)]
     for p in sorted({m["pressure_Pa"] for m in conditions if "pressure_Pa" in m and not _same(m["pressure_Pa"], 250e3)}):
         err, _ = condition_error(strategy_of(summary), k, tabor=own_tabor(summary), pressure=p, members=conditions)
@@ -109,7 +118,7 @@ def load_bands(summary, short, pressures, members=None, conditions=None):
     return [max(band, float(r)) for r in rel], words
 
 
-def condition_checks(members=None, reference=None):
+def condition_checks(members: list[Json] | None = None, reference: list[Json] | None = None) -> list[Json]:
     """One row per coarse run of each condition member (plain and strategies): its signed relative
     deviation from that member's reference per quantity, and the band the challenge's references
     take at that dx/rho from the family at mu_T = 3 and 250 kPa (strategy_errors over `reference`,
@@ -134,20 +143,20 @@ def condition_checks(members=None, reference=None):
     return rows
 
 
-def quantity_holds(q):
+def quantity_holds(q: Json) -> bool | None:
     """One quantity of a condition_checks row: |deviation| plus the reference's refinement error
     within the band; None without a band."""
     return None if q["band"] is None else abs(q["deviation"]) + q["refinement"] <= q["band"]
 
 
-def condition_holds(row):
+def condition_holds(row: Json) -> bool | None:
     """Whether the band at mu_T = 3 and 250 kPa holds a condition_checks row (a_r and the mean gap);
     None without a band."""
     out = [h for h in (quantity_holds(row[short]) for short in ("a_r", "mean_gap")) if h is not None]
     return None if not out else all(out)
 
 
-def worst_failure(rows):
+def worst_failure(rows: list[Json]) -> tuple[Json, str] | None:
     """Of the condition_checks rows the band does not hold, the (row, quantity) whose |deviation| plus
     refinement error exceeds its band by the largest factor; None where the band holds them all."""
     bad = [r for r in rows if condition_holds(r) is False]

@@ -8,9 +8,13 @@ neighbours locates it between them. A second parabola, least squares through the
 around it, is an independent estimate; their distance is the error of locating it on these
 samples.
 """
+from __future__ import annotations
+from typing import Sequence
 import math
 
 import numpy as np
+from .._types import Json
+from numpy.typing import ArrayLike
 
 # The widest step (in decades of mu) between a bracketing sample and its neighbours: wider, and
 # the samples do not locate the extremum (the sweep's points are a quarter decade apart).
@@ -29,7 +33,7 @@ def _vertex(x, y):
     return float(xv), float(c0 - c1 * c1 / (4 * c2)), float(c2)
 
 
-def bracket(mu, y, kind="min"):
+def bracket(mu: Sequence[float] | np.ndarray, y: Sequence[float] | np.ndarray, kind: str = "min") -> int | None:
     """The index of the interior sample that is below (kind "min") or above ("max") both neighbours,
     the most extreme if there are several, or None where the extremum is not bracketed (it lies at
     an end of the samples or beyond)."""
@@ -38,16 +42,16 @@ def bracket(mu, y, kind="min"):
     return min(inner, key=lambda i: s * y[i]) if inner else None
 
 
-def locate(mu, y, kind="min"):
+def locate(mu: ArrayLike, y: ArrayLike, kind: str = "min") -> Json | None:
     """The extremum of y(mu) on log10(mu) (mu ascending): {"mu", "y", "log10_mu_error", "y_error",
     "bracket": [mu_left, mu_right], "estimates": {...}} or None where it is not bracketed (or its
     neighbours lie more than MAX_STEP_DECADES away). The
     errors are those of locating it on these samples (the two parabolas' distance, at least a
     tenth of the bracket's half-width on the abscissa); the samples' own errors come on top
     (y_sample_error)."""
-    mu, y = np.asarray(mu, float), np.asarray(y, float)
-    order = np.argsort(mu)
-    mu, y = mu[order], y[order]
+    mu_a, y_a = np.asarray(mu, float), np.asarray(y, float)
+    order = np.argsort(mu_a)
+    mu, y = mu_a[order], y_a[order]
     i = bracket(mu, y, kind)
     if i is None:
         return None
@@ -67,7 +71,7 @@ def locate(mu, y, kind="min"):
                           "five_point": None if five is None else {"mu": 10 ** five[0], "y": five[1]}}}
 
 
-def log_slope(mu, y):
+def log_slope(mu: ArrayLike, y: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """The slope dy/dlog10(mu) between successive samples, at the midpoints (geometric means):
     (mu_mid, slope) arrays, mu ascending."""
     mu, y = np.asarray(mu, float), np.asarray(y, float)
@@ -77,7 +81,7 @@ def log_slope(mu, y):
     return 10 ** (0.5 * (x[1:] + x[:-1])), np.diff(y) / np.diff(x)
 
 
-def combine(on_best, on_grids):
+def combine(on_best: Json, on_grids: list[tuple[int, Json | None]]) -> Json:
     """The extremum located on the best-estimate curve (locate's result) with its grid error: the
     change of mu* and y* between the two finest grids that bracket it (on_grids: [(n, locate
     result)] coarsest first). Adds "log10_mu_grid_error", "y_grid_error" and the totals

@@ -6,10 +6,13 @@ machine can resolve its range rho; its "reference" is that converged answer, and
 on coarse grids (roles plain_Krho, range_Krho, shape_Krho) measure what each strategy errs
 by at dx = K rho. s = 1 is the challenge itself, which has no converged reference.
 """
+from __future__ import annotations
+from typing import Any, Iterable
 import glob
 import json
 import math
 import os
+from .._types import Json
 
 # The checkout (the build tree links these files: realpath finds the source).
 REPO = os.path.abspath(os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", ".."))
@@ -31,13 +34,13 @@ def _load(path):
         return None
 
 
-def family_members(path=FAMILY_STORE):
+def family_members(path: str = FAMILY_STORE) -> list[Json]:
     """The members of a family store, or [] when there is none."""
     d = _load(path)
     return d.get("members", []) if isinstance(d, dict) else []
 
 
-def seed_members(store_dir):
+def seed_members(store_dir: str) -> list[Json]:
     """The members with a converged reference of every other realization stored beside a family
     store (STORE/seeds/*/scaled_family.json), each with its "seed"."""
     out = []
@@ -46,12 +49,12 @@ def seed_members(store_dir):
     return out
 
 
-def measured_members(store=FAMILY_STORE):
+def measured_members(store: str = FAMILY_STORE) -> list[Json]:
     """The members a strategy's error is measured on: the store's and its other realizations'."""
     return family_members(store) + seed_members(os.path.dirname(store))
 
 
-def condition_members(store_dir=None):
+def condition_members(store_dir: str | None = None) -> list[Json]:
     """The members with a reference run at other conditions than the challenge's (mu_T = 3, 250 kPa;
     STORE/conditions/*/scaled_family.json), each with its "tabor" and/or "pressure_Pa"."""
     store_dir = store_dir or os.path.dirname(FAMILY_STORE)
@@ -61,7 +64,7 @@ def condition_members(store_dir=None):
     return sorted(out, key=lambda m: (m.get("tabor", 3.0), m.get("pressure_Pa", 250e3), m["s"]))
 
 
-def strategy_run_near(r, strategy, dx_over_rho):
+def strategy_run_near(r: Json, strategy: str, dx_over_rho: float) -> bool:
     """Whether family run r stands for the strategy within NEAR_FACTOR of dx_over_rho. The
     resolved and refinement runs are plain runs too (about 0.8 and 1.6 rho); a plain run finer
     than the resolved one takes the resolved run's (resolving rho better is not expected to do
@@ -73,18 +76,20 @@ def strategy_run_near(r, strategy, dx_over_rho):
             and abs(math.log(r["dx_over_rho"] / dx_over_rho)) < math.log(NEAR_FACTOR))
 
 
-def run_error(r, ref, short):
+def run_error(r: Json, ref: Json, short: str) -> float:
     """A family run's relative error for `short`: |run / reference - 1| plus the reference's own
     relative refinement error."""
     q = ref[short]
     return abs(r[short] / q["value"] - 1) + q["refinement_error"] / abs(q["value"])
 
 
-def strategy_errors(members, strategy, dx_over_rho):
+def strategy_errors(members: list[Json], strategy: str, dx_over_rho: float) -> tuple[Json | None, list[Any]]:
     """The strategy's measured relative error per quantity at this dx/rho: the largest, over the
     members with a converged reference (of every realization given), of run_error for the run
     within NEAR_FACTOR of the spacing. Returns (errors, [what they rest on]) or (None, [])."""
-    err, used, seeds = {}, [], {}
+    err: Json = {}
+    used: list[Any] = []
+    seeds: dict[Any, Any] = {}
     for m in members:
         ref = m.get("reference", {})
         if not ref.get("a_r"):
@@ -103,7 +108,8 @@ def strategy_errors(members, strategy, dx_over_rho):
     return (err, used) if used else (None, [])
 
 
-def member_error_at(member, strategy, dx_over_rho, short):
+def member_error_at(member: Json, strategy: str, dx_over_rho: float, short: str,
+                    ) -> tuple[float, list[float]] | None:
     """One member's relative error for `short` with the strategy at this spacing: that of its run
     within NEAR_FACTOR of it, else interpolated linearly in log(dx/rho) between the runs at the
     nearest measured spacings on either side (the error varies smoothly with the spacing, and
@@ -127,7 +133,7 @@ def member_error_at(member, strategy, dx_over_rho, short):
     return (1 - t) * run_error(a, ref, short) + t * run_error(b, ref, short), [a["dx_over_rho"], b["dx_over_rho"]]
 
 
-def nearest_members(members, count=2):
+def nearest_members(members: list[Json], count: int = 2) -> list[Json]:
     """The members with a reference whose s is among the `count` smallest above 1, with every
     realization of each: the members whose coarse grids behave most like the challenge's (the
     transfer check: the ratio of a strategy's a_r to plain's at one dx/rho approaches the
@@ -137,7 +143,7 @@ def nearest_members(members, count=2):
     return [m for m in with_ref if m["s"] in keep]
 
 
-def transferred_error(members, strategy, dx_over_rho, short):
+def transferred_error(members: list[Json], strategy: str, dx_over_rho: float, short: str) -> Json | None:
     """The error a strategy has at this spacing, transferred from the family to the challenge:
     the largest member_error_at over the realizations of the members nearest s = 1
     (nearest_members). Returns {"error", "members": [(s, seed, error, spacings)], "rule"} or
@@ -156,12 +162,12 @@ def transferred_error(members, strategy, dx_over_rho, short):
                      "their measured spacings, plus their references' refinement errors")}
 
 
-def deviation(r, ref, short):
+def deviation(r: Json, ref: Json, short: str) -> float:
     """A run's signed relative deviation from a member's reference for `short`: r / reference - 1."""
     return r[short] / ref[short]["value"] - 1
 
 
-def member_reference(resolved, refinement):
+def member_reference(resolved: Json, refinement: Json) -> Json:
     """A member's reference from its resolved run and the refinement run (the same case on half the
     points), per quantity: the resolved value, with |resolved - refinement| as its refinement error
     (it bounds the resolved grid's own error if the error falls at least linearly with dx)."""
@@ -170,7 +176,7 @@ def member_reference(resolved, refinement):
             for _, short, unit in FAMILY_QUANTITIES}
 
 
-def adhesionless(runs):
+def adhesionless(runs: list[Json]) -> Json:
     """A member's hard-wall values from its two finest converged hard-wall runs (roles hardwall_*):
     a_r (the perimeter-corrected contact fraction; the repulsive area is the whole contact without
     adhesion) and the mean gap, each with |finest - next| as its refinement error. {} without two
@@ -186,7 +192,7 @@ def adhesionless(runs):
     return out
 
 
-def challenge_estimates(members, realizations=()):
+def challenge_estimates(members: list[Json], realizations: Iterable[Json] = ()) -> None:
     """Sets "estimates" on each member without a reference (the challenge, s = 1): each strategy
     run's value with the strategy's error measured on the family at the same dx/rho (and, as
     rho/lambda_s is the same for every s, the same dx/lambda_s), over the members and the other

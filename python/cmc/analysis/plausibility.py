@@ -9,9 +9,12 @@ pressure is not the load it was asked for. A best estimate on a finer grid than 
 one is an outlier where its value lies outside the previous band by more than OUTLIER_WIDTHS
 band widths (the band: the previous estimate's value +- its error).
 """
+from __future__ import annotations
+from typing import Any, Iterable
 import math
 
 from . import best, runs
+from .._types import Json
 
 FRACTIONS = ("a_r", "a_r_corrected", "a_rep")
 REQUIRED = ("n", "pressure_Pa", "a_r", "mean_gap_m")
@@ -33,7 +36,7 @@ def _number(x):
     return isinstance(x, (int, float)) and not isinstance(x, bool)
 
 
-def non_finite(value, where=""):
+def non_finite(value: Any, where: str = "") -> list[str]:
     """The places (dotted keys) in a parsed JSON value that hold NaN or an infinity."""
     if isinstance(value, dict):
         return [p for k, v in value.items() for p in non_finite(v, f"{where}.{k}" if where else str(k))]
@@ -42,7 +45,7 @@ def non_finite(value, where=""):
     return [where] if isinstance(value, float) and not math.isfinite(value) else []
 
 
-def record_problems(r):
+def record_problems(r: Json) -> list[str]:
     """Why a store record (runs.record) cannot be a result, as sentences; [] where it can."""
     out = [f"{p} is not finite" for p in non_finite(r)]
     if not isinstance(r.get("n"), int) or isinstance(r.get("n"), bool) or r["n"] < 1:
@@ -54,10 +57,10 @@ def record_problems(r):
     for row in rows:
         at = "" if row is r else f" at {row['tag']}"
         for key in FRACTIONS:
-            v = row.get(key)
+            v: Any = row.get(key)
             if _number(v) and math.isfinite(v) and not 0.0 <= v <= 1.0:
                 out.append(f"{key} = {v:g}{at} lies outside [0, 1]")
-        gap = row.get("mean_gap_m")
+        gap: Any = row.get("mean_gap_m")
         if r.get("problem") == "hardwall" and _number(gap) and gap < 0.0:
             out.append(f"mean gap {gap:g} m{at} is negative under a hard wall")
     return out
@@ -81,7 +84,7 @@ def _pressure_scale(summary):
     return max(elastic, w / rho if rho else 0.0)
 
 
-def balance_problems(summary):
+def balance_problems(summary: Json) -> list[str]:
     """Why a run's steps are out of balance (summary.json, parsed), as sentences; [] where they
     are not or where the summary does not say enough to tell."""
     out = []
@@ -115,7 +118,7 @@ def _points(best):
     return [(name, e) for name, e in out if isinstance(e, dict) and e.get("run")]
 
 
-def outliers(old, new, widths=OUTLIER_WIDTHS, records=()):
+def outliers(old: Json, new: Json, widths: float = OUTLIER_WIDTHS, records: Iterable[Json] = ()) -> list[tuple[str, str, Json, Json]]:
     """The points whose new best estimate comes from a finer grid than the old one and lies
     outside the old band by more than `widths` band widths, in a_r or the mean gap; and, among
     `records` (the runs an ingest adds), each converged run finer than the old estimate at its

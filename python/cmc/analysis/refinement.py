@@ -11,7 +11,10 @@ agree on a power law (tests/analysis/test_refinement_and_family.py feeds observe
 numbers of tests/test_validate.cpp, Refinement.ChangesAndOrder). Richardson extrapolation and the
 bands built on it live here only.
 """
+from __future__ import annotations
+from typing import Any, Sequence
 import math
+from .._types import Json
 
 # A grid resolves the adhesion for a refinement pair when it resolves the cohesive zone as well
 # as the scaled family's refinement grids do. The measure is the bistability number
@@ -28,11 +31,11 @@ REFINEMENT_BISTABILITY = 1.49
 MIN_ORDER = 0.5
 
 
-def finite(x):
+def finite(x: Any) -> bool:
     return isinstance(x, (int, float)) and math.isfinite(x)
 
 
-def observed_order(v0, v1, v2, ratio=2.0):
+def observed_order(v0: float, v1: float, v2: float, ratio: float = 2.0) -> float | None:
     """The order p of v(h) = v_inf + C h^p from three grids h, h/ratio, h/ratio^2 (coarsest first):
     p = log(|v0 - v1| / |v1 - v2|) / log(ratio). None where the two changes differ in sign or one
     of them is zero (no power law through them)."""
@@ -42,13 +45,13 @@ def observed_order(v0, v1, v2, ratio=2.0):
     return math.log(abs(c1) / abs(c2)) / math.log(ratio)
 
 
-def richardson(coarse, fine, order, ratio=2.0):
+def richardson(coarse: float, fine: float, order: float, ratio: float = 2.0) -> float:
     """Richardson's extrapolation (Phil. Trans. R. Soc. A 210, 307 (1911)) of two grids h and
     h/ratio to h = 0 for a value that converges with the given order."""
     return fine + (fine - coarse) / (ratio ** order - 1.0)
 
 
-def sequence_error(values, ratio=2.0):
+def sequence_error(values: Sequence[float], ratio: float = 2.0) -> Json | None:
     """The discretisation error of the finest value of a refinement sequence (values coarsest
     first, each grid `ratio` times finer than the one before).
 
@@ -79,7 +82,7 @@ def sequence_error(values, ratio=2.0):
     return dict(out, error=2.0 * abs(changes[-1]), method="first-order bound")
 
 
-def own_refinement(grids):
+def own_refinement(grids: list[Json]) -> Json | None:
     """The challenge's own refinement of one sweep point (the same case, mu_T and load on grids
     of n, 2n, 4n... points a side): the error of the coarsest grid's value, measured on the
     challenge itself instead of transferred from the scaled family.
@@ -128,7 +131,7 @@ def own_refinement(grids):
             "order": order, "grids": [g["nx"] for g in grids]}
 
 
-def own_band(grids, index):
+def own_band(grids: list[Json], index: int) -> Json | None:
     """own_refinement of a sequence (grids as own_refinement takes them) with the band of grid
     `index`'s value instead of the coarsest's: its distance from the estimated converged value
     plus the other estimates' spread, relative to it; "nx" its grid. None where a grid lacks its
@@ -142,7 +145,7 @@ def own_band(grids, index):
     return dict(got, band=(abs(v - got["v_inf"]) + got["spread"]) / abs(v), nx=grids[index]["nx"])
 
 
-def own_refinement_words(got, name, unit=""):
+def own_refinement_words(got: Json, name: str, unit: str = "") -> str:
     """One sentence on own_refinement's result for quantity `name` (values in `unit`, e.g. " m")."""
     grids = "², ".join(str(n) for n in got["grids"]) + "²"
     est = "; ".join(f"{w}: {v:.5g}{unit}" for w, v in got["estimates"])

@@ -2,9 +2,13 @@
 its summary.json, with where it ran and what built it. The best estimates, the challenge
 references and the reports read runs from here, whichever machine made them.
 """
+from __future__ import annotations
+from typing import Any
 import json
 import math
 import os
+
+from .. import run_folder
 
 # The checkout (the build tree links these files: realpath finds the source).
 REPO = os.path.abspath(os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", ".."))
@@ -13,7 +17,7 @@ STORE_WHAT = ("runs of the Contact Mechanics Challenge behind the best estimates
               "one record per run, made from its summary.json by scripts/store_runs.py or scripts/gpu/store.py")
 
 
-def get(d, *keys, default=None):
+def get(d: Any, *keys: str, default: Any = None) -> Any:
     """d[k0][k1]... or default if any level is missing or not a dict."""
     for k in keys:
         if not isinstance(d, dict) or k not in d:
@@ -28,7 +32,7 @@ def _finite(x):
     return isinstance(x, (int, float)) and math.isfinite(x)
 
 
-def tabor_of(summary):
+def tabor_of(summary: dict[str, Any]) -> float | None:
     """The run's Tabor parameter as the problem defines it, R_c^(1/3) (w/E*)^(2/3) / rho with the
     specified range rho (a coarse-grained law's own range is longer): the case's interaction.tabor
     where it gives one, else from surface_facts; None without exponential adhesion."""
@@ -37,7 +41,7 @@ def tabor_of(summary):
         return None
     if _finite(inter.get("tabor")):
         return inter["tabor"]
-    facts = summary.get("surface_facts") or {}
+    facts: Any = summary.get("surface_facts") or {}
     rho = facts.get("specified_range") or facts.get("interaction_range")
     R, w = facts.get("curvature_radius"), inter.get("work_of_adhesion")
     E = get(summary, "case", "material", "contact_modulus")
@@ -46,21 +50,21 @@ def tabor_of(summary):
     return R ** (1 / 3) * (w / E) ** (2 / 3) / rho
 
 
-def strategy_of(summary):
+def strategy_of(summary: dict[str, Any]) -> str:
     """The run's resolution strategy: its interaction.coarse_graining ("range", "shape"), or "plain"."""
     cg = get(summary, "case", "interaction", "coarse_graining")
     return cg if cg in ("range", "shape") else "plain"
 
 
-def dx_over_rho(summary):
+def dx_over_rho(summary: dict[str, Any]) -> float | None:
     """The grid spacing over the problem's range rho (the specified one, not a coarse-grained law's)."""
     f = summary.get("surface_facts") or {}
-    rho = f.get("specified_range") or f.get("interaction_range")
+    rho: Any = f.get("specified_range") or f.get("interaction_range")
     dx = get(summary, "grid", "dx")
     return dx / rho if _finite(rho) and rho > 0 and _finite(dx) else None
 
 
-def kind_of(summary):
+def kind_of(summary: dict[str, Any]) -> str:
     """The run's kind, as scripts/gpu/check.sh names its stages: hardwall, adhesive (the reference
     load, plain), shape / range (the same coarse-grained), tabor_mu<MU> (one point of the Tabor
     sweep's case; shape_tabor_mu<MU> coarse-grained), load / shape_load / hardwall_load (the load
@@ -77,7 +81,7 @@ def kind_of(summary):
     return strategy if strategy != "plain" else "adhesive"
 
 
-def step_values(summary):
+def step_values(summary: dict[str, Any]) -> list[dict[str, Any]] | None:
     """Each load step's answer, for runs of several steps (load sweeps): [{pressure_Pa, a_r, a_rep,
     mean_gap_m, converged}]; None for a single step."""
     steps = summary.get("steps") or []
@@ -88,7 +92,7 @@ def step_values(summary):
              "converged": bool(s.get("converged"))} for s in steps]
 
 
-def expand_steps(records):
+def expand_steps(records: list[dict[str, Any]]) -> list[dict[str, Any]]:
     """The records with every load sweep replaced by one record per converged or stopped step (tag
     TAG@k, that step's load and answer, status "converged" where the step converged), so that a
     sweep's steps take part in the best estimates like single runs at their loads."""
@@ -111,12 +115,12 @@ PHYSICS_KEYS = (("grid", "size"), ("material", "contact_modulus"), ("surface", "
                 ("surface", "seed"), ("interaction", "work_of_adhesion"))
 
 
-def physics_of(summary):
+def physics_of(summary: dict[str, Any]) -> dict[str, Any]:
     """The run's physics (PHYSICS_KEYS of its resolved case), e.g. {"surface.seed": 28, ...}."""
     return {f"{a}.{b}": get(summary, "case", a, b) for a, b in PHYSICS_KEYS}
 
 
-def same_physics(a, b):
+def same_physics(a: dict[str, Any], b: dict[str, Any]) -> bool:
     """Whether two physics dicts agree (numbers within 1e-9 relative; a key missing on one side
     is not compared)."""
     for k in set(a) & set(b):
@@ -132,7 +136,8 @@ def same_physics(a, b):
     return True
 
 
-def record(summary, *, tag, command, device, date, commit=None, origin=None, gpu_peak_mib=None):
+def record(summary: dict[str, Any], *, tag: str, command: str, device: str, date: str | None, commit: str | None = None,
+           origin: str | None = None, gpu_peak_mib: float | None = None) -> dict[str, Any]:
     """One store record from a run's summary.json (parsed): what the run is (case, problem,
     strategy, grid, spacing, mu_T, load), how it ended, what it cost, its answer at the last
     step, and its provenance (command, device, date, the commit that built the program, the
@@ -170,7 +175,7 @@ class StoreError(ValueError):
     """A run store or a summary that cannot be read as one; the message names the file."""
 
 
-def load_store(path=RUN_STORE):
+def load_store(path: str = RUN_STORE) -> list[dict[str, Any]]:
     """The store's records ([] when there is no store yet); StoreError where the file is not a
     run store (not JSON, no list of records, a record without its tag, kind, backend or grid)."""
     try:
@@ -190,7 +195,7 @@ def load_store(path=RUN_STORE):
     return recs
 
 
-def save_store(records, path=RUN_STORE):
+def save_store(records: list[dict[str, Any]], path: str = RUN_STORE) -> None:
     """Write the records (sorted, one per tag) to the store, atomically; ValueError (nothing
     written) where a number is NaN or infinite, which JSON cannot hold."""
     data = {"what": STORE_WHAT, "records": sorted(records, key=lambda r: (r["kind"], r["backend"], r["n"], r["tag"]))}
@@ -202,14 +207,14 @@ def save_store(records, path=RUN_STORE):
     os.replace(tmp, path)
 
 
-def add_to_store(new, path=RUN_STORE):
+def add_to_store(new: list[dict[str, Any]], path: str = RUN_STORE) -> int:
     """Add records to the store (replacing those of the same tags); returns how many it holds."""
     records = merge(load_store(path), new)
     save_store(records, path)
     return len(records)
 
 
-def merge(records, new):
+def merge(records: list[dict[str, Any]], new: list[dict[str, Any]]) -> list[dict[str, Any]]:
     """The records with `new` added, a new record replacing an old one of the same tag."""
     by_tag = {r["tag"]: r for r in records}
     for r in new:
@@ -217,19 +222,18 @@ def merge(records, new):
     return list(by_tag.values())
 
 
-def changed_tags(records, new):
+def changed_tags(records: list[dict[str, Any]], new: list[dict[str, Any]]) -> list[str]:
     """The tags of `new` that the store holds with another record (a replacement, not a repeat)."""
     by_tag = {r["tag"]: r for r in records}
     return [r["tag"] for r in new if r["tag"] in by_tag and by_tag[r["tag"]] != json.loads(json.dumps(r))]
 
 
-def read_summary(path):
-    """A run's summary.json, parsed; StoreError where it is not a JSON object."""
+def read_summary(path: str) -> dict[str, Any]:
+    """A run's summary.json (path FOLDER/summary.json), parsed, as cmc.run_folder reads it;
+    StoreError naming the file where it is missing, truncated or not a run's summary."""
+    if os.path.basename(path) != run_folder.SUMMARY:
+        raise StoreError(f"{path}: expected a run folder's {run_folder.SUMMARY}")
     try:
-        with open(path, encoding="utf-8") as f:
-            data = json.load(f)
-    except (OSError, ValueError) as e:
-        raise StoreError(f"{path}: not a readable summary.json ({e})") from None
-    if not isinstance(data, dict):
-        raise StoreError(f"{path}: not a run's summary (expected a JSON object, got {type(data).__name__})")
-    return data
+        return run_folder.read_summary(os.path.dirname(path)).data
+    except run_folder.RunFolderError as e:
+        raise StoreError(str(e)) from None

@@ -20,24 +20,31 @@ the whole distance between the lines (either could be wrong by that much). Error
 the members' refinement errors carried through the lines' weights (the larger of the two lines')
 + the adhesionless value's refinement error.
 """
+from __future__ import annotations
+from typing import Any
 import math
 
 from . import family
+from .._types import Json
 
 # The route is not informative for a quantity whose error is more than this fraction of its value.
 INFORMATIVE = 0.5
 
 
-def line_at(pa, pb, x1, log):
+def line_at(pa: tuple[float, tuple[float, float]], pb: tuple[float, tuple[float, float]], x1: float,
+            log: bool) -> tuple[float, float]:
     """A line through (s_a, R_a), (s_b, R_b) (each (s, (R, error))) at s = x1, in log s or in s:
     its value and the members' errors carried through its weights."""
     (xa, (Ra, ea)), (xb, (Rb, eb)) = pa, pb
-    f = math.log if log else float
+
+    def f(x: float) -> float:
+        return math.log(x) if log else float(x)
+
     t = (f(x1) - f(xa)) / (f(xb) - f(xa))
     return Ra + t * (Rb - Ra), abs(1 - t) * ea + abs(t) * eb
 
 
-def member_ratio(member, short):
+def member_ratio(member: Json, short: str) -> tuple[float, float]:
     """(R, error) of one member for `short`: its reference over its adhesionless value, the two
     values' relative refinement errors added."""
     ref, hw = member["reference"][short], member["adhesionless"][short]
@@ -45,7 +52,7 @@ def member_ratio(member, short):
     return R, R * (ref["refinement_error"] / abs(ref["value"]) + hw["refinement_error"] / abs(hw["value"]))
 
 
-def held_out(ratios, sa, sb, sc):
+def held_out(ratios: dict[Any, tuple[float, float]], sa: Any, sb: Any, sc: Any) -> Json:
     """The held-out check: member sa's R predicted from sb and sc on both lines, and whether the two
     predictions bracket the measured R within its error and the larger of their carried errors."""
     pb, pc = (sb, ratios[sb]), (sc, ratios[sc])
@@ -58,7 +65,7 @@ def held_out(ratios, sa, sb, sc):
             "bracketed": lo - max(pe_log, pe_lin) - ea <= Ra <= hi + max(pe_log, pe_lin) + ea}
 
 
-def s_extrapolation(members=None):
+def s_extrapolation(members: list[Json] | None = None) -> Json | None:
     """The second route (module docstring) from the family's members (by default its store's).
     Returns {"members": [s, ...], short: {"value", "error", "unit", "ratio_at_1", ...}} or None
     without two members with a reference and an adhesionless value, and the challenge's
@@ -71,7 +78,7 @@ def s_extrapolation(members=None):
         return None
     sa, sb = fam[0], fam[1]  # nearest s = 1 first
     sc = fam[2] if len(fam) > 2 else None
-    out = {"members": [sa, sb] + ([sc] if sc else [])}
+    out: Json = {"members": [sa, sb] + ([sc] if sc else [])}
     for _, short, unit in family.FAMILY_QUANTITIES:
         ratios = {s: member_ratio(by_s[s], short) for s in out["members"]}
         pa, pb = (sa, ratios[sa]), (sb, ratios[sb])
@@ -92,7 +99,7 @@ def s_extrapolation(members=None):
     return out
 
 
-def assessment(x):
+def assessment(x: Json) -> Json:
     """How far s_extrapolation's result x can be used: {"checks": [(short, held_out)] for the
     quantities with a held-out check, "bracketed" / "not_bracketed": their names, "miss": the
     least distance of a line's prediction from the measured ratio in units of its error over the
@@ -108,7 +115,7 @@ def assessment(x):
                       if x[short]["error"] > INFORMATIVE * abs(x[short]["value"])]}
 
 
-def route_difference(a, b):
+def route_difference(a: Json, b: Json) -> float | None:
     """|a - b| over the sum of their errors, for two estimates {"value", "error"} of one quantity
     (a difference above 1 is a finding, not noise); None where both errors are 0."""
     both = a["error"] + b["error"]

@@ -9,9 +9,11 @@ The error of a run is |a_r - a_r,best| / a_r,best and the same for the mean gap;
 values are the best estimate has none against itself, and is placed at the best estimate's own
 relative error (its error bar) instead, marked as such.
 """
+from typing import Any, Callable, Iterable, TypeGuard
 from dataclasses import dataclass
 import math
 import re
+from .._types import Json
 
 REFERENCE_PRESSURE_PA = 250e3
 CHALLENGE_TABOR = 3.0
@@ -42,7 +44,7 @@ class SpeedPoint:
     source: str     # "store" or "user"
 
 
-def _finite(x):
+def _finite(x: object) -> TypeGuard[float]:
     return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
 
 
@@ -52,7 +54,7 @@ def _setting(command, key):
     return m.group(1).strip("\"'") if m else None
 
 
-def method_of(record):
+def method_of(record: Json) -> str:
     """The solver and strategy of a store record, in words: Polonsky-Keer (preconditioned or
     plain) for the hard wall; with adhesion the quasi-static solver (what a loading path runs by
     default) or the adhesive CG, with the record's strategy (plain, range, shape)."""
@@ -65,7 +67,7 @@ def method_of(record):
     return f"{words}, {record.get('strategy') or 'plain'}"
 
 
-def at_reference_load(record):
+def at_reference_load(record: Json) -> bool:
     """Whether a record is one run of the challenge's problem at 250 kPa (a single step; with
     adhesion at mu_T = 3)."""
     p = record.get("pressure_Pa")
@@ -77,7 +79,7 @@ def at_reference_load(record):
     return record.get("problem") == "hardwall"
 
 
-def best_of(best, problem):
+def best_of(best: Json | None, problem: str | None) -> tuple[str | None, dict[str, tuple[float, float | None]]]:
     """(run tag, {quantity: (value, relative error)}) of a problem's best estimate at the reference
     load, or (None, {}) when the best estimates have none."""
     b = ((best or {}).get("reference_load") or {}).get(problem) or {}
@@ -89,7 +91,7 @@ def best_of(best, problem):
     return b.get("run"), out
 
 
-def relative_error(value, reference):
+def relative_error(value: float | None, reference: tuple[float, float | None] | None) -> float | None:
     """|value - reference| / |reference|, None when either is missing."""
     if not _finite(value) or reference is None or not _finite(reference[0]):
         return None
@@ -106,7 +108,7 @@ def _peak(record):
     return None, ""
 
 
-def speed_point(record, best, source="store"):
+def speed_point(record: Json, best: Json | None, source: str = "store") -> SpeedPoint:
     """The SpeedPoint of a record at the reference load."""
     tag_best, ref = best_of(best, record.get("problem"))
     is_best = source == "store" and record.get("tag") == tag_best
@@ -121,24 +123,25 @@ def speed_point(record, best, source="store"):
                       error_a_r=err["a_r"], error_mean_gap=err["mean_gap"], is_best=is_best, source=source)
 
 
-def speed_points(records, best, source="store"):
+def speed_points(records: Iterable[Json], best: Json | None, source: str = "store") -> list[SpeedPoint]:
     """The SpeedPoints of the records at the reference load, by problem, method, backend and grid."""
     pts = [speed_point(r, best, source) for r in records if at_reference_load(r)]
     return sorted(pts, key=lambda p: (p.problem, p.method, p.backend, p.n, p.tag))
 
 
-def pareto_front(points, error=lambda p: p.error_a_r):
+def pareto_front(points: Iterable[SpeedPoint],
+                 error: Callable[[SpeedPoint], Any] = lambda p: p.error_a_r) -> list[SpeedPoint]:
     """The points of one problem that no other beats in both wall time and error (lower or equal
     in both, lower in one), fastest first; points without a time or an error, and runs that
     stopped before their tolerance (a last state, not a result), take no part."""
-    pts = [p for p in points if p.wall_s is not None and error(p) is not None and p.status == "converged"]
-    front = [p for p in pts
-             if not any(q.wall_s <= p.wall_s and error(q) <= error(p) and (q.wall_s < p.wall_s or error(q) < error(p))
-                        for q in pts)]
-    return sorted(front, key=lambda p: (p.wall_s, error(p)))
+    pts = [(p, p.wall_s, error(p)) for p in points
+           if p.wall_s is not None and error(p) is not None and p.status == "converged"]
+    front = [(t, e, p) for p, t, e in pts
+             if not any(tq <= t and eq <= e and (tq < t or eq < e) for _, tq, eq in pts)]
+    return [p for t, e, p in sorted(front, key=lambda x: (x[0], x[1]))]
 
 
-def missing_methods(points, expected):
+def missing_methods(points: Iterable[SpeedPoint], expected: Iterable[tuple[str, str]]) -> list[tuple[str, str]]:
     """The methods of `expected` ([(problem, method)]) that no point has."""
     have = {(p.problem, p.method) for p in points}
     return [pm for pm in expected if pm not in have]

@@ -4,18 +4,21 @@ strategies' deviations on other realizations of the surface against their target
 
 A member and its runs as family.py describes them.
 """
+from __future__ import annotations
+from typing import Any, Iterable
 import math
 
 from . import family
+from .._types import Json
 
 # The targets of a resolution strategy at dx = 2 rho and 4 rho: the largest relative error of a_r
 # and of the mean gap it may have there.
-STRATEGY_TARGETS = {2: (0.03, 0.005), 4: (0.06, 0.01)}
+STRATEGY_TARGETS: dict[float, tuple[float, float]] = {2: (0.03, 0.005), 4: (0.06, 0.01)}
 # The transfer holds where the ratios at s = 1 and in the members agree within this factor.
 AGREE_FACTOR = 1.05
 
 
-def transfer_check(members=None, strategy="range"):
+def transfer_check(members: list[Json] | None = None, strategy: str = "range") -> list[tuple[int, float, float, float, float]]:
     """Whether the family's members behave like the challenge (s = 1) on coarse grids: for each
     s = 1 grid with both a plain run and one of the strategy, the ratio strategy/plain of a_r
     there and in each member s > 1 at the same dx/rho (within family.NEAR_FACTOR). The ratio needs
@@ -44,12 +47,12 @@ def transfer_check(members=None, strategy="range"):
     return out
 
 
-def transfer_verdict(rows):
+def transfer_verdict(rows: list[tuple[int, float, float, float, float]]) -> Json:
     """transfer_check's rows judged: {"grids": [((n, dx/rho, ratio at s = 1), [(s, ratio), ...
     largest s first]), ... finest grid first], "agree": every member's ratio within AGREE_FACTOR of
     the challenge's, "approach": on every grid the members' ratios come closer to the challenge's
     as s falls toward 1 (in log distance; at least two members each)}."""
-    by_grid = {}
+    by_grid: dict[tuple[Any, Any, Any], list[tuple[Any, Any]]] = {}
     for n, k, a, s, b in rows:
         by_grid.setdefault((n, k, a), []).append((s, b))
     grids, approach = [], True
@@ -62,7 +65,7 @@ def transfer_verdict(rows):
     return {"grids": grids, "agree": agree, "approach": approach}
 
 
-def meets_target(k, da, dg):
+def meets_target(k: float, da: float, dg: float) -> bool | None:
     """Whether deviations da (a_r) and dg (mean gap) at dx = k rho meet the strategy's targets;
     None where there is no target at that spacing."""
     if k not in STRATEGY_TARGETS:
@@ -71,17 +74,20 @@ def meets_target(k, da, dg):
     return abs(da) <= ta and abs(dg) <= tg
 
 
-def realization_deviations(members, spacings=(2, 4), kinds=("plain",) + family.STRATEGIES):
+def realization_deviations(members: list[tuple[Any, Json]], spacings: Iterable[float] = (2, 4),
+                           kinds: Iterable[str] = ("plain",) + family.STRATEGIES,
+                           ) -> tuple[list[dict[tuple[str, float], Json]], dict[tuple[str, float], Json]]:
     """Each realization's runs at dx = k rho against its own reference. members: [(seed, member)].
     Returns (per member {(kind, k): {"a_r", "mean_gap", "met"}} for the runs it has, deviations
     signed and relative, "met" meets_target's for the strategies and None for plain; per column
     (kind, k) {"largest": [largest |deviation| of a_r, of the mean gap], "met", "seen"}: how many
     realizations meet the target of the strategies, of how many)."""
-    per, cols = [], {}
+    per: list[dict[tuple[str, float], Json]] = []
+    cols: dict[tuple[str, float], Json] = {}
     for _, m in members:
         ref = m["reference"]
         runs = {r["role"]: r for r in m["runs"]}
-        got = {}
+        got: dict[tuple[str, float], Json] = {}
         for k in spacings:
             for kind in kinds:
                 r = runs.get(f"{kind}_{k}rho")

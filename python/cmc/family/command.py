@@ -1,5 +1,6 @@
 """The command scripts/scaled_family.py: runs the scaled challenge family's members (runs) and
 merges them into its store (store); --reestimate recomputes the store's estimates only."""
+from __future__ import annotations
 import argparse
 import datetime
 import json
@@ -13,9 +14,10 @@ from ..analysis.s_route import s_extrapolation
 from .runs import (CASE, CASE_HW, L, LAMBDA_S1, STRATEGY, W1, condition_name, condition_sets, condition_words,
                    grids, job, job_folder, record, rho_of, run_jobs)
 from .store import write_store
+from cmc._types import Json
 
 
-def arguments(argv, doc):
+def arguments(argv: list[str] | None, doc: str) -> argparse.Namespace:
     """The command's options (scripts/scaled_family.py, whose usage text is `doc`)."""
     ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--s", type=int, nargs="+", default=[32, 16])
@@ -64,7 +66,7 @@ def arguments(argv, doc):
     return ap.parse_args(argv)
 
 
-def reestimate(a):
+def reestimate(a: argparse.Namespace) -> None:
     """--reestimate: the challenge's error bars in --store recomputed from the members stored there."""
     if not a.store:
         sys.exit("scaled_family: --reestimate needs --store (the family store whose estimates to recompute)")
@@ -78,7 +80,7 @@ def reestimate(a):
     print(f"scaled_family: recomputed the estimates of {a.store}", file=sys.stderr)
 
 
-def checked_conditions(a):
+def checked_conditions(a: argparse.Namespace) -> tuple[str | None, list[str], list[str]]:
     """The realization and condition of this invocation, refused where --set gives them: returns
     (condition name or None, the adhesive runs' overrides, the hard-wall runs' overrides); with a
     condition, a.results becomes its own folder."""
@@ -102,7 +104,8 @@ def checked_conditions(a):
     return condition, adhesive_set, hardwall_set
 
 
-def member_jobs(a, s, g, adhesive_set, hardwall_set):
+def member_jobs(a: argparse.Namespace, s: int, g: dict[str, int], adhesive_set: list[str],
+                hardwall_set: list[str]) -> list[Json]:
     """The runs of member s on its grids g (role -> n), adhesive and hard-wall."""
     jobs = []
     for role in g:
@@ -127,7 +130,7 @@ def member_jobs(a, s, g, adhesive_set, hardwall_set):
     return jobs
 
 
-def run_member(a, s, adhesive_set, hardwall_set):
+def run_member(a: argparse.Namespace, s: int, adhesive_set: list[str], hardwall_set: list[str]) -> Json:
     """Runs member s (resumable) and returns its record: its runs and reference."""
     rho = rho_of(a.cmc, s, adhesive_set + a.set)
     g = grids(rho, a.coarse, a.grids, not a.no_resolved, a.strategies, lambda_s=s * LAMBDA_S1)
@@ -155,7 +158,7 @@ def run_member(a, s, adhesive_set, hardwall_set):
     return m
 
 
-def store_members(a, members, condition):
+def store_members(a: argparse.Namespace, members: list[Json], condition: str | None) -> None:
     """Merges this invocation's members into STORE/scaled_family.json and rewrites its README."""
     path = os.path.join(ROOT, a.store, "scaled_family.json")
     old = {}
@@ -191,7 +194,7 @@ def store_members(a, members, condition):
     print(f"scaled_family: wrote {a.store}/scaled_family.json and README.md", file=sys.stderr)
 
 
-def main(argv, doc):
+def main(argv: list[str] | None, doc: str) -> int:
     """scripts/scaled_family.py."""
     a = arguments(argv, doc)
     if a.reestimate:

@@ -1,12 +1,15 @@
 """The scaled challenge family's runs: member s's case overrides, its grids (resolved,
 refinement, coarse), the cmc sweeps that run them (resumable), and each run's record."""
-import json
+from __future__ import annotations
+from typing import Any, Iterable, Sequence
 import os
 import subprocess
 import sys
 
 from ..analysis.family import FAMILY_QUANTITIES as QUANTITIES
 from ..analysis.runs import REPO as ROOT
+from cmc import run_folder
+from cmc._types import Json
 
 
 CASE = "cases/challenge/scaled-family.toml"
@@ -19,26 +22,26 @@ LAMBDA_S1, W1 = 0.1e-6, 0.05  # the challenge's cutoff (m) and work of adhesion 
 STRATEGY = {"range": ['interaction.coarse_graining="range"'], "shape": ['interaction.coarse_graining="shape"']}
 
 
-def member_sets(s, adhesion=True):
+def member_sets(s: int, adhesion: bool = True) -> list[str]:
     """The --set overrides that make member s of a family case (the hard-wall case has no w)."""
     return ([f"surface.cutoff_wavelength={s * LAMBDA_S1:.6g}"]
             + ([f"interaction.work_of_adhesion={s * W1:.6g}"] if adhesion else []))
 
 
-def condition_sets(tabor, pressure, adhesion=True):
+def condition_sets(tabor: float | None, pressure: float | None, adhesion: bool = True) -> list[str]:
     """The --set overrides of a condition (--tabor, --pressure); the hard-wall case has no mu_T."""
     return (([f"interaction.tabor={tabor:.6g}"] if tabor is not None and adhesion else [])
             + ([f"loading.values=[{pressure:.6g}]"] if pressure is not None else []))
 
 
-def condition_name(tabor, pressure):
+def condition_name(tabor: float | None, pressure: float | None) -> str | None:
     """The folder name of a condition ("mu_T1", "p1e+06Pa", "mu_T0.316-p1e+06Pa"), or None for the
     challenge's own (mu_T = 3, 250 kPa)."""
     parts = ([f"mu_T{tabor:g}"] if tabor is not None else []) + ([f"p{pressure:g}Pa"] if pressure is not None else [])
     return "-".join(parts) or None
 
 
-def condition_words(m):
+def condition_words(m: Json) -> str:
     """"μ_T = 3, at 250 kPa" or the member's own condition."""
     mu = m.get("tabor", 3)
     p = m.get("pressure_Pa", 250e3)
@@ -46,7 +49,7 @@ def condition_words(m):
         "" if "pressure_Pa" not in m else " (`--pressure`)")
 
 
-def rho_of(cmc, s, extra):
+def rho_of(cmc: str, s: int, extra: list[str]) -> float:
     """rho(s) in m from `cmc surface` at the case's own grid (dx / dx_over_range)."""
     args = [cmc, "surface", CASE] + sum((["--set", x] for x in member_sets(s) + extra), [])
     out = subprocess.run(args, capture_output=True, text=True, cwd=ROOT)
@@ -62,7 +65,7 @@ def rho_of(cmc, s, extra):
     return float(facts["dx"]) / float(facts["dx_over_range"])
 
 
-def fft_friendly(x):
+def fft_friendly(x: float) -> int:
     """The even integer with prime factors 2, 3, 5 only that is nearest to x."""
     best = None
     for n in range(max(2, int(x * 0.8)), int(x * 1.25) + 2):
@@ -72,14 +75,17 @@ def fft_friendly(x):
                 m //= f
         if m == 1 and n % 2 == 0 and (best is None or abs(n - x) < abs(best - x)):
             best = n
+    if best is None:
+        raise ValueError(f"no even 2-3-5 grid size within a factor 1.25 of {x:g}")
     return best
 
 
-def fmt_k(k):
+def fmt_k(k: float) -> str:
     return f"{k:g}".replace(".", "p")
 
 
-def grids(rho, coarse, explicit, resolved, strategies=tuple(STRATEGY), lambda_s=None):
+def grids(rho: float, coarse: Sequence[float], explicit: Sequence[int], resolved: bool,
+          strategies: Sequence[str] = tuple(STRATEGY), lambda_s: float | None = None) -> dict[str, int]:
     """role -> grid size, in the order the runs are made (cheapest first). The resolved grid is
     the smallest power of two with dx <= 0.8 rho and dx <= lambda_s / 64: at mu_T = 3 the first
     implies the second (rho/lambda_s = 0.019, so dx = 0.8 rho is lambda_s / 65.5 for every s); at
@@ -104,56 +110,54 @@ def grids(rho, coarse, explicit, resolved, strategies=tuple(STRATEGY), lambda_s=
     return g
 
 
-def summary_ok(path):
+def summary_ok(path: str) -> bool:
     """A finished run (converged, or stopped at a cap: not_converged, which a rerun of the same case
     repeats bit for bit) is kept; a failed or missing one is (re)run."""
     try:
-        with open(path, encoding="utf-8") as f:
-            return json.load(f).get("status") in ("converged", "not_converged")
-    except (OSError, ValueError):
+        return run_folder.read_summary(os.path.dirname(path)).status in ("converged", "not_converged")
+    except run_folder.RunFolderError:
         return False
 
 
-def job(role, n, suffix, extra, case=CASE, options=()):
+def job(role: str, n: int, suffix: str, extra: list[str], case: str = CASE, options: Iterable[str] = ()) -> Json:
     """One run: `case` as member s on the grid n into RESULTS/s<S>/n<N><suffix>, with the --set
     overrides `extra` and cmc run's `options` (--start-from)."""
     return {"role": role, "n": n, "suffix": suffix, "extra": extra, "case": case, "options": list(options)}
 
 
-def job_folder(results, s, j):
+def job_folder(results: str, s: int, j: Json) -> str:
     return os.path.join(results, f"s{s}", f"n{j['n']}{j['suffix']}")
 
 
-def job_sets(s, j, grid=True):
+def job_sets(s: int, j: Json, grid: bool = True) -> list[str]:
     # The case files name the s = 32 member; each run is named for its own s.
     name = f"challenge-scaled-s{s}" if j["case"] == CASE else f"challenge-scaled-hardwall-s{s}"
     return ([f"case.name={name}"] + member_sets(s, adhesion=j["case"] == CASE) + ([f"grid.n={j['n']}"] if grid else [])
             + j["extra"])
 
 
-def run_command(cmc, results, s, j):
+def run_command(cmc: str, results: str, s: int, j: Json) -> list[str]:
     """The `cmc run` that makes the job's folder (as a cmc sweep point makes it, bit for bit)."""
     return ([cmc, "run", j["case"], "--out", job_folder(results, s, j), "--resume"]
             + sum((["--set", x] for x in job_sets(s, j)), []) + j["options"])
 
 
-def shown(cmd):
+def shown(cmd: list[str]) -> str:
     return " ".join(["cmc"] + cmd[1:])
 
 
-def finished(results, s, j):
+def finished(results: str, s: int, j: Json) -> bool:
     """Whether the job's folder holds a finished run (summary_ok); said on stderr."""
     out = job_folder(results, s, j)
     if not summary_ok(os.path.join(ROOT, out, "summary.json")):
         return False
-    with open(os.path.join(ROOT, out, "summary.json"), encoding="utf-8") as f:
-        status = json.load(f)["status"]
+    status = run_folder.read_summary(os.path.join(ROOT, out)).data["status"]
     print(f"scaled_family: s = {s}, {j['n']}²: done ({out}" + ("" if status == "converged" else f", {status}") + ")",
           file=sys.stderr)
     return True
 
 
-def sweep_command(cmc, results, s, jobs):
+def sweep_command(cmc: str, results: str, s: int, jobs: list[Json]) -> list[str]:
     """One `cmc sweep` over the grids of `jobs` (one case, one set of overrides, one folder suffix):
     RESULTS/s<S>/n<N><suffix> per grid, its table RESULTS/s<S>/sweep-<first role>.json and .md."""
     first = jobs[0]
@@ -163,14 +167,14 @@ def sweep_command(cmc, results, s, jobs):
             + sum((["--set", x] for x in job_sets(s, first, grid=False)), []))
 
 
-def run_jobs(cmc, results, s, jobs, dry):
+def run_jobs(cmc: str, results: str, s: int, jobs: list[Json], dry: bool) -> list[str]:
     """Makes every job's folder, in the order of the jobs: those of one case and one set of
     overrides (not started from another run) as one `cmc sweep` over their grids, refinement and
     resolved grids apart from the coarse ones (cheapest first); a run started from another with
     `cmc run`. A sweep whose runs have all finished is not started (a finished run is kept, an
     interrupted one resumes). Returns each job's command as the store records it: the `cmc run`
     that makes its folder."""
-    steps = {}
+    steps: dict[tuple[Any, ...], list[Json]] = {}
     for i, j in enumerate(jobs):
         fine = j["role"] in ("refinement", "resolved")
         key = ("run", i) if j["options"] else ("sweep", j["case"], tuple(j["extra"]), j["suffix"], fine)
@@ -190,9 +194,8 @@ def run_jobs(cmc, results, s, jobs, dry):
     return [shown(run_command(cmc, results, s, j)) for j in jobs]
 
 
-def record(out, role, n, rho, command):
-    with open(os.path.join(ROOT, out, "summary.json"), encoding="utf-8") as f:
-        d = json.load(f)
+def record(out: str, role: str, n: int, rho: float, command: str) -> Json:
+    d = run_folder.read_summary(os.path.join(ROOT, out)).data
     st = d["steps"][-1]
     facts = d["surface_facts"]
     r = {"role": role, "n": n, "dx_m": L / n, "dx_over_rho": (L / n) / rho, "status": d["status"],

@@ -2,6 +2,7 @@
 references without the runs at hand (scripts/apply_best_estimates.py; what it rewrites is
 listed there). The challenge references' command (cmc.references.challenge) calls `apply`
 after it rewrites the curves from the runs."""
+from __future__ import annotations
 import argparse
 import json
 import os
@@ -11,17 +12,18 @@ import tomllib
 from ..analysis import best as best_mod
 from ..analysis.runs import REPO as ROOT
 from ..reference_files import CurveError, read_curve, write_atomically, write_curve
+from .._types import Json
 
 P0 = 250e3
 BEGIN, END = "<!-- best-estimates:begin -->", "<!-- best-estimates:end -->"
 QUANTITY = {"contact_fraction": ("a_r", "relative contact area a_r"), "mean_gap_m": ("mean_gap", "mean gap")}
 
 
-def run_words(est):
+def run_words(est: Json) -> str:
     return f"{est['run']} ({est['n']}^2, {est['strategy']}, {est['device']})"
 
 
-def error_words(est, short):
+def error_words(est: Json, short: str) -> str:
     """How the error of one estimated quantity was made, in a sentence."""
     q = est["quantities"][short]
     ref = q["refinement"]
@@ -42,7 +44,7 @@ def error_words(est, short):
 OTHER_ROWS = "the other rows: "
 
 
-def sweep_words(estimated_error):
+def sweep_words(estimated_error: str) -> str:
     """The sweep's own words of an estimated_error line, without what best estimates put before
     them (by an earlier application, once or several times)."""
     words = estimated_error.split(" || ")[-1]
@@ -51,7 +53,7 @@ def sweep_words(estimated_error):
     return words
 
 
-def with_best_rows(curve, ests, short):
+def with_best_rows(curve: Json, ests: list[Json], short: str) -> Json:
     """The load-sweep curve with each row that has a best estimate at its load (ests, ascending in
     load) replaced by it, its error the band; a best estimate at 250 kPa is joined where the
     curve has no row there. The file's words say which rows come from where."""
@@ -96,14 +98,14 @@ TARGETS = {("hardwall", "a_r"): (0.02, 10e6), ("hardwall", "mean_gap"): (0.002, 
 NARROWING = {"hardwall": "hardwall_load:16384 (priority 2)", "adhesive": "shape_load:8192 (priority 3)"}
 
 
-def sweep_loads(problem):
+def sweep_loads(problem: str) -> list[float]:
     """The loads of the challenge's load sweep (cases/challenge/load-sweep*.toml), Pa."""
     name = "load-sweep-hardwall.toml" if problem == "hardwall" else "load-sweep.toml"
     with open(os.path.join(ROOT, "cases", "challenge", name), "rb") as f:
         return [float(p) for p in tomllib.load(f)["loading"]["values"]]
 
 
-def best_load_curve(old, ests, short, problem):
+def best_load_curve(old: Json, ests: list[Json], short: str, problem: str) -> Json:
     """A load curve made of best estimates alone (ests ascending in load): each row its estimate's
     value and error, a column with the grid of the run behind it; rows of the old curve without a
     best estimate are left out and named, and so are the rows wider than the targets, with the GPU
@@ -145,7 +147,7 @@ def _kept_date(curve):
     return dict(curve["extra"]).get("date", "") if curve else ""
 
 
-def tabor_curve(old, points, ycol, short):
+def tabor_curve(old: Json, points: list[Json], ycol: str, short: str) -> Json:
     """Item 6 or 7 as the best estimates at every mu_T, keeping the stored file's columns and words."""
     pts = [p for p in points if short in p["quantities"] and p["quantities"][short]["error"]]
     cols = [list(c[:3]) for c in old["columns"]] if old else [
@@ -176,7 +178,7 @@ DISTRIBUTIONS = ("patch_size_distribution", "gap_distribution", "stress_distribu
                  "cross_section_gap", "cross_section_pressure")
 
 
-def with_finest_note(curve, best):
+def with_finest_note(curve: Json, best: Json) -> Json:
     """A distribution's curve (items 1, 3, 4, 5, 9) with a line saying that its grid is still the
     finest run with these observables, while the best estimates reach further for a_r and the
     mean gap."""
@@ -202,7 +204,7 @@ def _other_rows(best, name):
     return "; their other rows are still the 2048² load sweep's."
 
 
-def readme_block(best):
+def readme_block(best: Json) -> list[str]:
     """The README's best-estimate block: what each rewritten file takes from which run."""
     rl = best["reference_load"]
     L = [BEGIN, "## Best estimates", "",
@@ -230,7 +232,7 @@ def readme_block(best):
     return L + [END]
 
 
-def update_readme(path, best):
+def update_readme(path: str, best: Json) -> None:
     """Replace (or add, after the title) the best-estimate block of the README."""
     text = open(path, encoding="utf-8").read() if os.path.exists(path) else "# Challenge reference curves\n"
     block = "\n".join(readme_block(best))
@@ -242,7 +244,7 @@ def update_readme(path, best):
     write_atomically(path, text)
 
 
-def apply(best, out_dir, cmc):
+def apply(best: Json, out_dir: str, cmc: str) -> list[str]:
     """Rewrite the stored curves the best estimates decide; returns the paths written."""
     done = []
     rl, sweeps = best["reference_load"], best.get("load_sweep") or {}
@@ -261,8 +263,9 @@ def apply(best, out_dir, cmc):
             done.append(path)
     for q, ycol, short in (("contact_area_vs_tabor", "contact_fraction", "a_r"), ("mean_gap_vs_tabor", "mean_gap_m", "mean_gap")):
         path = os.path.join(out_dir, q + ".csv")
-        if best["tabor"]:
-            write_curve(cmc, tabor_curve(read_curve(path), best["tabor"], ycol, short), path)
+        old = read_curve(path)
+        if best["tabor"] and old:
+            write_curve(cmc, tabor_curve(old, best["tabor"], ycol, short), path)
             done.append(path)
     for folder in (out_dir, os.path.join(out_dir, "adhesionless")):
         for q in DISTRIBUTIONS:
@@ -275,7 +278,7 @@ def apply(best, out_dir, cmc):
     return done + [os.path.join(out_dir, "README.md")]
 
 
-def main(argv, doc):
+def main(argv: list[str] | None, doc: str) -> int:
     """scripts/apply_best_estimates.py, whose usage text is `doc`."""
     ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--best", default=os.path.join(ROOT, "reference", "challenge", "best_estimates.json"))

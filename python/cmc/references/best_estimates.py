@@ -1,6 +1,7 @@
 """The command scripts/best_estimates.py: the challenge's best estimates
 (reference/challenge/best_estimates.json) from the run store and the scaled family's stores,
 decided in cmc.analysis.best and cmc.analysis.challenge, and printed."""
+from __future__ import annotations
 import argparse
 import json
 import os
@@ -8,6 +9,7 @@ import sys
 
 from cmc.analysis import challenge, family, plausibility, runs
 from cmc.analysis.runs import REPO as ROOT
+from cmc._types import Json
 
 OUT = os.path.join(ROOT, "reference", "challenge", "best_estimates.json")
 
@@ -19,7 +21,7 @@ def _pm(q, scale=1.0, digits=4):
     return f"{q['value'] * scale:.{digits}g} ± {q['error'] * scale:.2g}{rel}"
 
 
-def describe(est):
+def describe(est: Json | None) -> list[str]:
     """Lines printed for one estimate."""
     if not est:
         return ["  none (no converged run at this point in the store)"]
@@ -28,7 +30,7 @@ def describe(est):
             f"    a_r {_pm(q.get('a_r'))}   repulsive a_r {_pm(q.get('a_rep'))}   mean gap {_pm(q.get('mean_gap'), 1e6, 6)} µm"]
 
 
-def stored_records(path):
+def stored_records(path: str) -> tuple[list[Json] | None, str | None]:
     """The store's records; (None, message) where the store cannot be read or holds a record
     with an impossible value (python/cmc/analysis/plausibility.py), which no estimate may use."""
     try:
@@ -41,7 +43,7 @@ def stored_records(path):
     return records, None
 
 
-def main(argv, doc=None):
+def main(argv: list[str] | None, doc: str | None = None) -> int:
     ap = argparse.ArgumentParser(description=(doc or __doc__), formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--store", default=runs.RUN_STORE, help="the run store (default: %(default)s)")
     ap.add_argument("--family", default=family.FAMILY_STORE, help="the scaled family's store (default: %(default)s)")
@@ -55,7 +57,7 @@ def main(argv, doc=None):
         return 2
     store_dir = os.path.dirname(a.family)
     records, refused = stored_records(a.store)
-    if refused:
+    if refused or records is None:
         print(refused, file=sys.stderr)
         return 2
     data = challenge.build(records, family.measured_members(a.family),

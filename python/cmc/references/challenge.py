@@ -1,12 +1,12 @@
 """The command scripts/challenge_reference.py: the challenge reference curves
 reference/challenge/<quantity>.csv and their README.md from cmc's own challenge runs (curves,
 readme), then the best estimates put into them (apply)."""
+from __future__ import annotations
 import argparse
 import json
 import os
 import sys
 from dataclasses import dataclass, field
-from typing import Optional
 
 from cmc.analysis.runs import REPO as ROOT
 from cmc.report.challenge_runs import _find_runs, _reference_load_runs
@@ -14,9 +14,11 @@ from .apply import apply as apply_best_estimates, update_readme
 from .curves import distribution_pair, load_sweep_curves, member_runs, reference_load_curves, tabor_curves
 from .provenance import _rel, hardwall_refinement, write_atomically, write_curve
 from .readme import ALL, readme, readme_adhesionless, stored_curve
+from cmc._types import Json
+from cmc.report.challenge_runs import Run
 
 
-def write_curves(cmc, curves, out):
+def write_curves(cmc: str, curves: list[Json], out: str) -> None:
     """Has cmc write each curve to OUT/<quantity>.csv and says so."""
     for c in curves:
         path = os.path.join(out, c["quantity"] + ".csv")
@@ -24,7 +26,7 @@ def write_curves(cmc, curves, out):
         print(f"challenge_reference: {_rel(path)}: {len(c['columns'][0][3])} points, {len(text)} bytes")
 
 
-def kept_curves(out, curves):
+def kept_curves(out: str, curves: list[Json]) -> list[Json]:
     """The stored curves of `out` other than `curves`' quantities, read back (stored_curve)."""
     new = {c["quantity"] for c in curves}
     kept = [stored_curve(os.path.join(out, q + ".csv"), q, item) for q, item in ALL if q not in new]
@@ -42,14 +44,14 @@ class ReadmePlan:
     computed from the runs, and (adhesive) the run behind items 1, 3, 4, 5 and 9."""
     adhesive: bool
     out: str
-    curves: list
-    keep_from: Optional[str] = None
+    curves: list[Json]
+    keep_from: str | None = None
     dist: list = field(default_factory=list)
-    ref_step: Optional[dict] = None
+    ref_step: Json | None = None
     pair: list = field(default_factory=list)
 
 
-def only_tabor(a, runs, hw):
+def only_tabor(a: argparse.Namespace, runs: list[Run], hw: Json | None) -> list[ReadmePlan]:
     """--only tabor: items 6 and 7 from the Tabor sweep's runs, the other stored curves kept."""
     curves = tabor_curves([r for r in runs if r.name.startswith("challenge-tabor")], hw)
     if len(curves) != 2:
@@ -65,16 +67,18 @@ def only_tabor(a, runs, hw):
     return [ReadmePlan(True, a.out, curves, keep_from=os.path.join(a.out, "README.md"))]
 
 
-def regenerate(a, runs, members, hw, notes):
+def regenerate(a: argparse.Namespace, runs: list[Run], members: list[Run], hw: Json | None,
+               notes: list[str]) -> list[ReadmePlan]:
     """Every curve of both problems from the runs (with --only reference-load items 1, 3, 4, 5 and
     9 alone, the other stored curves kept); returns the READMEs to write."""
     only = a.only == "reference-load"
-    plans = []
+    plans: list[ReadmePlan] = []
     for adhesive in (True, False):
         out = a.out if adhesive else os.path.join(a.out, "adhesionless")
         pair = _reference_load_runs(runs, adhesive)
         dist = distribution_pair(runs + members, adhesive)
-        curves, ref_step = [], None
+        curves: list[Json] = []
+        ref_step: Json | None = None
         if dist:
             curves, ref_step = reference_load_curves(dist[-1][0], hw, notes, dist[0] if len(dist) > 1 else None)
         if not only:
@@ -94,7 +98,7 @@ def regenerate(a, runs, members, hw, notes):
     return plans
 
 
-def shown_curves(plan, best):
+def shown_curves(plan: ReadmePlan, best: Json | None) -> list[Json]:
     """The curves a README describes: those computed here, the ones the best estimates decided
     (best) and, with --only, the other stored ones, as stored (read back)."""
     decided = set(DECIDED) if best else set()
@@ -105,7 +109,7 @@ def shown_curves(plan, best):
     return own + [c for c in back if c is not None]
 
 
-def write_readme(plan, hw, best):
+def write_readme(plan: ReadmePlan, hw: Json | None, best: Json | None) -> None:
     """One README from its plan, once the curves are final (after the best estimates went in)."""
     path = os.path.join(plan.out, "README.md")
     shown = shown_curves(plan, best)
@@ -123,7 +127,7 @@ def write_readme(plan, hw, best):
     print(f"challenge_reference: {_rel(path)}" + (" (the other curves kept)" if plan.keep_from else ""))
 
 
-def arguments(argv, doc):
+def arguments(argv: list[str] | None, doc: str) -> argparse.Namespace:
     """The command's options (scripts/challenge_reference.py, whose usage text is `doc`)."""
     ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--only", choices=["tabor", "reference-load"], default=None,
@@ -138,7 +142,7 @@ def arguments(argv, doc):
     return ap.parse_args(argv)
 
 
-def usable_runs(results, notes):
+def usable_runs(results: str, notes: list[str]) -> list[Run]:
     """The report's discovery: every RESULTS/**/summary.json of a challenge case (not the scaled
     family). A load sweep whose last steps did not converge still gives its converged steps (the
     sweep curves keep only those and say how many); a single run must converge."""
@@ -146,12 +150,12 @@ def usable_runs(results, notes):
             if r.status == "converged" or (r.status == "not_converged" and r.is_load_sweep())]
 
 
-def main(argv, doc):
+def main(argv: list[str] | None, doc: str) -> int:
     """scripts/challenge_reference.py: the curves from the runs, the best estimates put in, then
     the READMEs describing the curves as stored."""
     a = arguments(argv, doc)
     hw = hardwall_refinement(a.hardwall_refine or os.path.join(a.results, "refine", "reference-load-hardwall"))
-    notes = []
+    notes: list[str] = []
     runs = usable_runs(a.results, notes)
     if a.only == "tabor":
         plans = only_tabor(a, runs, hw)
@@ -163,7 +167,7 @@ def main(argv, doc):
     return 0
 
 
-def apply_best(out, cmc):
+def apply_best(out: str, cmc: str) -> Json | None:
     """The best estimates (OUT/best_estimates.json, scripts/best_estimates.py) put into the curves
     they decide (cmc.references.apply), after the curves were written from the runs; returns
     them, or None where there are none."""

@@ -1,10 +1,9 @@
 """The challenge reference curves from cmc's runs: the distributions, spectrum and cross sections
 at the reference load (items 1, 3, 4, 5, 9), the load sweep (items 2, 8) and the Tabor sweep
 (items 6, 7), each with its provenance and band."""
-import glob
+from __future__ import annotations
 import os
 
-import h5py
 import numpy as np
 
 from cmc.analysis import bands
@@ -14,9 +13,11 @@ from cmc.analysis.refinement import REFINEMENT_BISTABILITY, own_refinement_words
 from cmc.analysis.runs import strategy_of, tabor_of
 from cmc.report.challenge_runs import (Run, _centers, _merged_sweeps, _observables, _reference_load_runs, _stopped,
                                        finer_sweep, grid_change, hardwall_sweep_band, sweep_band)
-from cmc.report.common import case_name, get, load_json, roundoff_note, transfer_caveat
+from cmc.report.common import case_name, get, roundoff_note, transfer_caveat
 from .provenance import (GENERATOR, P0, RHO, _clean, _rel, _with_refinement_band, add_abs_band, add_band,
                          adhesive_error, provenance, strategy_band, with_band)
+from cmc import run_folder
+from cmc._types import Json
 
 
 CONTEXT = ("run", "st", "obs", "fobs", "nc", "prov", "params", "conv", "base")
@@ -25,9 +26,8 @@ CONTEXT = ("run", "st", "obs", "fobs", "nc", "prov", "params", "conv", "base")
 def _same_run_in_h5(run, st):
     """Stops where the summary and result.h5 do not belong to the same run (a run may be being
     rewritten): the step's mean pressure must agree."""
-    with h5py.File(run.h5path, "r") as f:
-        g = f.get(f"step_{int(st['index']):04d}")
-        p_h5 = float(g.attrs.get("mean_pressure", float("nan"))) if g is not None else float("nan")
+    got = run_folder.step_attribute(run.folder, run.step(st), "mean_pressure")
+    p_h5 = float("nan") if got is None else got
     if not (abs(p_h5 - st["p"]) <= 1e-9 * abs(st["p"])):
         raise SystemExit(f"challenge_reference: {run.h5path} (p = {p_h5}) and its summary.json (p = {st['p']}) "
                          "differ: the run is being rewritten; retry when it has finished")
@@ -156,7 +156,8 @@ def _cross_section_curves(ctx):
     return curves
 
 
-def reference_load_curves(run, hw, notes, coarser=None):
+def reference_load_curves(run: Run, hw: Json | None, notes: list[str], coarser: tuple[Run, Json] | None = None,
+                          ) -> tuple[list[Json], Json | None]:
     """Items 1, 3, 4, 5, 9 from the finest run at the reference load; `coarser` = (run, step) of
     the same case on the next coarser grid gives them their bands."""
     obs, st = _observables(run, notes)
@@ -173,7 +174,8 @@ def reference_load_curves(run, hw, notes, coarser=None):
     return curves + _cross_section_curves(ctx), st
 
 
-def finest_profile_band(run, key, y, v, yc, vc):
+def finest_profile_band(run: Run, key: str, y: np.ndarray, v: np.ndarray, yc: np.ndarray, vc: np.ndarray,
+                        ) -> tuple[np.ndarray | None, float | None]:
     """(band, floor) of the finest run's cross-section profile v(y) (key cross_section_gap or
     _pressure) from the same case's profile (yc, vc) on the next coarser grid:
     bands.finest_profile_band over the periodic line (length L), at least bands.profile_floor from
@@ -191,27 +193,27 @@ def finest_profile_band(run, key, y, v, yc, vc):
 CHALLENGE_MEMBER = "challenge-scaled-s1"
 
 
-def member_runs(results):
+def member_runs(results: str) -> list[Run]:
     """The converged runs of case CHALLENGE_MEMBER under `results`, with mu_T the problem's
     (cmc.analysis.runs.tabor_of: the specified range, not a coarse-grained law's)."""
     out = []
-    for f in sorted(glob.glob(os.path.join(results, "**", "summary.json"), recursive=True)):
-        s = load_json(f)
-        if isinstance(s, dict) and case_name(s) == CHALLENGE_MEMBER and s.get("status") == "converged":
-            r = Run(s, os.path.dirname(f))
+    for summary in run_folder.read_summaries(run_folder.find(results)):
+        s = summary.data
+        if case_name(s) == CHALLENGE_MEMBER and s.get("status") == "converged":
+            r = Run(s, summary.folder)
             r.run_tabor = tabor_of(s)
             out.append(r)
     return out
 
 
-def distribution_pair(runs, adhesive):
+def distribution_pair(runs: list[Run], adhesive: bool) -> list[tuple[Run, Json]]:
     """The runs items 1, 3, 4, 5 and 9 come from: of every case and strategy at the reference load
     with result.h5 (the report's _reference_load_runs, one case at a time), the finest grid that
     has a coarser grid of the same case, and that coarser grid, as [(run, step) coarser, (run,
     step) finest]; on a tie the case with more grids, then the first by name. A case with one
     grid alone: [(run, step)] of the finest such; [] without any."""
-    cases = sorted({(r.name, strategy_of(r.s)) for r in runs if os.path.isfile(r.h5path)})
-    seqs = [_reference_load_runs([r for r in runs if (r.name, strategy_of(r.s)) == c and os.path.isfile(r.h5path)],
+    cases = sorted({(r.name, strategy_of(r.s)) for r in runs if r.has_result})
+    seqs = [_reference_load_runs([r for r in runs if (r.name, strategy_of(r.s)) == c and r.has_result],
                                  adhesive) for c in cases]
     seqs = [q for q in seqs if q]
     if not seqs:
@@ -220,7 +222,8 @@ def distribution_pair(runs, adhesive):
     return best[-2:]
 
 
-def load_sweep_curves(runs, hw, adhesive, ref_pair):
+def load_sweep_curves(runs: list[Run], hw: Json | None, adhesive: bool, ref_pair: list[tuple[Run, Json]],
+                      ) -> list[Json]:
     """Items 2 and 8 of one problem from its load sweep with the most converged loads, on the
     finest grid among those (several runs of the same case and grid joined, as the report joins
     them: cmc.report.challenge_runs _merged_sweeps). Adhesive: the strategy's band;
@@ -334,9 +337,9 @@ def _tabor_grid_items(runs):
     return [by_grid[grids[0]][k] for k in sorted(by_grid[grids[0]])] if grids else []
 
 
-def tabor_curves(runs, hw):
+def tabor_curves(runs: list[Run], hw: Json | None) -> list[Json]:
     """Items 6 and 7 (adhesive Tabor sweep), when run."""
-    curves = []
+    curves: list[Json] = []
     # Tabor sweep: one run per mu_T (at the reference load) on the grid with the most mu_T (at least
     # 2), the coarser where two have as many: the sweep on a finer grid (scripts/tabor_sweep.sh
     # --grid N) measures that curve's error (sweep_band), as the reference load's 4096² run does.
@@ -356,7 +359,7 @@ def tabor_curves(runs, hw):
                                                          [st["gap"] for _, st in items]), ["mean_gap"])):
         if any(v is None for v in col[3]):
             continue
-        c = dict(name=q, quantity=q, item=item,
+        c: Json = dict(name=q, quantity=q, item=item,
                  title=f"Challenge item {item}: {q.replace('_', ' ')} at 250 kPa, cmc {r0.nx}^2 (not converged)",
                  columns=[("tabor", "1", "Tabor coefficient mu_T", mus), col], x="tabor", y=col[0],
                  representation="log-lin",

@@ -1,6 +1,8 @@
 """The command scripts/ensemble_references.py: the ensemble and realisation references
 (reference/challenge/ensemble/, realisation/) and their summary from the seed ensemble's store
 and the best estimates (numbers from cmc.analysis.ensemble)."""
+from __future__ import annotations
+from typing import Iterable
 import argparse
 import json
 import os
@@ -9,6 +11,7 @@ import sys
 from cmc.analysis import ensemble, runs
 from cmc.reference_files import CurveError, write_atomically, write_curve
 from cmc.analysis.runs import REPO as ROOT
+from cmc._types import Json
 
 STORE = os.path.join(ROOT, "reference", "challenge", "ensemble", "runs.json")
 BEST = os.path.join(ROOT, "reference", "challenge", "best_estimates.json")
@@ -29,12 +32,13 @@ X_WORDS = {"pressure_Pa": ("Pa", "mean pressure"), "tabor": ("1", "Tabor coeffic
 KINDS = {("hardwall", "load"): "hardwall_load", ("adhesive", "load"): "load", ("adhesive", "tabor"): "tabor"}
 
 
-def sets_of(records, n):
+def sets_of(records: list[Json], n: int) -> dict[tuple[str, str], list[Json]]:
     """{(problem, curve kind): records on n² points}: the ensemble's sweeps by what they answer."""
     return {k: [r for r in records if r["tag"].startswith(f"ens-{kind}-") and r["n"] == n] for k, kind in KINDS.items()}
 
 
-def transfers(records, main_records, n, key, x_key, problem, kind):
+def transfers(records: list[Json], main_records: Iterable[Json], n: int, key: str, x_key: str, problem: str,
+              kind: str) -> list[Json]:
     """ensemble.transfer_rows of one curve's quantity between n² and (2n)²: the other seeds' finer
     runs from the ensemble's store, seed 28's from the run store (the same case, plain)."""
     fine = [r for r in records if r["tag"].startswith(f"ens-{kind}-") and r["n"] == 2 * n]
@@ -48,13 +52,13 @@ def transfers(records, main_records, n, key, x_key, problem, kind):
     return ensemble.transfer_rows(ensemble.table(coarse, key, x_key), ensemble.table(fine + own, key, x_key))
 
 
-def best_points(best, problem, x_key):
+def best_points(best: Json, problem: str, x_key: str) -> list[tuple[float, Json]]:
     """[(x, {quantity: {value, error}})] of seed 28's best estimates for a curve."""
     pts = best["tabor"] if x_key == "tabor" else (best.get("load_sweep") or {}).get(problem) or []
     return [(p[x_key], p["quantities"]) for p in pts if p.get(x_key) is not None]
 
 
-def corrections(records, best, problem, x_key, key, short):
+def corrections(records: list[Json], best: Json, problem: str, x_key: str, key: str, short: str) -> list[ensemble.Correction]:
     """The grid correction of every row where seed 28 has a best estimate and an ensemble run."""
     own = dict(ensemble.table(records, key, x_key, seeds=[ensemble.OWN_SEED]))
     out = []
@@ -67,7 +71,8 @@ def corrections(records, best, problem, x_key, key, short):
     return out
 
 
-def curve(stem, problem, question, rows, k, seeds, n_grid, date):
+def curve(stem: str, problem: str, question: str, rows: list[ensemble.Row], k: float | None, seeds: list[int], n_grid: int,
+          date: str) -> Json:
     """The reference curve (cmc.reference_files' dict) of one question's rows."""
     xcol, ycol, _, _, _, rep, yunit, words = CURVES[stem]
     xunit, xwords = X_WORDS[xcol]
@@ -103,7 +108,8 @@ def curve(stem, problem, question, rows, k, seeds, n_grid, date):
                   ("generator", "scripts/ensemble_references.py (python/cmc/analysis/ensemble.py)")]}
 
 
-def build(records, best, seeds, n, main_records=()):
+def build(records: list[Json], best: Json, seeds: list[int], n: int, main_records: Iterable[Json] = (),
+          ) -> tuple[dict[tuple[str, str, str], tuple[list[ensemble.Row], float | None]], dict[tuple[str, str], list[Json]]]:
     """{(question, problem, stem): (rows, k)} of every curve with two rows or more, and the
     transfer checks {(problem, stem): rows}."""
     out, checked = {}, {}
@@ -127,7 +133,7 @@ def build(records, best, seeds, n, main_records=()):
     return out, checked
 
 
-def summary(records, seeds, n):
+def summary(records: list[Json], seeds: list[int], n: int) -> Json:
     """Per curve and row: the ensemble's statistics of the raw values and of the quantities that
     transfer best across surfaces (the mean gap over the rms height)."""
     out = {}
@@ -138,7 +144,7 @@ def summary(records, seeds, n):
     return out
 
 
-def main(argv, doc=None):
+def main(argv: list[str] | None, doc: str | None = None) -> int:
     ap = argparse.ArgumentParser(description=(doc or __doc__), formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--store", default=STORE)
     ap.add_argument("--best", default=BEST)

@@ -1,5 +1,7 @@
 """What a challenge reference curve says about itself: its provenance (the run, its grid,
 solver tolerance, date and command) and its error band with the sentence on what the band rests on."""
+from __future__ import annotations
+from typing import Any
 import datetime
 import json
 import os
@@ -14,6 +16,9 @@ from cmc.analysis.runs import REPO as ROOT, dx_over_rho, strategy_of
 from cmc.report.challenge_runs import band_floor
 from cmc.report.common import CHALLENGE, STRATEGY_WORDS, load_json, roundoff_note, transfer_caveat
 from .. import reference_files
+from cmc import run_folder
+from cmc._types import Json
+from cmc.report.challenge_runs import Run
 
 
 RHO, LAMBDA_S, P0 = CHALLENGE["rho"], CHALLENGE["lambda_s"], CHALLENGE["p0"]
@@ -21,7 +26,7 @@ GENERATOR = "scripts/challenge_reference.py (extraction: reports/challenge_repor
 
 
 # ------------------------------------------------------------------ the format: cmc writes it
-def write_curve(cmc, c, path):
+def write_curve(cmc: str, c: Json, path: str) -> Any:
     """Has cmc format and write the curve (cmc.reference_files.write_curve); a refusal ends the script."""
     try:
         return reference_files.write_curve(cmc, c, path)
@@ -59,7 +64,7 @@ def _grid_text(run):
             f"(L = {run.size * 1e6:.4g} um; rho = {RHO * 1e9:.4g} nm)")
 
 
-def provenance(run, steps):
+def provenance(run: Run, steps: list[Json]) -> list[tuple[str, str]]:
     """make_run_curve's keys (cmc_version, case_file, grid, solver_tolerance, date, command)."""
     s = run.s
     solver = (s.get("case") or {}).get("solver") or {}
@@ -83,7 +88,7 @@ def provenance(run, steps):
     case_file = s.get("case_file") or "?"
     return [("cmc_version", str(s.get("cmc_version") or "?")), ("case_file", case_file),
             ("grid", _grid_text(run)), ("solver_tolerance", tol),
-            ("date", _mtime_utc(os.path.join(run.folder, "summary.json"))),
+            ("date", _mtime_utc(run_folder.summary_path(run.folder))),
             ("command", f"cmc run {case_file} --out {_rel(run.folder)}{_overrides(s)}")]
 
 
@@ -130,7 +135,7 @@ HW_LABELS = {"contact_fraction": "contact fraction (raw)", "contact_fraction_cor
              "largest_patch_area": "largest patch area", "contact_perimeter": "contact perimeter"}
 
 
-def hardwall_refinement(folder):
+def hardwall_refinement(folder: str) -> Json | None:
     """{observable: (coarse, fine, relative change)} between the two finest grids of the
     hard-wall study, as `cmc refine` wrote them (folder/refinement.json: values per grid and
     |fine - coarse| / |fine| between successive grids), and (n_coarse, n_fine); None without
@@ -150,7 +155,7 @@ def hardwall_refinement(folder):
     return {"grids": (n1, n2), "changes": out, "folder": _rel(folder), "table": True}
 
 
-def hw_context(hw, keys):
+def hw_context(hw: Json | None, keys: list[str]) -> str:
     if not hw:
         return "no hard-wall refinement study found either"
     n1, n2 = hw["grids"]
@@ -166,7 +171,7 @@ def _bistable(run):
     return ""
 
 
-def adhesive_error(run, hw, keys, coarser=None):
+def adhesive_error(run: Run, hw: Json | None, keys: list[str], coarser: tuple[Run, Json] | None = None) -> str:
     """What an adhesive curve's error is not: the grid leaves rho unresolved. coarser: the grid
     the band was measured against, where there is one (the band then covers the grid error at
     this dx/rho alone)."""
@@ -184,7 +189,9 @@ def adhesive_error(run, hw, keys, coarser=None):
 
 
 # ------------------------------------------------------------------ the strategy's error band
-def strategy_band(run, short, elsewhere="that it holds at this point's load and mu_T is assumed, not measured."):
+def strategy_band(run: Run, short: str,
+                  elsewhere: str = "that it holds at this point's load and mu_T is assumed, not measured.",
+                  ) -> tuple[float | None, str]:
     """For an exponential-adhesion run: the relative error for quantity `short` (a_r, mean_gap)
     that its strategy (range or shape coarse-graining, or plain) has on the scaled challenge family at the
     same dx/rho (cmc.analysis.conditions run_strategy_error: the family run within a factor 1.3 of
@@ -206,7 +213,7 @@ def strategy_band(run, short, elsewhere="that it holds at this point's load and 
                  f"250 kPa; {elsewhere} " + roundoff_note(rel=_rel) + " " + transfer_caveat())
 
 
-def add_abs_band(curve, band):
+def add_abs_band(curve: Json, band: Any) -> Json:
     """Appends the error band to a curve: column <y>_err = the half-widths `band` (y's unit), '# band:'."""
     y = curve["columns"][1]
     curve["columns"].append((y[0] + "_err", y[1], "half-width of the error band: " + y[2], list(band)))
@@ -215,12 +222,12 @@ def add_abs_band(curve, band):
     return curve
 
 
-def add_band(curve, rels):
+def add_band(curve: Json, rels: list[float]) -> Json:
     """Appends a relative error band: half-width rel x |y| per point (bands.absolute_band)."""
     return add_abs_band(curve, bands.absolute_band(rels, curve["columns"][1][3]))
 
 
-def with_band(curve, run, short):
+def with_band(curve: Json, run: Run, short: str) -> Json:
     """Adds the strategy's error band to a curve of one adhesive run (every point the same dx/rho),
     at least the floor the hard-wall bands have (band_floor: the mean gap is 0 in full contact,
     where a relative band would be 0)."""
@@ -232,7 +239,7 @@ def with_band(curve, run, short):
         curve["estimated_error"] = text
     if rel is None:
         return curve
-    if not words:
+    if rels is None or not words:
         rels = [rel] * len(curve["columns"][1][3])
     floor, what = band_floor(run, "ar" if short == "a_r" else "gap")
     ys = curve["columns"][1][3]

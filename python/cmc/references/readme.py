@@ -1,11 +1,15 @@
 """The README.md of reference/challenge/ and reference/challenge/adhesionless/: the table of
 files, the reference load's runs, the accuracy of each curve and where its band comes from."""
+from __future__ import annotations
 
+from typing import Sequence
 from cmc.analysis.conditions import condition_checks
 from cmc.analysis.refinement import REFINEMENT_BISTABILITY
 from cmc.analysis.runs import strategy_of
 from cmc.report.common import STRATEGY_WORDS, condition_summary, read_reference_csv, roundoff_note, transfer_caveat
 from .provenance import HW_LABELS, RHO, _bistable, _over_rho, _rel, provenance
+from cmc._types import Json
+from cmc.report.challenge_runs import Run
 
 
 # ------------------------------------------------------------------ README
@@ -25,7 +29,7 @@ BEST_REGENERATE = [
 ]
 
 
-def files_table(curves):
+def files_table(curves: list[Json]) -> list[str]:
     """The README's table of stored files, one row per curve in the challenge's item order."""
     have = {c["quantity"]: c for c in curves}
     L = ["| file | item | columns (SI) | repr. | points | band | run | grid |", "|---|---|---|---|---|---|---|---|"]
@@ -64,7 +68,8 @@ def _sweep_band_words(curves, pair):
             "counted contact area converges as dx, its perimeter-corrected value much faster.")
 
 
-def readme_adhesionless(curves, pair, dist=(), best=False):
+def readme_adhesionless(curves: list[Json], pair: list[tuple[Run, Json]], dist: Sequence[tuple[Run, Json]] = (),
+                        best: bool = False) -> str:
     """The README of reference/challenge/adhesionless/. pair: the hard-wall runs at 250 kPa, coarsest
     first (the load sweep's modelled band); dist: [(run, step) coarser, finest] behind items 1, 3, 4,
     5 and 9 (distribution_pair); best: the best estimates decide the load curves."""
@@ -134,7 +139,7 @@ def _own_refinement_sentence(banded):
         "from the family. " for mus, files in by.items())
 
 
-def run_commands(run, step, coarser):
+def run_commands(run: Run, step: Json, coarser: tuple[Run, Json] | None) -> list[str]:
     """The lines of the README's regenerate block that rerun the runs behind items 1, 3, 4, 5, 9
     (their provenance's command), [] without them."""
     if run is None or step is None:
@@ -145,7 +150,7 @@ def run_commands(run, step, coarser):
     return out
 
 
-def accuracy_head(ref_run):
+def accuracy_head(ref_run: Run | None) -> str:
     """The first paragraph of the README's accuracy section: the grids, against rho."""
     if ref_run is None:
         return ("The adhesive runs use the challenge's grid 2048² (dx = 48.8 nm = λ_s/2.05 ≈ 24 ρ, ρ = 2.071 nm), far "
@@ -158,7 +163,7 @@ def accuracy_head(ref_run):
             + ", so these curves are **not converged** in ρ. The other files name their grids (the table above).")
 
 
-def distribution_paragraphs(curves):
+def distribution_paragraphs(curves: list[Json]) -> list[str]:
     """The README's paragraphs on the bands of items 1, 3, 4, 5 and 9."""
     L = []
     if any(c.get("band") for c in curves if c["item"] in (1, 3, 4, 5)):
@@ -308,7 +313,9 @@ def _regenerate_lines(ref_run, ref_step, coarser, best=False):
     return L
 
 
-def readme(curves, out_dir, hw, ref_run, ref_step, keep_from=None, keep_bands=False, coarser=None, best=False):
+def readme(curves: list[Json], out_dir: str, hw: Json | None, ref_run: Run | None, ref_step: Json | None,
+           keep_from: str | None = None, keep_bands: bool = False, coarser: tuple[Run, Json] | None = None,
+           best: bool = False) -> str:
     """The README of reference/challenge/. keep_from (--only): a stored README whose paragraphs
     on the reference-load run and the hard-wall refinement are kept where their runs are not at
     hand, and with keep_bands (--only reference-load) those on the bands of the curves not
@@ -336,7 +343,7 @@ def readme(curves, out_dir, hw, ref_run, ref_step, keep_from=None, keep_bands=Fa
     return "\n".join(L)
 
 
-def stored_curve(path, quantity, item):
+def stored_curve(path: str, quantity: str, item: int) -> Json | None:
     """A stored reference CSV read back as the curve that wrote it (the fields the README uses),
     or None: what --only tabor keeps of the curves it does not recompute."""
     got = read_reference_csv(path)

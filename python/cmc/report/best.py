@@ -3,17 +3,20 @@ and provenance, the user's own run beside them), the mean gap's extremum in mu_T
 estimates drawn first into the figures. Reads reference/challenge/best_estimates.json
 (scripts/best_estimates.py); computes nothing but deviations for display.
 """
+from __future__ import annotations
+from typing import Any
 import json
 import os
 
 import numpy as np
+from cmc._types import Json
 
 P0 = 250e3
 ROWS = (("a_r", "relative contact area a_r", 1.0, 4), ("a_rep", "repulsive contact area (p > 0)", 1.0, 4),
         ("mean_gap", "mean gap ū (µm)", 1e6, 6))
 
 
-def load_best(reference_dir):
+def load_best(reference_dir: str) -> Json | None:
     """best_estimates.json, or None where it is missing or unreadable."""
     try:
         with open(os.path.join(reference_dir, "challenge", "best_estimates.json")) as f:
@@ -35,12 +38,12 @@ def _beside(value, q, scale, digits):
     return f"{value * scale:.{digits}g} ({100 * d:+.2g} %, {z:+.2g} σ)"
 
 
-def provenance(est):
+def provenance(est: Json) -> str:
     """Where an estimate comes from, in a few words."""
     return f"`{est['run']}`: {est['n']}², {est['strategy']}, {est['device']}"
 
 
-def error_source(est, short):
+def error_source(est: Json, short: str) -> str:
     q = est["quantities"][short]
     ref = q["refinement"]
     grids = "→".join(f"{g['n']}²" for g in est["grids"])
@@ -56,9 +59,9 @@ DISTRIBUTIONS = (("patch_size_distribution", 1), ("gap_distribution", 3), ("stre
                  ("stress_spectrum", 5), ("cross_section_gap", 9))
 
 
-def stored_grids(reference_dir):
+def stored_grids(reference_dir: str) -> dict[str, list[int]]:
     """{grid text: [items]} of the stored references of items 1, 3, 4, 5, 9 (their `grid` line)."""
-    out = {}
+    out: dict[str, list[int]] = {}
     for q, item in DISTRIBUTIONS:
         try:
             with open(os.path.join(reference_dir, "challenge", q + ".csv"), encoding="utf-8") as f:
@@ -70,7 +73,7 @@ def stored_grids(reference_dir):
     return out
 
 
-def still_wide(reference_dir):
+def still_wide(reference_dir: str) -> list[str]:
     """A bullet per stored load curve whose rows are left out or wider than the targets (their
     `rows_left_out` and `still_wide` lines, written by scripts/apply_best_estimates.py)."""
     out = []
@@ -87,7 +90,8 @@ def still_wide(reference_dir):
     return out
 
 
-def headline(best, user, reference_dir="reference", surfaces=None):
+def headline(best: Json | None, user: dict[bool, Any], reference_dir: str = "reference",
+             surfaces: tuple[str, str] | None = None) -> list[str]:
     """The report's opening section. user: {True: (run, step) or None, False: ...} (with and without
     adhesion, the user's runs at 250 kPa, as the report finds them). surfaces: words naming the surface
     of the best estimates and of the user's runs where the two differ (surface_report.py), or None."""
@@ -145,7 +149,7 @@ QUESTIONS = (("a_r", "a_r", 1.0, 4), ("a_rep", "repulsive a_r", 1.0, 4), ("mean_
              ("kappa", "κ = a_r / p̃", 1.0, 4), ("mean_gap_over_h_rms", "ū / h_rms", 1.0, 4))
 
 
-def questions_table(reference_dir):
+def questions_table(reference_dir: str) -> list[str]:
     """The headline's numbers for the three questions a prediction can answer (cmc check --against):
     cmc's own surface, the mean over surfaces, one surface of the spectrum; from
     reference/challenge/ensemble/summary.json (scripts/ensemble_references.py)."""
@@ -174,7 +178,7 @@ def questions_table(reference_dir):
             "", _table(head, rows), ""]
 
 
-def monotonicity_sentence(m):
+def monotonicity_sentence(m: Json | None) -> str:
     """Whether a_r(mu_T) of the best estimates is monotonic, as the problem definition says, and
     where not, why (the falls, their grids, the bars; each grid's own sweep where it resolves rho)."""
     if not m:
@@ -193,7 +197,7 @@ def monotonicity_sentence(m):
             f"steps. On each grid's own sweep: {per}.")
 
 
-def cross_check(est):
+def cross_check(est: Json) -> list[str]:
     """A bullet on the challenge's own check of the chosen estimate: each finest run of another
     strategy at the point, its a_r against the estimate and the way its refinement still moves."""
     if not est:
@@ -206,7 +210,7 @@ def cross_check(est):
     return [f"- Checks on the challenge itself (runs the choice passed over): {'; '.join(parts)}."] if parts else []
 
 
-def statement_sentence(rl):
+def statement_sentence(rl: Json) -> str:
     """kappa and the ratio with/without adhesion against the problem definition, in one sentence."""
     ka, k0, r = rl.get("kappa_adhesive"), rl.get("kappa_hardwall"), rl.get("ratio")
     if not (ka and k0 and r):
@@ -217,7 +221,7 @@ def statement_sentence(rl):
             "tuned toward these statements.")
 
 
-def extremum_sentence(ex, best):
+def extremum_sentence(ex: Json, best: Json) -> str:
     """Where the mean gap has its minimum in mu_T, with its errors, and how a_r behaves around it."""
     hw = (best["reference_load"].get("hardwall") or {}).get("quantities", {}).get("mean_gap")
     slope = ex.get("a_r_log_slope") or []
@@ -235,7 +239,7 @@ def extremum_sentence(ex, best):
     return text
 
 
-def a_r_slope_sentence(mu_star, slope, grid, resolved_up_to):
+def a_r_slope_sentence(mu_star: float, slope: list[Json], grid: int | str, resolved_up_to: float | None) -> str:
     """How a_r's slope against log10 mu_T behaves around mu_star on one grid's sweep (slope: the
     extremum's a_r_log_slope, mu_T ascending)."""
     flat = min(slope, key=lambda s: s["slope"])
@@ -257,7 +261,7 @@ def _table(head, rows):
     return "\n".join(out + ["| " + " | ".join(str(c) for c in r) + " |" for r in rows])
 
 
-def tabor_series(best, short):
+def tabor_series(best: Json | None, short: str) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     """(mu, value, error) arrays of the best-estimate curve against mu_T, or None."""
     pts = [p for p in (best or {}).get("tabor", []) if short in p["quantities"] and p["quantities"][short]["error"]]
     if not pts:
@@ -266,11 +270,11 @@ def tabor_series(best, short):
             np.array([p["quantities"][short]["error"] for p in pts]))
 
 
-def draw_tabor(ax, best, what, scale):
+def draw_tabor(ax: Any, best: Json | None, what: str, scale: float) -> bool:
     """The best estimates against mu_T, drawn first: a shaded band and the line, and the mean gap's
     extremum. Returns whether anything was drawn."""
     got = tabor_series(best, "a_r" if what == "ar" else "mean_gap")
-    if got is None:
+    if got is None or best is None:
         return False
     mu, v, e = got
     ax.fill_between(mu, (v - e) * scale, (v + e) * scale, color="0.75", alpha=0.6, lw=0, zorder=1)
@@ -284,16 +288,16 @@ def draw_tabor(ax, best, what, scale):
     return True
 
 
-def draw_point(ax, est, short, scale, x=P0):
+def draw_point(ax: Any, est: Json | None, short: str, scale: float, x: float = P0) -> None:
     """A best estimate at the reference load, drawn with its error bar (the load-sweep figures)."""
     q = (est or {}).get("quantities", {}).get(short)
-    if not q or q.get("error") is None:
+    if not q or q.get("error") is None or est is None:
         return
     ax.errorbar([x], [q["value"] * scale], yerr=[q["error"] * scale], fmt="*", color="k", ms=9, capsize=4, zorder=5,
                 label=f"best estimate at 250 kPa ({est['n']}², {est['strategy']})")
 
 
-def draw_realisation(ax, reference_dir, quantity, scale, x_scale):
+def draw_realisation(ax: Any, reference_dir: str, quantity: str, scale: float, x_scale: float) -> None:
     """The realisation band of a load curve (reference/challenge/realisation/[adhesionless/]Q.csv:
     where 95 % of surfaces of the spectrum lie), hatched, for each interaction that has one."""
     for sub, words in (("", "with adhesion"), ("adhesionless", "without adhesion")):

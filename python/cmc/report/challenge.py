@@ -14,6 +14,7 @@ patch_area_*, stress_spectrum_*, cross_section_* (SI). What is missing is report
 Also writes, next to each figure, the numbers as CSV in the column convention of
 `cmc check` (data/*.csv), so a run can be checked against a reference directly.
 """
+from __future__ import annotations
 import os
 
 from cmc.analysis.family import FAMILY_QUANTITIES, STRATEGIES
@@ -388,7 +389,7 @@ def _items_6_to_9(add, ctx, sweep, tabor, band_note):
          f"({method_link(out_dir, 'cross-section')}).", ""])
 
 
-def build(results_dir, case_dir, out_dir, notes, reference_dir="reference"):
+def build(results_dir: str, case_dir: str, out_dir: str, notes: list[str], reference_dir: str = "reference") -> str:
     """reports/challenge/index.md's text, with its figures and data/*.csv written beside it."""
     os.makedirs(out_dir, exist_ok=True)
     data_dir = os.path.join(out_dir, "data")

@@ -1,11 +1,12 @@
 """The challenge report's distributions, spectrum and cross sections (items 1, 3, 4, 5, 9) at
 the reference load, drawn with their bands and written as data/*.csv."""
+from __future__ import annotations
 import os
 
 import numpy as np
 
 from cmc.analysis import bands
-from .challenge_runs import _centers, _observables, _problem, _reference_load_runs, _stored
+from .challenge_runs import Run, _centers, _observables, _problem, _reference_load_runs, _stored
 from .common import CHALLENGE, finite, fmt, get, label_axes, plt, savefig, write_csv
 from .stored_distributions import draw_stored_curve, draw_stored_profiles
 
@@ -26,7 +27,8 @@ def _distribution_runs(runs, notes):
     return out
 
 
-def profile_band(run, key, y, v, yf, vf):
+def profile_band(run: Run, key: str, y: np.ndarray, v: np.ndarray, yf: np.ndarray, vf: np.ndarray,
+                 ) -> tuple[np.ndarray | None, float | None]:
     """(band, floor) of a cross-section profile v(y) (key cross_section_gap or _pressure) against the
     same case's profile (yf, vf) on the next finer grid: bands.profile_band, at least
     bands.profile_floor from the run's solver tolerance, rms height, E* and rms slope. (None, None)

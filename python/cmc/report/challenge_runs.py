@@ -1,6 +1,8 @@
 """The challenge report's runs: discovery of the challenge runs under a results folder (Run),
 the step at the reference load, the observables of a step, the bands of a run's numbers, and
 the hints that say what to run where something is missing."""
+from __future__ import annotations
+from typing import Any
 import glob
 import math
 import os
@@ -11,8 +13,10 @@ import numpy as np
 from cmc.analysis import bands, refinement
 from cmc.analysis.conditions import condition_checks, run_band
 from cmc.analysis.runs import REPO, strategy_of
-from .common import (CHALLENGE, case_name, condition_check_lines, condition_summary, finite, get, h5_open,
-                     load_json, read_reference_csv, rel, step_groups)
+from .common import (CHALLENGE, case_name, condition_check_lines, condition_summary, finite, get,
+                     read_reference_csv, rel)
+from cmc import run_folder
+from cmc._types import Json
 
 
 P0 = CHALLENGE["p0"]
@@ -21,7 +25,7 @@ METHOD = os.path.join(REPO, "docs", "challenge",
                       "report-method.md")
 
 
-def method_link(out_dir, anchor, words="method"):
+def method_link(out_dir: str, anchor: str, words: str = "method") -> str:
     """A Markdown link from the report in out_dir to a section of docs/challenge/report-method.md."""
     return f"[{words}]({rel(METHOD, out_dir)}#{anchor})"
 
@@ -36,7 +40,7 @@ def _band(run, short):
     return got[1] if got else None
 
 
-def refinement_grids(run, runs):
+def refinement_grids(run: Run, runs: list[Run]) -> list[Run]:
     """The converged runs of run's case, strategy and mu_T on n/2, n, 2n, ... points a side (run's n
     among them) with a step at the reference load (the sweep refined on the challenge itself,
     scripts/tabor_sweep.sh --grid N), coarsest first."""
@@ -58,7 +62,7 @@ def refinement_grids(run, runs):
     return out
 
 
-def own_band(run, short, runs):
+def own_band(run: Run, short: str, runs: list[Run]) -> Json | None:
     """cmc.analysis.refinement own_band of a plain, converged run from the other grids of its
     point among `runs` (refinement_grids), for short = a_r or mean_gap: the band of this run's
     value from the challenge's own refinement. None where it does not apply."""
@@ -69,13 +73,14 @@ def own_band(run, short, runs):
     rows = []
     for q in grids:
         st = q.reference_step()
+        assert st is not None  # refinement_grids keeps the runs with one
         rows.append({"nx": q.nx, "dx_over_rho": get(q.s, "surface_facts", "dx_over_range"),
                      "bistability": get(q.s, "surface_facts", "bistability_number"), "value": st[key],
                      "corrected": st["ar_corr"] if short == "a_r" else None})
     return refinement.own_band(rows, grids.index(run))
 
 
-def sweep_band(run, short, runs):
+def sweep_band(run: Run, short: str, runs: list[Run]) -> tuple[float | None, Json | None]:
     """The band of a Tabor-sweep point: the challenge's own refinement where its finer grids resolve
     the adhesion (own_band), which needs no transfer from the family and replaces the family's bands there;
     else the family's (_band). Returns (relative band or None, own_refinement's result or None)."""
@@ -103,12 +108,16 @@ def _condition_note(kind, out_dir, own=False):
 
 
 class Run:
-    def __init__(self, summary, folder):
+    """A challenge run as the report reads it: its summary (`s`, parsed; `record`, its steps as
+    cmc.run_folder reads them) and per step the numbers the report uses (`steps`, dicts)."""
+
+    def __init__(self, summary: Json, folder: str) -> None:
         self.s = summary
+        self.record = run_folder.summary_of(folder, summary)
         self.folder = folder
         self.name = case_name(summary) or os.path.basename(folder)
         self.Estar = get(summary, "case", "material", "contact_modulus") or CHALLENGE["Estar"]
-        g = summary.get("grid") or {}
+        g: Any = summary.get("grid") or {}
         self.nx, self.ny = g.get("nx"), g.get("ny")
         self.dx = g.get("dx")
         self.size = g.get("size_x")
@@ -116,7 +125,7 @@ class Run:
         self.gpu_mark = " (GPU)" if g.get("backend") == "cuda" else ""
         self.status = summary.get("status", "?")
         self.wall_s = get(summary, "timing", "wall_s")
-        self.h5path = os.path.join(folder, "result.h5")
+        self.h5path = run_folder.result_path(folder)
         kind = get(summary, "case", "interaction", "kind")
         # The problem: the challenge's (adhesion) or its adhesionless counterpart (hard wall).
         self.adhesive = kind not in (None, "hard_wall")
@@ -130,11 +139,9 @@ class Run:
                 run_tabor = float(v)
                 break
         self.run_tabor = run_tabor
-        self.steps = []
-        for k, st in enumerate(summary.get("steps") or []):
-            if not isinstance(st, dict):
-                continue
-            ob = st.get("observables") if isinstance(st.get("observables"), dict) else {}
+        self.steps: list[Json] = []
+        for step in self.record.steps:
+            k, st, ob = step.position, step.record, step.scalar_observables
 
             def pick(key, default=None):
                 v = ob.get(key)
@@ -156,21 +163,30 @@ class Run:
             })
 
     @property
-    def label(self):
+    def has_result(self) -> bool:
+        """Whether the run's folder holds a result.h5."""
+        return run_folder.has_result(self.folder)
+
+    def step(self, st: Json) -> run_folder.Step:
+        """The run_folder.Step of one of `steps`."""
+        return next(s for s in self.record.steps if s.position == st["k"])
+
+    @property
+    def label(self) -> str:
         return f"{self.name} ({self.nx}²)" if self.nx == self.ny else f"{self.name} ({self.nx}×{self.ny})"
 
-    def tag(self):
+    def tag(self) -> str:
         return re.sub(r"[^A-Za-z0-9_.-]", "_", f"{self.name}_{self.nx}")
 
-    def pressures(self):
+    def pressures(self) -> list[float]:
         return [st["p"] for st in self.steps if st["p"] is not None]
 
-    def is_load_sweep(self):
+    def is_load_sweep(self) -> bool:
         ps = {round(p, 9) for p in self.pressures() if p > 0}
         taborss = {st["tabor"] for st in self.steps if st["tabor"] is not None}
         return len(ps) >= 3 and len(taborss) <= 1
 
-    def reference_step(self):
+    def reference_step(self) -> Json | None:
         """The step nearest the reference pressure 250 kPa (within 5 %), else None."""
         best = None
         for st in self.steps:
@@ -191,17 +207,13 @@ def _find_runs(results_dir, notes):
     of iterations; not results) and the round-off runs (results/roundoff/: the same cases by
     another build or thread count, for scripts/roundoff_spread.py; duplicates, not results) and the runs on
     users' surface files (results/surfaces/: scripts/main.sh --surface, a report of their own)."""
-    files = set(glob.glob(os.path.join(results_dir, "**", "summary.json"), recursive=True))
     skip = tuple(os.path.join(results_dir, d) + os.sep
                  for d in ("validation", "performance", "scaled-family", "bench", "cluster-measure", "roundoff",
                            "surfaces"))
     runs = []
-    for f in sorted(files):
-        if f.startswith(skip):
-            continue
-        s = load_json(f, notes)
-        if not isinstance(s, dict):
-            continue
+    for summary in run_folder.read_summaries([d for d in run_folder.find(results_dir)
+                                              if not run_folder.summary_path(d).startswith(skip)], notes):
+        s, f = summary.data, summary.path
         name = case_name(s)
         in_challenge_dir = os.path.relpath(f, results_dir).startswith("challenge")
         if not (name.startswith("challenge") if name is not None else in_challenge_dir):
@@ -211,7 +223,7 @@ def _find_runs(results_dir, notes):
         # a realization's many coarse grids won the reference-load group (the most grids).
         if name is not None and name.startswith("challenge-scaled"):
             continue
-        runs.append(Run(s, os.path.dirname(f)))
+        runs.append(Run(s, summary.folder))
     return runs
 
 
@@ -266,11 +278,11 @@ def _reference_load_runs(runs, adhesive):
     # scripts/tabor_sweep.sh --grid N they would tie with the reference-load runs).
     _, by = max(sorted(groups.items()),
                 key=lambda item: (not item[0].startswith("challenge-tabor"), len(item[1]),
-                                  any(os.path.isfile(r.h5path) for r, _ in item[1].values())))
+                                  any(r.has_result for r, _ in item[1].values())))
     return [by[n] for n in sorted(by)]
 
 
-def grid_change(pair, key):
+def grid_change(pair: list[tuple[Run, Json]], key: str) -> tuple[float, Run, Run] | None:
     """(bands.relative_change of step quantity `key`, coarse run, finer run) between the first two
     of [(run, step)] (coarsest first); None with fewer than two grids or without the change."""
     if len(pair) < 2:
@@ -280,21 +292,22 @@ def grid_change(pair, key):
     return None if change is None else (change, r0, r1)
 
 
-def finer_sweep(sweeps, r):
+def finer_sweep(sweeps: list[tuple[Run, list[Json], Any]], r: Run) -> tuple[Run, list[Json]] | None:
     """The load sweep of r's case on the next finer grid, (run, steps), among _merged_sweeps'
     entries; None if there is none."""
     cands = [(rf, pf) for rf, pf, _ in sweeps if rf.name == r.name and rf.adhesive == r.adhesive and rf.nx > r.nx]
     return min(cands, key=lambda c: c[0].nx) if cands else None
 
 
-def band_floor(r, key):
+def band_floor(r: Run, key: str) -> tuple[float, str]:
     """(least band, its words) of a load-sweep point of run r, for key "ar" or "gap"
     (bands.sweep_floor, from the run's grid, solver tolerance and rms height)."""
     return bands.sweep_floor(key, r.nx, r.ny, get(r.s, "case", "solver", "tolerance") or 0.0,
                              get(r.s, "surface_facts", "rms_height") or 0.0)
 
 
-def hardwall_sweep_band(pair, r, steps, key, finer=None):
+def hardwall_sweep_band(pair: list[tuple[Run, Json]], r: Run, steps: list[Json], key: str,
+                        finer: tuple[Run, list[Json]] | None = None) -> tuple[list[float] | None, str]:
     """Per-step band of a hard-wall load sweep (run r) for key "ar" or "gap", with a sentence saying
     how (bands.hardwall_sweep_band); (None, "") without one. finer = (run, steps) of the same sweep
     on a finer grid (finer_sweep); pair: the runs at 250 kPa, [(run, step)] coarsest first."""
@@ -326,24 +339,15 @@ def _hint(case_dir, words, what):
 def _observables(run, notes):
     """{dataset name: array} of the reference step's observables subgroup, or {}."""
     st = run.reference_step()
-    if st is None or not os.path.isfile(run.h5path):
+    if st is None or not run.has_result:
         return {}, st
-    h5 = h5_open(run.h5path, notes)
-    if h5 is None:
-        return {}, st
-    out = {}
-    with h5:
-        groups = step_groups(h5)
-        gname = f"step_{int(st['index']):04d}"
-        if gname not in h5 and st["k"] < len(groups):
-            gname = groups[st["k"]]
-        if gname in h5 and "observables" in h5[gname]:
-            for k, v in h5[gname]["observables"].items():
-                try:
-                    out[k] = np.asarray(v[()], dtype=float).ravel()
-                except (TypeError, ValueError):
-                    pass
-    return out, st
+    try:
+        return run_folder.observables(run.folder, run.step(st)).arrays, st
+    except ImportError:
+        notes.append("h5py is missing (install python3-h5py): fields in result.h5 were not read")
+    except run_folder.RunFolderError as e:
+        notes.append(f"{e}; its observables were not read")
+    return {}, st
 
 
 def _centers(edges, log):
@@ -367,7 +371,7 @@ def _stored(reference_dir, quantity, adhesive):
     return {"path": path, "meta": meta, "x": col[meta["x"]], "y": col[meta["y"]], "band": col.get(meta.get("band"))}
 
 
-def sweep_end_note(r, pts):
+def sweep_end_note(r: Run, pts: list[Json]) -> str:
     """Where a load sweep's curve ends and why (as far as the solver goes, stating where and
     why it stops): at full contact, at a load its solver did not converge at, or
     at the last load the run was given."""

@@ -4,12 +4,14 @@ Only the Python standard library, numpy, matplotlib and h5py (Debian's python3-*
 packages, run with /usr/bin/python3). Every reader returns None (and says why) instead
 of raising on a missing or malformed input: a report never crashes on missing data.
 """
-import glob
+from __future__ import annotations
+from typing import Any, Callable, Iterable, Sequence
 import json
 import math
 import os
 
 import numpy as np
+from cmc._types import Json
 
 try:
     import h5py  # noqa: F401
@@ -42,7 +44,7 @@ CHALLENGE = {
 }
 
 
-def load_json(path, notes=None):
+def load_json(path: str, notes: list[str] | None = None) -> Any:
     """The parsed JSON file, or None (with a note) when it is missing or malformed."""
     try:
         with open(path) as f:
@@ -55,7 +57,7 @@ def load_json(path, notes=None):
         return None
 
 
-def case_name(summary):
+def case_name(summary: Json) -> str | None:
     """The run's case name: summary["case"]["case"]["name"] (the resolved case file) or
     summary["case"]["name"]."""
     c = summary.get("case")
@@ -70,11 +72,11 @@ def case_name(summary):
     return None
 
 
-def finite(x):
+def finite(x: Any) -> bool:
     return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
 
 
-def md_table(header, rows):
+def md_table(header: Sequence[str], rows: Iterable[Sequence[Any]]) -> str:
     """A Markdown table."""
     out = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     for r in rows:
@@ -82,7 +84,7 @@ def md_table(header, rows):
     return "\n".join(out)
 
 
-def fmt(x, digits=4):
+def fmt(x: Any, digits: int = 4) -> str:
     if x is None:
         return "–"
     if isinstance(x, bool):
@@ -94,13 +96,13 @@ def fmt(x, digits=4):
             return str(x)
         if x == 0:
             return "0"
-        if 1e-3 <= abs(x) < 1e5:
+        if 1e-3 <= abs(float(x)) < 1e5:
             return f"{x:.{digits}g}"
         return f"{x:.{digits - 1}e}"
     return str(x)
 
 
-def label_axes(ax, xlabel, ylabel, title):
+def label_axes(ax: Any, xlabel: str, ylabel: str, title: str) -> None:
     """A report's axes: their labels, the title, a grid on every decade and a small legend."""
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
@@ -109,18 +111,20 @@ def label_axes(ax, xlabel, ylabel, title):
     ax.legend(fontsize=7)
 
 
-def savefig(fig, path):
+def savefig(fig: Any, path: str) -> None:
     os.makedirs(os.path.dirname(path), exist_ok=True)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
 
 
-def read_reference_csv(path):
+def read_reference_csv(path: str) -> tuple[dict[str, str], list[str], np.ndarray] | None:
     """A cmc reference CSV (reference/README.md): (metadata dict, column names, 2-D
     array with one column per name), or None if missing/malformed."""
     try:
-        meta, names, rows = {}, None, []
+        meta: dict[str, str] = {}
+        names: list[str] | None = None
+        rows: list[list[float]] = []
         with open(path) as f:
             for line in f:
                 s = line.strip()
@@ -143,7 +147,7 @@ def read_reference_csv(path):
         return None
 
 
-def write_csv(path, columns, header_comment=None):
+def write_csv(path: str, columns: Sequence[tuple[str, Sequence[float]]], header_comment: str | None = None) -> None:
     """Write columns [(name, values), ...] as CSV in the format `cmc check` reads."""
     os.makedirs(os.path.dirname(path), exist_ok=True)
     n = min(len(v) for _, v in columns)
@@ -156,38 +160,7 @@ def write_csv(path, columns, header_comment=None):
             f.write(",".join(f"{float(v[i]):.9e}" for _, v in columns) + "\n")
 
 
-def find_summaries(patterns):
-    """Paths of summary.json files matching any of the glob patterns (recursive), sorted."""
-    out = set()
-    for p in patterns:
-        for f in glob.glob(p, recursive=True):
-            if os.path.basename(f) == "summary.json" and os.path.isfile(f):
-                out.add(os.path.normpath(f))
-    return sorted(out)
-
-
-def h5_open(path, notes=None):
-    if not HAVE_H5PY:
-        if notes is not None:
-            notes.append("h5py is missing (install python3-h5py): fields in result.h5 were not read")
-        return None
-    if not os.path.isfile(path):
-        return None
-    try:
-        import h5py
-        return h5py.File(path, "r")
-    except OSError as e:
-        if notes is not None:
-            notes.append(f"`{path}` could not be opened ({e}); skipped")
-        return None
-
-
-def step_groups(h5):
-    """Names of the step groups of a result.h5 in order (step_0000, ...)."""
-    return sorted(k for k in h5.keys() if k.startswith("step_"))
-
-
-def rel(path, start):
+def rel(path: str, start: str) -> str:
     try:
         return os.path.relpath(path, start)
     except ValueError:
@@ -200,7 +173,7 @@ def rel(path, start):
 ROUNDOFF_STORE = os.path.join(REPO, "reference", "challenge", "roundoff_spread.json")
 
 
-def roundoff_note(path=ROUNDOFF_STORE, rel=None):
+def roundoff_note(path: str = ROUNDOFF_STORE, rel: Callable[[str], str] | None = None) -> str:
     """One sentence on round-off for error statements: a rerun of one build at one thread count
     gives the same bits; between builds and thread counts the measured spread (largest relative
     difference per quantity), or that it was not measured."""
@@ -228,7 +201,7 @@ STRATEGY_WORDS = {"plain": "the plain (unmodified) interaction", "range": "the r
                   "shape": "the shape coarse-graining"}
 
 
-def s_extrapolation_verdict(x):
+def s_extrapolation_verdict(x: Json) -> str:
     """Sentences on how far the second route (s_route.s_extrapolation's result x) can be used: the
     held-out check, if there is one, and the quantities whose error is more than half their value
     (s_route.assessment)."""
@@ -258,7 +231,7 @@ def s_extrapolation_verdict(x):
     return text.strip()
 
 
-def transfer_caveat(members=None, strategy="range", brief=False):
+def transfer_caveat(members: list[Json] | None = None, strategy: str = "range", brief: bool = False) -> str:
     """One sentence on the transfer check (transfer.transfer_check, transfer_verdict) for error
     statements, or "" when it cannot be made: per s = 1 grid the ratio there and in each member
     (largest s first), and whether the members approach the challenge's ratio as s falls toward 1.
@@ -291,7 +264,7 @@ def transfer_caveat(members=None, strategy="range", brief=False):
                    f"band is indicative, not a bound; {nearer} is needed.")
 
 
-def condition_summary(rows, strategies=("plain",)):
+def condition_summary(rows: list[Json], strategies: Sequence[str] = ("plain",)) -> str:
     """One sentence on the condition check (conditions.condition_checks rows) of the given
     strategies' runs, or "" without rows."""
     rows = [r for r in rows if r["strategy"] in strategies and condition_holds(r) is not None]
@@ -303,7 +276,9 @@ def condition_summary(rows, strategies=("plain",)):
     if not bad:
         return (f"At the other conditions measured ({words}) the band measured at μ_T = 3 and 250 kPa held every "
                 f"{'/'.join(strategies)} run ({len(rows)}).")
-    worst, short = worst_failure(rows)
+    failure = worst_failure(rows)
+    assert failure is not None  # `bad` is not empty
+    worst, short = failure
     q = worst[short]
     return (f"At the other conditions measured ({words}) the band measured at μ_T = 3 and 250 kPa failed "
             f"{len(bad)} of {len(rows)} {'/'.join(strategies)} runs; the worst, μ_T = {worst['tabor']:g} at "
@@ -312,7 +287,7 @@ def condition_summary(rows, strategies=("plain",)):
             f"against a band of ±{100 * q['band']:.{1 if short == 'a_r' else 2}f} %.")
 
 
-def condition_check_lines(rows, strategies=("plain",)):
+def condition_check_lines(rows: list[Json], strategies: Sequence[str] = ("plain",)) -> list[str]:
     """Markdown lines: the condition check's table (conditions.condition_checks rows of the given
     strategies)."""
     rows = [r for r in rows if r["strategy"] in strategies]
@@ -337,11 +312,11 @@ def condition_check_lines(rows, strategies=("plain",)):
     return L + [""]
 
 
-def realization_members(reference_dir, case_seed):
+def realization_members(reference_dir: str, case_seed: Any) -> dict[Any, list[tuple[Any, Json]]]:
     """The family's members on every stored realization of the surface: the main store's (the case
     file's seed, `case_seed`) and those of reference/challenge-scaled/seeds/*/ (scripts/scaled_family.py
     --seed N), as {s: [(seed, member), ...]} for the members with a reference, seeds in order."""
-    by_s = {}
+    by_s: dict[Any, list[tuple[Any, Json]]] = {}
     for m in family_members(os.path.join(reference_dir, "challenge-scaled", "scaled_family.json")):
         if m.get("reference", {}).get("a_r") and m["s"] > 1:
             by_s.setdefault(m["s"], []).append((m.get("seed", case_seed), m))
@@ -352,7 +327,8 @@ def realization_members(reference_dir, case_seed):
     return by_s
 
 
-def realization_rows(members, spacings=(2, 4)):
+def realization_rows(members: list[tuple[Any, Json]], spacings: Sequence[float] = (2, 4),
+                     ) -> tuple[list[str], list[list[str]]]:
     """One row per realization (seed, member): the reference a_r and mean gap (± refinement error) and,
     for each spacing k and each of plain and the strategies, the deviation of that run's a_r and mean
     gap from the member's reference, marked met/not met against the strategies' targets
@@ -394,7 +370,7 @@ def realization_rows(members, spacings=(2, 4)):
     return header, rows
 
 
-def gpu_runs(reference_dir, notes=None):
+def gpu_runs(reference_dir: str, notes: list[str] | None = None) -> list[Json]:
     """The CUDA backend's runs in the run store (reference/challenge/runs.json, scripts/gpu/store.py),
     sorted by case and grid; [] when the store is missing."""
     d = load_json(os.path.join(reference_dir, "challenge", "runs.json"), notes)
@@ -402,7 +378,7 @@ def gpu_runs(reference_dir, notes=None):
     return sorted((r for r in recs if r.get("backend") == "cuda"), key=lambda r: (r["kind"], r["n"]))
 
 
-def gpu_section(reference_dir, title, notes=None):
+def gpu_section(reference_dir: str, title: str, notes: list[str] | None = None) -> tuple[list[Json], list[str]]:
     """A report section on the stored GPU runs: (the records, the section's first lines); the
     lines say what to run where none are stored."""
     recs = gpu_runs(reference_dir, notes)
@@ -416,7 +392,7 @@ def gpu_section(reference_dir, title, notes=None):
 GPU_KIND = {"hardwall": "hard wall", "hardwall_plain": "hard wall, no preconditioner", "adhesive": "adhesion (plain)", "shape": "adhesion, shape (s = 1 case)"}
 
 
-def gpu_row_head(r):
+def gpu_row_head(r: Json) -> list[str]:
     """A stored GPU run's first two cells: the case and the grid."""
     if r["kind"].startswith("tabor_mu"):  # check.sh's tabor:N:MU, one point of the Tabor sweep
         return [f"Tabor sweep, μ_T = {r['kind'][len('tabor_mu'):]}", f"{r['n']}²"]

@@ -1,21 +1,23 @@
 """The command scripts/headline_table.py: the README's headline block from the best estimates."""
+from __future__ import annotations
 import json
 import os
 import sys
 
 from cmc.analysis.runs import REPO as ROOT
+from cmc._types import Json
 
 BEST = os.path.join(ROOT, "reference", "challenge", "best_estimates.json")
 BEGIN, END = "<!-- headline:begin -->", "<!-- headline:end -->"
 
 
-def cell(q, scale=1.0, digits=4):
+def cell(q: Json | None, scale: float = 1.0, digits: int = 4) -> str:
     if not q or q.get("error") is None:
         return "–"
     return f"{q['value'] * scale:.{digits}g} ± {q['error'] * scale:.2g}"
 
 
-def block(best):
+def block(best: Json) -> list[str]:
     """The block's lines (markers included)."""
     rl = best["reference_load"]
     adh, hw = rl.get("adhesive") or {}, rl.get("hardwall") or {}
@@ -41,7 +43,7 @@ def block(best):
     return L
 
 
-def main(argv, doc=None):
+def main(argv: list[str], doc: str | None = None) -> int:
     check = "--check" in argv
     args = [a for a in argv if a != "--check"]
     path = args[0] if args else os.path.join(ROOT, "README.md")

@@ -9,6 +9,7 @@ Inputs (each optional; a missing one becomes a line in index.md saying what to r
         BM_FFTPair/N and BM_PolonskyKeerIteration/N, items_per_second = iterations
         (or FFT pairs) per second.
 """
+from __future__ import annotations
 import glob
 import os
 import re
@@ -191,7 +192,7 @@ def _gpu(reference_dir, notes):
     return lines
 
 
-def build(perf_dir, bench_path, out_dir, notes, reference_dir="reference"):
+def build(perf_dir: str, bench_path: str, out_dir: str, notes: list[str], reference_dir: str = "reference") -> str:
     os.makedirs(out_dir, exist_ok=True)
     lines = ["# Performance report", ""]
     recs = _records(perf_dir, notes) if os.path.isdir(perf_dir) else []

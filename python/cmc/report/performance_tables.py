@@ -1,5 +1,7 @@
 """The command scripts/performance_tables.py: docs/performance-tables.md, one table per backend,
 from the stored measurements."""
+from __future__ import annotations
+from typing import Any, Iterable, Sequence
 import argparse
 import json
 import os
@@ -21,7 +23,7 @@ class InputError(Exception):
     pass
 
 
-def load_json(path):
+def load_json(path: str) -> Any:
     try:
         with open(path, encoding="utf-8") as f:
             return json.load(f)
@@ -31,13 +33,13 @@ def load_json(path):
         raise InputError(f"{path}: not JSON ({e})")
 
 
-def table(header, rows):
+def table(header: Sequence[str], rows: Iterable[Sequence[Any]]) -> list[str]:
     out = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     out += ["| " + " | ".join(str(c) for c in r) + " |" for r in rows]
     return out
 
 
-def num(v, digits=3):
+def num(v: float | None, digits: int = 3) -> str:
     if v is None:
         return "–"
     if isinstance(v, (int, float)) and v != 0 and (abs(v) >= 1e5 or abs(v) < 1e-3):
@@ -46,7 +48,7 @@ def num(v, digits=3):
 
 
 # ------------------------------------------------------------------ CPU: cmc_bench
-def bench_records(paths):
+def bench_records(paths: Iterable[str]) -> tuple[dict[str, dict[str, Any]], Any]:
     """{benchmark family/arg: record} and the context of the last file read. Of repetitions the
     fastest (an iteration benchmark's by its ms_per_iteration): other work on the machine only
     ever adds time. Without repetitions, the median aggregate, else the mean."""
@@ -58,7 +60,7 @@ def bench_records(paths):
         if not isinstance(data, dict) or "benchmarks" not in data:
             raise InputError(f"{path}: not Google Benchmark JSON (no 'benchmarks')")
         context = data.get("context", {})
-        chosen = {}
+        chosen: dict[str, Any] = {}
         for b in data["benchmarks"]:
             key = "/".join(b.get("run_name", b["name"]).split("/")[:2])
             rank = {"median": 1, "mean": 2}.get(b.get("aggregate_name"), 0 if b.get("run_type") != "aggregate" else None)
@@ -71,16 +73,16 @@ def bench_records(paths):
     return records, context
 
 
-def ms(b):
+def ms(b: dict[str, Any]) -> float:
     scale = {"ns": 1e-6, "us": 1e-3, "ms": 1.0, "s": 1e3}[b.get("time_unit", "ns")]
     return b["real_time"] * scale
 
 
-def grids(records, family):
+def grids(records: dict[str, Any], family: str) -> list[int]:
     return sorted(int(k.split("/")[1]) for k in records if k.split("/")[0] == family)
 
 
-def cpu_section(paths):
+def cpu_section(paths: Sequence[str]) -> list[str]:
     records, ctx = bench_records(paths)
     lines = ["## CPU", ""]
     if not records:
@@ -105,7 +107,7 @@ def cpu_section(paths):
     return lines
 
 
-def iteration_table(records):
+def iteration_table(records: dict[str, dict[str, Any]]) -> list[str]:
     rows = []
     for family, label in (("BM_PolonskyKeerIteration", "preconditioned"), ("BM_PolonskyKeerIteration_plain", "plain")):
         for n in grids(records, family):
@@ -123,7 +125,7 @@ def iteration_table(records):
                      "per pair (floor)", "per pair (FFTW)", "share"], rows) + [""])
 
 
-def quasi_static_table(records):
+def quasi_static_table(records: dict[str, dict[str, Any]]) -> list[str]:
     rows = []
     for n in grids(records, "BM_QuasiStaticSolve"):
         b = records[f"BM_QuasiStaticSolve/{n}"]
@@ -137,7 +139,7 @@ def quasi_static_table(records):
             + [""])
 
 
-def stored_section(path, heading, key, kind, missing):
+def stored_section(path: str, heading: str, key: str, kind: type, missing: str) -> tuple[list[str], Any, Any]:
     """A section's heading and a stored JSON file's part `key` (of type kind), or, where the file
     is not there, the heading and a line saying what makes it (part None)."""
     data = load_json(path)
@@ -151,7 +153,7 @@ def stored_section(path, heading, key, kind, missing):
 
 
 # ------------------------------------------------------------------ GPU: the stored runs with backend "cuda"
-def gpu_section(path):
+def gpu_section(path: str) -> list[str]:
     shown = os.path.relpath(path, ROOT)
     lines, _, recs = stored_section(path, "GPU", "records", list,
                                     f"No GPU runs stored (`{shown}`: scripts/gpu/check.sh, then scripts/gpu/store.py).")
@@ -179,14 +181,14 @@ def gpu_section(path):
     return lines
 
 
-def device_name(text):
+def device_name(text: str) -> str:
     """'NVIDIA H200 143771 MiB (driver ...)' -> 'H200'."""
     words = text.split()
     return words[1] if len(words) > 1 and words[0] == "NVIDIA" else (text or "?")
 
 
 # ------------------------------------------------------------------ cluster: measurements.json
-def cluster_section(path):
+def cluster_section(path: str) -> list[str]:
     lines, data, runs = stored_section(path, "Cluster", "runs", dict,
                                        f"No measurements stored (`{DEFAULT_CLUSTER}`: scripts/cluster/measure.py).")
     if runs is None:
@@ -208,7 +210,7 @@ def cluster_section(path):
 
 
 # ------------------------------------------------------------------ main
-def render(bench, gpu, cluster):
+def render(bench: Sequence[str], gpu: str, cluster: str) -> str:
     lines = ["# Performance tables", "",
              "Generated by `/usr/bin/python3 scripts/performance_tables.py` from the measurements stored in "
              "`reference/`; do not edit by hand (ctest `docs.performance_tables` fails when this file is not what "
@@ -217,7 +219,7 @@ def render(bench, gpu, cluster):
     return "\n".join(lines).rstrip("\n") + "\n"
 
 
-def main(argv=None, doc=None):
+def main(argv: list[str] | None = None, doc: str | None = None) -> int:
     ap = argparse.ArgumentParser(description=(doc or __doc__).split("\n")[0])
     ap.add_argument("--bench", nargs="+", default=[DEFAULT_BENCH])
     ap.add_argument("--gpu", default=None, help="default: the first of " + ", ".join(GPU_STORES) + " that exists")

@@ -2,7 +2,8 @@
 run the store holds and the user's own, python/cmc/analysis/speed.py computes the numbers) and
 the hard-case suite's results (cases/hard/, `ctest -L hard`, build/hard/<case>/summary.json).
 cmc.report.challenge calls section(); this module only draws and tabulates."""
-import glob
+from __future__ import annotations
+from typing import Any, Iterable, Sequence
 import os
 
 import numpy as np
@@ -11,11 +12,13 @@ from .common import fmt, load_json, md_table, plt, rel, savefig
 
 from cmc.analysis import speed  # noqa: E402
 from cmc.analysis.runs import REPO, load_store, record  # noqa: E402
+from cmc import run_folder
+from cmc._types import Json
 
 PROBLEMS = (("hardwall", "hard wall"), ("adhesive", "with adhesion (μ_T = 3)"))
 
 
-def user_points(summaries, best):
+def user_points(summaries: Iterable[tuple[Json, str]], best: Json | None) -> list[speed.SpeedPoint]:
     """SpeedPoints of the user's runs at the reference load ([(summary, folder)])."""
     recs = []
     for s, folder in summaries:
@@ -77,7 +80,7 @@ def _row(p, front):
             "yours" if p.source == "user" else f"store: {p.tag}"]
 
 
-def speed_lines(user_summaries, reference_dir, out_dir):
+def speed_lines(user_summaries: list[tuple[Json, str]], reference_dir: str, out_dir: str) -> list[str]:
     """The section's figure and table: the store's runs and the user's, at 250 kPa."""
     best = load_json(os.path.join(reference_dir, "challenge", "best_estimates.json")) or {}
     store = load_store(os.path.join(reference_dir, "challenge", "runs.json"))
@@ -111,20 +114,20 @@ def speed_lines(user_summaries, reference_dir, out_dir):
 
 # ---------------------------------------------------------------- the hard cases
 
-def hard_summaries(dirs):
+def hard_summaries(dirs: Iterable[str]) -> list[tuple[str, Json]]:
     """(case name, summary) of every hard case's latest result under the folders (build/hard/<case>/)."""
-    found = {}
+    found: dict[str, tuple[float, Json]] = {}
     for d in dirs:
-        for f in sorted(glob.glob(os.path.join(d, "*", "summary.json"))):
-            s = load_json(f)
-            if isinstance(s, dict) and isinstance(s.get("validation"), list):
+        for summary in run_folder.read_summaries(run_folder.find(d, recursive=False)):
+            s, f = summary.data, summary.path
+            if isinstance(s.get("validation"), list):
                 name = ((s.get("case") or {}).get("case") or {}).get("name", os.path.basename(os.path.dirname(f)))
                 if name not in found or os.path.getmtime(f) > found[name][0]:
                     found[name] = (os.path.getmtime(f), s)
     return [(n, s) for n, (_, s) in sorted(found.items())]
 
 
-def verdict(checks):
+def verdict(checks: list[Json]) -> str:
     """The case's verdict from its checks' verdicts: pass, expected failure, or FAIL (naming them)."""
     bad = [c["quantity"] for c in checks if c.get("verdict", "pass" if c.get("pass") else "FAIL") in ("FAIL", "XPASS")]
     xfail = [c["quantity"] for c in checks if c.get("verdict") == "xfail"]
@@ -133,7 +136,7 @@ def verdict(checks):
     return "pass" + (f" (expected failure: {', '.join(xfail)})" if xfail else "")
 
 
-def history_curve(h):
+def history_curve(h: Any) -> tuple[np.ndarray, np.ndarray]:
     """(x, residual) of a summary's residual_history for drawing: x the iteration counted over
     the solves one after the other, NaN between solves (each its own line) and where the residual
     is not a positive number (0, "inf", "nan")."""
@@ -165,7 +168,7 @@ def _history_figure(cases, path):
     savefig(fig, path)
 
 
-def hard_lines(dirs, out_dir):
+def hard_lines(dirs: Sequence[str], out_dir: str) -> list[str]:
     """The hard-case table (iterations, time, verdict) and the residual histories' figure."""
     cases = hard_summaries(dirs)
     lines = ["## Hard cases", ""]
@@ -191,7 +194,8 @@ def hard_lines(dirs, out_dir):
     return lines
 
 
-def section(user_summaries, reference_dir, out_dir, hard_dirs=None):
+def section(user_summaries: list[tuple[Json, str]], reference_dir: str, out_dir: str,
+            hard_dirs: Sequence[str] | None = None) -> list[str]:
     """Both parts, for the challenge report."""
     hard_dirs = hard_dirs or [os.path.join(REPO, "build", "hard"), os.path.join(REPO, "results", "hard")]
     return speed_lines(user_summaries, reference_dir, out_dir) + hard_lines(hard_dirs, out_dir)

@@ -6,25 +6,28 @@ give; a stored band belongs to the stored grid and is not lent to another.
 
 A stored reference is the dict of cmc.report.challenge_runs._stored: {path, meta, x, y, band}.
 """
+from __future__ import annotations
+from typing import Any
 import re
 
 import numpy as np
 
 from .common import CHALLENGE, fmt
+from cmc._types import Json
 
 
-def grid_name(ref):
+def grid_name(ref: Json) -> str:
     """The stored curve's grid as the tables write it: "8192²" for 8192x8192."""
     grid = ref["meta"].get("grid", "?").split(",")[0].strip()
     m = re.fullmatch(r"(\d+)x(\d+)", grid)
     return f"{m.group(1)}²" if m and m.group(1) == m.group(2) else grid
 
 
-def problem(adhesive):
+def problem(adhesive: bool) -> str:
     return "with adhesion" if adhesive else "without adhesion"
 
 
-def band_words(ref):
+def band_words(ref: Json) -> str:
     """The table's band cell: where the band is stored and, as the file's `estimated_error` says,
     the grid it was measured against and its median."""
     words = ref["meta"].get("estimated_error", "")
@@ -40,7 +43,7 @@ def _lower(y, b, log_y):
     return np.maximum(y - b, y * 1e-3) if log_y else y - b
 
 
-def draw_stored_curve(ax, ref, adhesive, xunit, yunit, log_y):
+def draw_stored_curve(ax: Any, ref: Json | None, adhesive: bool, xunit: float, yunit: float, log_y: bool) -> list[list[Any]]:
     """Draws a stored distribution or spectrum (x and y times xunit, yunit) with its band as stored
     on ax; returns the table rows, [problem, run, p (kPa), points, range, band], or [] without a
     stored curve or band."""
@@ -55,7 +58,8 @@ def draw_stored_curve(ax, ref, adhesive, xunit, yunit, log_y):
              f"{fmt(x.min() * xunit, 3)} – {fmt(x.max() * xunit, 3)}", band_words(ref)]]
 
 
-def draw_stored_profiles(zoom_axes, refs, adhesive, y_centre):
+def draw_stored_profiles(zoom_axes: Any, refs: tuple[Json | None, Json | None], adhesive: bool, y_centre: float,
+                         ) -> list[list[Any]]:
     """Draws the stored cross sections (refs: the gap's and the stress's, either None) with their
     bands as stored into the zoom panels (gap in nm, stress in MPa) within 1 um of y_centre;
     returns the table rows, [problem, run, x (um) as the file's title gives it, points, band]."""

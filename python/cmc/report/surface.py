@@ -6,15 +6,21 @@ folder's surface.json that scripts/surface_file.py writes), lists the runs that 
 summary.json), sets their rms height beside cmc's surface's, and points at the realisation
 references, the fair comparison for a surface of its own. It computes nothing but ratios.
 """
+from __future__ import annotations
+from typing import TYPE_CHECKING, Any
 import json
 import os
 
 from .common import fmt, get, md_table, read_reference_csv
+from cmc._types import Json
+
+if TYPE_CHECKING:
+    from .challenge_runs import Run
 
 P0 = 250e3
 
 
-def manifest(results_dir):
+def manifest(results_dir: str) -> Json | None:
     """surface.json of a results folder of scripts/main.sh --surface, or None."""
     try:
         with open(os.path.join(results_dir, "surface.json")) as f:
@@ -23,12 +29,12 @@ def manifest(results_dir):
         return None
 
 
-def file_runs(runs):
+def file_runs(runs: list[Run]) -> list[tuple[Run, str]]:
     """[(run, surface path)] of the runs whose case takes its surface from a file."""
     return [(r, get(r.s, "case", "surface", "path")) for r in runs if get(r.s, "case", "surface", "kind") == "file"]
 
 
-def cmc_surface(reference_dir):
+def cmc_surface(reference_dir: str) -> tuple[Any, float | None]:
     """(seed, rms height in m) of the surface behind the hard-wall best estimate (its record in
     reference/challenge/runs.json), either None where not stored."""
     try:
@@ -41,7 +47,7 @@ def cmc_surface(reference_dir):
     return (rec.get("physics") or {}).get("surface.seed"), rec.get("rms_height_m")
 
 
-def headline_surfaces(results_dir, runs, reference_dir):
+def headline_surfaces(results_dir: str, runs: list[Run], reference_dir: str) -> tuple[str, str] | None:
     """Words for the headline's columns, (best estimates', user's runs'), where the runs used a
     surface file; else None (the runs are on cmc's own surface, as the best estimates)."""
     if not file_runs(runs):
@@ -99,7 +105,7 @@ def _realisation_rows(reference_dir, user):
     return out
 
 
-def surface_section(results_dir, runs, reference_dir, user):
+def surface_section(results_dir: str, runs: list[Run], reference_dir: str, user: Any) -> list[str]:
     """The section on the runs' surface (lines), or [] where no run used a surface file.
     user: {adhesive: (run, step) at 250 kPa or None}, the runs the headline shows."""
     used = file_runs(runs)
@@ -136,7 +142,7 @@ def surface_section(results_dir, runs, reference_dir, user):
     return L
 
 
-def realisation_sentence(reference_dir):
+def realisation_sentence(reference_dir: str) -> str:
     """Where the fair comparison for a surface of its own lives, and which of its files are stored."""
     root = os.path.join(reference_dir, "challenge", "realisation")
     files = sorted(os.path.relpath(os.path.join(d, f), root) for d, _, fs in os.walk(root) for f in fs if f.endswith(".csv"))

@@ -8,10 +8,12 @@ Input: <validation dir>/<case>/summary.json and profiles.csv as written by
 number drawn or tabulated here is cmc's: the errors, fits and analytic columns come from
 those files and from the stored curves in reference/; this script only draws them.
 """
+from __future__ import annotations
 import os
 
 import numpy as np
 
+from cmc import run_folder
 from .common import fmt, get, load_json, md_table, plt, read_reference_csv, rel, savefig, case_name
 
 
@@ -22,13 +24,9 @@ def _collect(validation_dirs, notes):
     for d in validation_dirs:
         if not os.path.isdir(d):
             continue
-        for name in sorted(os.listdir(d)):
-            f = os.path.join(d, name, "summary.json")
-            if not os.path.isfile(f):
-                continue
-            s = load_json(f, notes)
-            if not isinstance(s, dict):
-                continue
+        folders = sorted(run_folder.find(d, recursive=False), key=os.path.basename)
+        for summary in run_folder.read_summaries(folders, notes):
+            s, f, name = summary.data, summary.path, os.path.basename(summary.folder)
             key = case_name(s) or name
             t = os.path.getmtime(f)
             if key not in runs or t > runs[key][2]:
@@ -218,7 +216,7 @@ def _adhesive_refinement(ref_dir, out_dir):
     return lines
 
 
-def build(validation_dirs, ref_dir, out_dir, notes):
+def build(validation_dirs: list[str], ref_dir: str, out_dir: str, notes: list[str]) -> str:
     os.makedirs(out_dir, exist_ok=True)
     runs = _collect(validation_dirs, notes)
     lines = ["# Validation report", ""]

@@ -1,5 +1,6 @@
 """The command scripts/ensemble_store.py: the seed ensemble's runs (run folders or the GPU
 plan's ensemble.tgz) put into reference/challenge/ensemble/runs.json, one record a point."""
+from __future__ import annotations
 import argparse
 import json
 import math
@@ -10,6 +11,7 @@ import tarfile
 
 from cmc.analysis import runs
 from cmc.analysis.runs import REPO as ROOT
+from cmc._types import Json
 
 STORE = os.path.join(ROOT, "reference", "challenge", "ensemble", "runs.json")
 STORE_WHAT = ("the Contact Mechanics Challenge on many realisations of its surface spectrum (surface.seed), "
@@ -24,7 +26,7 @@ class Refused(Exception):
     """A source that is not an ensemble's output."""
 
 
-def members(source):
+def members(source: str) -> dict[str, bytes]:
     """{name: bytes} of the source's summaries and machine/build files."""
     if os.path.isdir(source):
         got = {}
@@ -63,7 +65,7 @@ def _archive_members(t):
     return got
 
 
-def key_values(text):
+def key_values(text: str) -> dict[str, str]:
     """machine.txt's or build.txt's lines 'key value' as a dict."""
     out = {}
     for line in text.splitlines():
@@ -73,7 +75,7 @@ def key_values(text):
     return out
 
 
-def plausible(rec):
+def plausible(rec: Json) -> str | None:
     """Why a record is impossible, or None."""
     pts = rec["steps"] or [{"a_r": rec["a_r"], "mean_gap_m": rec["mean_gap_m"]}]
     for p in pts:
@@ -88,7 +90,7 @@ def plausible(rec):
     return None
 
 
-def records(files, a, origin):
+def records(files: dict[str, bytes], a: argparse.Namespace, origin: str) -> tuple[list[Json], list[str]]:
     """The store records of one source's summaries, and the names of the points refused."""
     meta = {}
     for name in ("machine.txt", "build.txt"):
@@ -120,7 +122,7 @@ def records(files, a, origin):
     return out, refused
 
 
-def save(recs, path):
+def save(recs: list[Json], path: str) -> None:
     data = {"what": STORE_WHAT, "records": sorted(recs, key=lambda r: r["tag"])}
     os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
     tmp = f"{path}.tmp{os.getpid()}"
@@ -130,7 +132,7 @@ def save(recs, path):
     os.replace(tmp, path)
 
 
-def main(argv, doc=None):
+def main(argv: list[str] | None, doc: str | None = None) -> int:
     ap = argparse.ArgumentParser(description=(doc or __doc__), formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("sources", nargs="+", help="folders scripts/ensemble.py wrote, or archives of them")
     ap.add_argument("--store", default=STORE, help="the ensemble's store (default %(default)s)")

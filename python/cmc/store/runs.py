@@ -1,16 +1,19 @@
 """The command scripts/store_runs.py: finished runs of `cmc run` put into the run store
 (reference/challenge/runs.json), one record each (cmc.analysis.runs record)."""
+from __future__ import annotations
+from typing import Any
 import argparse
 import datetime
 import os
 import subprocess
 import sys
 
+from cmc import run_folder
 from cmc.analysis import runs
 from cmc.analysis.runs import REPO as ROOT
 
 
-def this_cpu():
+def this_cpu() -> str:
     model = "CPU"
     try:
         with open("/proc/cpuinfo") as f:
@@ -20,14 +23,14 @@ def this_cpu():
     return f"{model}, {os.cpu_count()} cores"
 
 
-def this_commit():
+def this_commit() -> str | None:
     def git(*args):
         return subprocess.run(["git", "-C", ROOT, *args], capture_output=True, text=True).stdout.strip()
     head = git("rev-parse", "--short=12", "HEAD")
     return (head + ("-dirty" if git("status", "--porcelain", "--untracked-files=no") else "")) or None
 
 
-def command_of(run_dir, summary):
+def command_of(run_dir: str, summary: dict[str, Any]) -> str:
     """`cmc run CASE --set ... --out RUN_DIR` as far as the summary tells: its case file and the
     grid it ran on (other overrides show in the record's case fields)."""
     n = runs.get(summary, "grid", "nx")
@@ -41,7 +44,7 @@ def command_of(run_dir, summary):
     return " ".join(parts + ["--out", run_dir])
 
 
-def main(argv, doc=None):
+def main(argv: list[str] | None, doc: str | None = None) -> int:
     ap = argparse.ArgumentParser(description=(doc or __doc__), formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("dirs", nargs="+", help="cmc run output folders (each with a summary.json)")
     ap.add_argument("--device", default=None, help="what ran them (default: this machine's CPU)")
@@ -51,11 +54,12 @@ def main(argv, doc=None):
     a = ap.parse_args(argv)
     new = []
     for d in a.dirs:
-        path = os.path.join(d, "summary.json")
-        if not os.path.isfile(path):
-            print(f"store_runs: {d}: no summary.json (expected a finished `cmc run` output folder)", file=sys.stderr)
+        try:
+            s = run_folder.read_summary(d).data
+        except run_folder.RunFolderError as e:
+            print(f"store_runs: {e} (expected a finished `cmc run` output folder)", file=sys.stderr)
             return 2
-        s = runs.read_summary(path)
+        path = run_folder.summary_path(d)
         backend = runs.get(s, "grid", "backend") or "cpu"
         tag = f"{backend}-{runs.kind_of(s)}-{runs.get(s, 'grid', 'nx')}"
         date = datetime.datetime.fromtimestamp(os.path.getmtime(path), datetime.timezone.utc).strftime("%Y-%m-%d")
