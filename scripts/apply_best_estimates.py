@@ -19,6 +19,7 @@ rewrites the curves from the runs.
 """
 import sys
 
+import cmc_on_path  # noqa: F401  (first: a clear message where cmc is not importable)
 from cmc.references.apply import main
 
 if __name__ == "__main__":

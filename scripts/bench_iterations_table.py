@@ -9,6 +9,7 @@ usage: bench_iterations_table.py RUNS_DIR JSON_PATH TOLERANCE GRID [GRID ...]
 """
 import sys
 
+import cmc_on_path  # noqa: F401  (first: a clear message where cmc is not importable)
 from cmc.bench_iterations import main
 
 if __name__ == "__main__":

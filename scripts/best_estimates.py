@@ -11,6 +11,7 @@ The file is deterministic given the stores: scripts/challenge_reference.py, the 
 """
 import sys
 
+import cmc_on_path  # noqa: F401  (first: a clear message where cmc is not importable)
 from cmc.references.best_estimates import main
 
 if __name__ == "__main__":

@@ -37,6 +37,7 @@ stale files by hand).
 """
 import sys
 
+import cmc_on_path  # noqa: F401  (first: a clear message where cmc is not importable)
 from cmc.references.challenge import main
 
 if __name__ == "__main__":

@@ -27,6 +27,7 @@ all good; 1: problems (one line each, file:line: message); 2: bad arguments.
 import os
 import sys
 
+import cmc_on_path  # noqa: F401  (first: a clear message where cmc is not importable)
 from cmc.devtools.docs_check import main
 
 if __name__ == "__main__":

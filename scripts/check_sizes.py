@@ -23,6 +23,7 @@ How C++ functions are found: python/cmc/devtools/cpp_functions.py (a heuristic, 
 import os
 import sys
 
+import cmc_on_path  # noqa: F401  (first: a clear message where cmc is not importable)
 from cmc.devtools.sizes import main
 
 if __name__ == "__main__":

@@ -12,6 +12,7 @@ with its namesake in B. A run in A whose namesake in B has no summary.json is a 
 """
 import sys
 
+import cmc_on_path  # noqa: F401  (first: a clear message where cmc is not importable)
 from cmc.compare_runs import main
 
 if __name__ == "__main__":

@@ -26,6 +26,7 @@ point converged (every mu_T for the Tabor points).
 import os
 import sys
 
+import cmc_on_path  # noqa: F401  (first: a clear message where cmc is not importable)
 from cmc.ensemble_runner import main
 
 if __name__ == "__main__":

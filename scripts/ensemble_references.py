@@ -14,6 +14,7 @@ are left out. How it is done: python/cmc/analysis/ensemble.py. `cmc check --agai
 """
 import sys
 
+import cmc_on_path  # noqa: F401  (first: a clear message where cmc is not importable)
 from cmc.references.ensemble import main
 
 if __name__ == "__main__":

@@ -15,6 +15,7 @@ A record replaces one of the same tag (kind, backend, grid, seed, mu_T).
 """
 import sys
 
+import cmc_on_path  # noqa: F401  (first: a clear message where cmc is not importable)
 from cmc.store.ensemble import main
 
 if __name__ == "__main__":

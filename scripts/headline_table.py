@@ -10,6 +10,7 @@ give (the docs check runs this), 2 when the file has no markers.
 """
 import sys
 
+import cmc_on_path  # noqa: F401  (first: a clear message where cmc is not importable)
 from cmc.report.headline_table import main
 
 if __name__ == "__main__":

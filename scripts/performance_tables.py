@@ -20,6 +20,7 @@ which command makes them. Exit 2 on an unreadable input.
 """
 import sys
 
+import cmc_on_path  # noqa: F401  (first: a clear message where cmc is not importable)
 from cmc.report.performance_tables import main
 
 if __name__ == "__main__":

@@ -5,6 +5,7 @@
 """
 import sys
 
+import cmc_on_path  # noqa: F401  (first: a clear message where cmc is not importable)
 from cmc.report.readme_figure import main
 
 if __name__ == "__main__":

@@ -17,6 +17,7 @@ references' provenance.
 """
 import sys
 
+import cmc_on_path  # noqa: F401  (first: a clear message where cmc is not importable)
 from cmc.roundoff_spread import main
 
 if __name__ == "__main__":

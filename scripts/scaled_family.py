@@ -61,6 +61,7 @@ the runs' summary.json only.
 """
 import sys
 
+import cmc_on_path  # noqa: F401  (first: a clear message where cmc is not importable)
 from cmc.family.command import main
 
 if __name__ == "__main__":

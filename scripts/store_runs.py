@@ -14,6 +14,7 @@ right one when you know it).
 """
 import sys
 
+import cmc_on_path  # noqa: F401  (first: a clear message where cmc is not importable)
 from cmc.store.runs import main
 
 if __name__ == "__main__":

@@ -16,6 +16,7 @@ up to date. Exit 0: done; 2: FILE is missing or in none of the layouts (the mess
 """
 import sys
 
+import cmc_on_path  # noqa: F401  (first: a clear message where cmc is not importable)
 from cmc.surface_file import main
 
 if __name__ == "__main__":
