@@ -133,7 +133,10 @@ constexpr double kNoiseMargin = 100.0;  // the floor over the inner solves' gap 
 // the same a_r, mean gap within 1.5e-7; at 1024², 22 and 137 against 14 and 117; the s = 128
 // member (plain law, dx = 0.8 ρ) at 512², 136 and 833 against 78 and 617, a_r 2.3e-5 higher,
 // towards the state of a tighter tension tolerance. At 1e-5 ρ a point of 4.2 million
-// differed. Where points are bistable, 1e-4 ρ at inner tolerance 1e-6 passed noise on to
+// differed. Known limit: the floor must also stay above the inner solves' error, and with
+// `shape` at 4096² and inner tolerance 1e-6 it is 0.85 of it: the cascade passes that
+// error on, clusters near a fold jump below their equilibrium and open again, and the
+// solve does not converge (docs/developer/decisions.md). Where points are bistable, 1e-4 ρ at inner tolerance 1e-6 passed noise on to
 // jumps: at μ_T = 1 on 1024², 5 points of a million more in contact and more outer steps
 // (docs/developer/decisions.md).
 inline double move_floor(double range, double inner_tolerance, double h_scale, bool monostable) {
