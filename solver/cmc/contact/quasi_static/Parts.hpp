@@ -133,16 +133,34 @@ constexpr double kNoiseMargin = 100.0;  // the floor over the inner solves' gap 
 // the same a_r, mean gap within 1.5e-7; at 1024², 22 and 137 against 14 and 117; the s = 128
 // member (plain law, dx = 0.8 ρ) at 512², 136 and 833 against 78 and 617, a_r 2.3e-5 higher,
 // towards the state of a tighter tension tolerance. At 1e-5 ρ a point of 4.2 million
-// differed. Known limit: the floor must also stay above the inner solves' error, and with
-// `shape` at 4096² and inner tolerance 1e-6 it is 0.85 of it: the cascade passes that
-// error on, clusters near a fold jump below their equilibrium and open again, and the
-// solve does not converge (docs/developer/decisions.md). Where points are bistable, 1e-4 ρ at inner tolerance 1e-6 passed noise on to
+// differed. That cap can fall below the inner solves' error (`shape` at 4096², inner
+// tolerance 1e-6: 0.85 of it), and inner_tolerance() below then tightens the inner solves.
+// Where points are bistable, 1e-4 ρ at inner tolerance 1e-6 passed noise on to
 // jumps: at μ_T = 1 on 1024², 5 points of a million more in contact and more outer steps
 // (docs/developer/decisions.md).
 inline double move_floor(double range, double inner_tolerance, double h_scale, bool monostable) {
   const double f = kNoiseMargin * inner_tolerance * h_scale;
   const double largest = monostable ? kMonostableMoveFloor : kMoveFloor;
   return std::min(largest * range, std::max(kMinMoveFloor * range, f));
+}
+
+constexpr double kFloorOverInnerError = 10.0;  // the least move floor over the inner solves' gap error
+
+// The tolerance the inner solves run at: the user's, except where the move floor of a
+// monostable law (capped at kMonostableMoveFloor ρ) is less than kFloorOverInnerError times
+// the inner solves' gap error (tolerance × h_scale); there the tolerance that puts the error
+// at the floor over kFloorOverInnerError. The floor stays what the user's tolerance gives
+// (the cap), and the user's tolerance stays the one the run reports. Why: with the floor
+// near the error the cascade passes that error on, clusters near a collective fold jump
+// below their equilibrium and open again outer step after outer step (`shape` at 4096²,
+// inner tolerance 1e-6, floor 0.85 of the error: 812 iterations and not converged, plain
+// 240; continued at 1e-8, 85 times below the floor, it converged; at twice the error it
+// did not: docs/developer/decisions.md).
+inline double inner_tolerance(double range, double tolerance, double h_scale, bool monostable) {
+  if (!monostable || !(tolerance > 0.0) || !(h_scale > 0.0)) return tolerance;
+  const double floor = move_floor(range, tolerance, h_scale, true);
+  if (floor >= kFloorOverInnerError * tolerance * h_scale) return tolerance;
+  return floor / (kFloorOverInnerError * h_scale);
 }
 
 // j in [−kRadius, n + kRadius) to [0, n); one add where n > kRadius (no division).
