@@ -126,7 +126,8 @@ inline constexpr const char* kTimeLimitMessage = "quasi-static adhesion reached 
 class QuasiStaticAdhesion {
  public:
   struct Options : SolverOptions {
-    // Tolerance of each Polonsky-Keer solve (its residual, PolonskyKeer.hpp).
+    // Tolerance of each Polonsky-Keer solve (its residual, PolonskyKeer.hpp); tighter where
+    // a monostable law's move floor is under the solves' error (inner_tolerance()).
     Options() { tolerance = 1e-8; }
     // Outer convergence: the largest tension change of one more outer step, over w/ρ.
     double tension_tolerance = 1e-3;
