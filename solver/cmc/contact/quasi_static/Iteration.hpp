@@ -235,7 +235,7 @@ struct Outer {
     if (worst_fall >= opt.tension_tolerance)
       s << "; tensions also fell between outer steps, by up to " << worst_fall
         << " of the peak: where that was measured late in a solve, the inner tolerance " << opt.tolerance
-        << " (solver.tolerance) limited the outer iteration, and a smaller one (e.g. " << opt.tolerance * 1e-2
+        << " (from solver.tolerance) limited the outer iteration, and a smaller one (e.g. " << opt.tolerance * 1e-2
         << ") converged in fewer outer steps (docs/theory/loading-branch.md, \"Creep\")";
     return finish(false, s.str());
   }

@@ -29,8 +29,11 @@ QuasiStaticAdhesion::QuasiStaticAdhesion(HalfSpace& hs, const Field& heights, Ex
             hs.transform_entry(response, (dy + my) % my, (dx + mx) % mx);
   }
   if (!(k_self_ > 0.0)) throw std::logic_error("QuasiStaticAdhesion: the half-space's self-stiffness is not positive");
-  move_floor_ = qs::move_floor(adh_.range(), opt_.tolerance, PolonskyKeer::residual_scale(heights),
-                               adh_.largest_curvature() < k_self_);
+  const double h_scale = PolonskyKeer::residual_scale(heights);
+  const bool monostable = adh_.largest_curvature() < k_self_;
+  move_floor_ = qs::move_floor(adh_.range(), opt_.tolerance, h_scale, monostable);
+  solve_opt_ = opt_;
+  solve_opt_.tolerance = qs::inner_tolerance(adh_.range(), opt_.tolerance, h_scale, monostable);
 }
 
 #ifndef CMC_CUDA
@@ -41,8 +44,8 @@ SolveResult qs::solve_on_device(const Problem&, const Target&, ContactState&, Ou
 #endif
 
 SolveResult QuasiStaticAdhesion::solve(const Target& target, ContactState& st, OuterPoint* from) {
-  const qs::Problem p{hs_, h_, adh_, opt_, k_self_, k_near_, move_floor_};
-  if (opt_.backend == Backend::Cuda && opt_.outer_on_device) return qs::solve_on_device(p, target, st, from);
+  const qs::Problem p{hs_, h_, adh_, solve_opt_, k_self_, k_near_, move_floor_};
+  if (solve_opt_.backend == Backend::Cuda && solve_opt_.outer_on_device) return qs::solve_on_device(p, target, st, from);
   return qs::solve_on_cpu(p, target, st, from);
 }
 

@@ -126,7 +126,8 @@ inline constexpr const char* kTimeLimitMessage = "quasi-static adhesion reached 
 class QuasiStaticAdhesion {
  public:
   struct Options : SolverOptions {
-    // Tolerance of each Polonsky-Keer solve (its residual, PolonskyKeer.hpp).
+    // Tolerance of each Polonsky-Keer solve (its residual, PolonskyKeer.hpp); tighter where
+    // a monostable law's move floor is under the solves' error (inner_tolerance()).
     Options() { tolerance = 1e-8; }
     // Outer convergence: the largest tension change of one more outer step, over w/ρ.
     double tension_tolerance = 1e-3;
@@ -185,6 +186,9 @@ class QuasiStaticAdhesion {
   const std::vector<double>& near_stiffness() const { return k_near_; }
   // The cascade's move floor, a length (qs::move_floor, Parts.hpp).
   double move_floor() const { return move_floor_; }
+  // The tolerance the inner solves run at (qs::inner_tolerance, Parts.hpp): options().tolerance
+  // unless the move floor of a monostable law is near the inner solves' error.
+  double inner_tolerance() const { return solve_opt_.tolerance; }
 
  private:
   HalfSpace& hs_;
@@ -194,6 +198,7 @@ class QuasiStaticAdhesion {
   double k_self_ = 0.0;
   std::vector<double> k_near_;  // K to the 3 x 3 nearest points (the cascade's stencil)
   double move_floor_ = 0.0;
+  Options solve_opt_;  // opt_ with the inner solves' tolerance (inner_tolerance())
 };
 
 }  // namespace cmc
