@@ -109,15 +109,19 @@ def plan_factors(grids_out: list[Record], tolerance: float) -> Record:
         have = [e for e in grids_out if e.get(key) is not None and not (name.endswith("shape") and e.get("unfinished"))]
         if have:
             f[name], f[name + "_grid"] = have[-1][key], have[-1]["n"]
-    # A finer grid whose shape run was stopped unconverged, against the stored run of the same
-    # command (the older program's, which iterated like the build before at 2048²): its count
-    # bounds the factor from below there, and the larger of the two is kept.
+    # A finer grid's shape run against the stored run of the same command (the older program's,
+    # which iterated like the build before at 2048²): converged, the factor measured on the
+    # finest grid; stopped unconverged, a lower bound there, the larger of the two kept.
     for e in grids_out:
         run, old = e.get("shape"), stored_shape(e["n"])
-        if run and old and run["status"].startswith("unfinished") and "shape" in f:
-            bound = run["iterations"] / old["iterations"]
-            if bound > f["shape"]:
-                f["shape"], f["shape_grid"], f["shape_is_lower_bound"] = bound, e["n"], True
+        if not (run and old and "shape" in f) or e["n"] <= f["shape_grid"]:
+            continue
+        ratio = run["iterations"] / old["iterations"]
+        if not run["status"].startswith("unfinished"):
+            f["shape"], f["shape_grid"] = ratio, e["n"]
+            f.pop("shape_is_lower_bound", None)
+        elif ratio > f["shape"]:
+            f["shape"], f["shape_grid"], f["shape_is_lower_bound"] = ratio, e["n"], True
     return f
 
 
